@@ -1,0 +1,651 @@
+//! The film: Elrod–Adams p–θ on conservative finite volumes (model.md §3; paper eqs. 4, 5, 14).
+//!
+//! Nondimensional film equation (model.md §3, with the factor 2 the scales imply):
+//!
+//! ```text
+//!     ∇·(h³ ∇p) = u ∂(hθ)/∂x1 + 2 ∂(hθ)/∂t,   p ≥ 0, 0 ≤ θ ≤ 1, p·(1 − θ) = 0
+//! ```
+//!
+//! i.e. ∂φ/∂t + ∇·q = 0 with φ = hθ and mass flux q = (u/2)·φ·e1 − (h³/2)·∇p.
+//!
+//! Discretisation: vertex-centred in x1 (nodes x_i = i·dx, i = 0..=n1, p Dirichlet at both
+//! ends, inlet film φ_0 given), cell-centred in x2 (centres (j + ½)·dy, zero-flux walls).
+//! Couette flux upwinded (u > 0 ⇒ (u/2)·φ_i at face i+½), Poiseuille flux centred with
+//! h_face = mean of the two nodal gaps, backward Euler on φ with h at the new time level.
+//!
+//! Every node carries one unknown: p on the pressurised set (θ = 1, φ = h) or φ on the
+//! cavitated set (p = 0). The complementarity problem is solved by a primal–dual active-set
+//! (semi-smooth Newton) iteration: for a fixed active set the equations are linear in the
+//! unknowns and their matrix is an M-matrix, solved exactly by a band LU over the x1-range
+//! that holds the pressurised nodes; cavitated nodes outside it are exact upwind sweeps.
+//! The ring position Z enters as one more unknown (bordered system, Schur complement), so
+//! the Newmark coupling of model.md §4 is implicit and converged inside the same iteration.
+
+use crate::banded::BandLu;
+
+/// The mesh: n1 cells along x1 over [0, length] (vertex-centred, n1 + 1 nodes) and n2 cells
+/// along x2 over [0, half_width] (cell-centred). Node (i, j) is stored at i·n2 + j.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grid {
+    pub n1: usize,
+    pub n2: usize,
+    /// Domain length along x1 (cm).
+    pub length: f64,
+    /// Simulated width B along x2 (cm): half a texture cell (model.md §2).
+    pub width: f64,
+    pub dx: f64,
+    pub dy: f64,
+}
+
+impl Grid {
+    pub fn new(n1: usize, n2: usize, length: f64, width: f64) -> Self {
+        Grid {
+            n1,
+            n2,
+            length,
+            width,
+            dx: length / n1 as f64,
+            dy: width / n2 as f64,
+        }
+    }
+    /// Number of nodes, boundary nodes included.
+    pub fn nodes(&self) -> usize {
+        (self.n1 + 1) * self.n2
+    }
+    #[inline]
+    pub fn idx(&self, i: usize, j: usize) -> usize {
+        i * self.n2 + j
+    }
+    /// x1 of node column i (cm).
+    pub fn x(&self, i: usize) -> f64 {
+        i as f64 * self.dx
+    }
+    /// x2 of node row j (cm).
+    pub fn y(&self, j: usize) -> f64 {
+        (j as f64 + 0.5) * self.dy
+    }
+}
+
+/// The gap at the new time level as an affine function of the ring position:
+/// h = base + Z on the node columns under the ring, h = base elsewhere (eq. 15).
+#[derive(Clone, Debug, Default)]
+pub struct Gap {
+    /// Gap without Z (µm), per node.
+    pub base: Vec<f64>,
+    /// Per node column i: whether it lies under the ring (a < x_i < b), where ∂h/∂Z = 1.
+    pub ring: Vec<bool>,
+}
+
+impl Gap {
+    #[inline]
+    pub fn h(&self, grid: &Grid, k: usize, z: f64) -> f64 {
+        if self.ring[k / grid.n2] {
+            self.base[k] + z
+        } else {
+            self.base[k]
+        }
+    }
+}
+
+/// Boundary data along x1 (model.md §3).
+#[derive(Clone, Copy, Debug)]
+pub struct Boundary {
+    /// Liner speed u (≥ 0; u = 1 in the paper).
+    pub u: f64,
+    /// Pressure at x1 = 0 and x1 = length (0 in the paper).
+    pub p_left: f64,
+    pub p_right: f64,
+    /// Film φ = hθ carried in at x1 = 0 (µm); the caller caps it at the local gap.
+    pub phi_inlet: f64,
+}
+
+/// Implicit ring dynamics in the film iteration: Z = z_pred + κ·(W_h − W_ps), the Newmark
+/// average-acceleration update of m·Z'' = W_h − W_ps (eq. 13, model.md §4) with κ = dt²/(4m).
+#[derive(Clone, Copy, Debug)]
+pub struct RingLink {
+    pub z_pred: f64,
+    pub kappa: f64,
+    pub w_ps: f64,
+}
+
+/// One film problem: a time step (inv_dt > 0) or a steady state (inv_dt = 0).
+#[derive(Clone, Copy, Debug)]
+pub struct Step<'a> {
+    pub grid: &'a Grid,
+    pub gap: &'a Gap,
+    /// φ = hθ at the old time level (ignored when steady).
+    pub phi_old: &'a [f64],
+    /// 1/dt; 0 for a steady problem.
+    pub inv_dt: f64,
+    pub boundary: Boundary,
+    /// None: Z is held fixed.
+    pub ring: Option<RingLink>,
+}
+
+/// The film fields at one time level.
+#[derive(Clone, Debug)]
+pub struct FilmState {
+    /// Pressure p (units of 6μUL/H²).
+    pub p: Vec<f64>,
+    /// Film content φ = hθ (µm).
+    pub phi: Vec<f64>,
+    /// Active set: node pressurised (θ = 1).
+    pub pressurised: Vec<bool>,
+}
+
+impl FilmState {
+    /// Zero pressure and film φ_0 everywhere (capped at the local gap), nothing pressurised.
+    pub fn cavitated(grid: &Grid, gap: &Gap, z: f64, phi0: f64) -> Self {
+        let n = grid.nodes();
+        let phi = (0..n).map(|k| phi0.min(gap.h(grid, k, z))).collect();
+        FilmState {
+            p: vec![0.0; n],
+            phi,
+            pressurised: vec![false; n],
+        }
+    }
+    /// A full film (θ = 1, p = 0) everywhere.
+    pub fn flooded(grid: &Grid, gap: &Gap, z: f64) -> Self {
+        Self::cavitated(grid, gap, z, f64::INFINITY)
+    }
+    /// Saturation θ = φ/h at node k.
+    pub fn theta(&self, grid: &Grid, gap: &Gap, z: f64, k: usize) -> f64 {
+        self.phi[k] / gap.h(grid, k, z)
+    }
+}
+
+/// Tolerances of the complementarity/ring iteration.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tolerance {
+    /// Converged when the active set no longer changes and the last ring update |δZ| is
+    /// below this (µm). The linear solves are exact, so the residual is then at round-off.
+    pub z_abs: f64,
+    /// Iteration cap beyond n1 (a cold start moves a cavitation front by about one node per
+    /// iteration, and the iteration is monotone for M-matrices, so n1 + this bounds a sound
+    /// solve): more means a failed solve (an error, never a number).
+    pub extra_iterations: usize,
+}
+
+impl Default for Tolerance {
+    fn default() -> Self {
+        Tolerance {
+            z_abs: 1e-11,
+            extra_iterations: 60,
+        }
+    }
+}
+
+/// Why a film solve failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FilmError {
+    #[error("complementarity iteration did not converge in {iterations} iterations ({changes} active-set changes in the last one, last |δZ| = {dz:.3e} µm)")]
+    NotConverged {
+        iterations: usize,
+        changes: usize,
+        dz: f64,
+    },
+    #[error("non-finite {quantity} at x1 = {x1:.5} cm, x2 = {x2:.5} cm")]
+    NonFinite {
+        quantity: &'static str,
+        x1: f64,
+        x2: f64,
+    },
+    #[error("singular film matrix at unknown {row} (pivot {pivot:e})")]
+    Singular { row: usize, pivot: f64 },
+}
+
+/// What one film solve did.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SolveStats {
+    /// Active-set/Newton iterations (one band LU each).
+    pub iterations: usize,
+    /// Largest nodal mass-balance residual after the solve, relative to the largest flux
+    /// term at that node (round-off level when converged).
+    pub residual: f64,
+    /// Hydrodynamic load W_h = (1/B)∫∫_ring p (eq. 16).
+    pub w_h: f64,
+}
+
+/// Reusable work arrays of the film solver.
+#[derive(Debug, Default, Clone)]
+pub struct FilmSolver {
+    pub tol: Tolerance,
+    lu: BandLu,
+    h: Vec<f64>,
+    cx: Vec<f64>,
+    cy: Vec<f64>,
+    dcx: Vec<f64>,
+    dcy: Vec<f64>,
+    dphi: Vec<f64>,
+    y1: Vec<f64>,
+    y2: Vec<f64>,
+}
+
+/// Face conductances of the Poiseuille flux for the gap `h`: x1 faces h_f³·dy/dx and x2
+/// faces h_f³·dx/dy with h_f the mean of the two nodal gaps (model.md §3), and their
+/// derivatives with respect to Z (∂h_f/∂Z is the mean of the nodal ∂h/∂Z).
+struct Faces<'a> {
+    cx: &'a [f64],
+    cy: &'a [f64],
+}
+
+/// The one stencil: −(discrete film equation) at interior node (i, j), i.e. the mass balance
+/// Σ_faces c·(p_ij − p_nb) + adv·(φ_ij − φ_{i−1,j}) + at·(φ_ij − φ_old,ij), with adv = u·dy
+/// and at = 2·dx·dy/dt. It is (−2)× [net outflow + cell-area·∂φ/∂t] of the cell. Every solver
+/// path (residual, Z-derivative, upwind sweeps, mass checks) evaluates this function.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+fn balance(
+    g: &Grid,
+    f: &Faces,
+    adv: f64,
+    at: f64,
+    p: &[f64],
+    phi: &[f64],
+    phi_old: Option<&[f64]>,
+    i: usize,
+    j: usize,
+) -> f64 {
+    let n2 = g.n2;
+    let k = i * n2 + j;
+    let pk = p[k];
+    let mut r = f.cx[k - n2] * (pk - p[k - n2]) + f.cx[k] * (pk - p[k + n2]);
+    if j > 0 {
+        r += f.cy[i * (n2 - 1) + j - 1] * (pk - p[k - 1]);
+    }
+    if j + 1 < n2 {
+        r += f.cy[i * (n2 - 1) + j] * (pk - p[k + 1]);
+    }
+    r += adv * (phi[k] - phi[k - n2]);
+    r += at * phi[k];
+    if let Some(old) = phi_old {
+        r -= at * old[k];
+    }
+    r
+}
+
+fn face_conductances(g: &Grid, h: &[f64], cx: &mut Vec<f64>, cy: &mut Vec<f64>) {
+    let (n1, n2) = (g.n1, g.n2);
+    let (sx, sy) = (g.dy / g.dx, g.dx / g.dy);
+    cx.clear();
+    cx.extend((0..n1 * n2).map(|k| {
+        let hf = 0.5 * (h[k] + h[k + n2]);
+        hf * hf * hf * sx
+    }));
+    cy.clear();
+    for i in 0..=n1 {
+        for j in 0..n2.saturating_sub(1) {
+            let k = i * n2 + j;
+            let hf = 0.5 * (h[k] + h[k + 1]);
+            cy.push(hf * hf * hf * sy);
+        }
+    }
+}
+
+/// ∂(face conductance)/∂Z = 3·h_f²·∂h_f/∂Z·(geometry factor).
+fn face_conductance_derivatives(
+    g: &Grid,
+    h: &[f64],
+    ring: &[bool],
+    dcx: &mut Vec<f64>,
+    dcy: &mut Vec<f64>,
+) {
+    let (n1, n2) = (g.n1, g.n2);
+    let (sx, sy) = (g.dy / g.dx, g.dx / g.dy);
+    let dz = |i: usize| if ring[i] { 1.0 } else { 0.0 };
+    dcx.clear();
+    dcx.extend((0..n1 * n2).map(|k| {
+        let i = k / n2;
+        let hf = 0.5 * (h[k] + h[k + n2]);
+        3.0 * hf * hf * 0.5 * (dz(i) + dz(i + 1)) * sx
+    }));
+    dcy.clear();
+    for i in 0..=n1 {
+        for j in 0..n2.saturating_sub(1) {
+            let k = i * n2 + j;
+            let hf = 0.5 * (h[k] + h[k + 1]);
+            dcy.push(3.0 * hf * hf * dz(i) * sy);
+        }
+    }
+}
+
+impl FilmSolver {
+    pub fn new(tol: Tolerance) -> Self {
+        FilmSolver {
+            tol,
+            ..Default::default()
+        }
+    }
+
+    /// Solves one film problem in place. `state` holds the initial guess (normally the
+    /// previous time level) and receives the solution; `z` the ring position, updated when
+    /// the problem carries a `RingLink`.
+    pub fn solve(
+        &mut self,
+        step: &Step,
+        state: &mut FilmState,
+        z: &mut f64,
+    ) -> Result<SolveStats, FilmError> {
+        let g = step.grid;
+        let (n1, n2) = (g.n1, g.n2);
+        let bc = step.boundary;
+        let adv = bc.u * g.dy;
+        let at = 2.0 * g.dx * g.dy * step.inv_dt;
+        let load_weight = g.dx * g.dy / g.width;
+        let ring = &step.gap.ring;
+        let phi_old = (step.inv_dt > 0.0).then_some(step.phi_old);
+
+        for j in 0..n2 {
+            let (k0, kn) = (g.idx(0, j), g.idx(n1, j));
+            state.p[k0] = bc.p_left;
+            state.phi[k0] = bc.phi_inlet;
+            state.pressurised[k0] = false;
+            state.p[kn] = bc.p_right;
+            state.pressurised[kn] = false;
+        }
+        let interior = n2..n1 * n2;
+
+        let mut iterations = 0;
+        loop {
+            iterations += 1;
+            // Gap, conductances and their Z-derivatives at the current Z.
+            self.h.clear();
+            self.h
+                .extend((0..g.nodes()).map(|k| step.gap.h(g, k, *z)));
+            face_conductances(g, &self.h, &mut self.cx, &mut self.cy);
+            for k in interior.clone() {
+                if state.pressurised[k] {
+                    state.phi[k] = self.h[k];
+                }
+            }
+
+            // x1-range [lo, hi] holding every pressurised node with one column of margin.
+            let (mut lo, mut hi) = (usize::MAX, 0);
+            for k in interior.clone() {
+                if state.pressurised[k] {
+                    lo = lo.min(k / n2);
+                    hi = hi.max(k / n2);
+                }
+            }
+            let empty = lo == usize::MAX;
+            let (lo, hi) = if empty {
+                (n1, n1 - 1)
+            } else {
+                (lo.saturating_sub(1).max(1), (hi + 1).min(n1 - 1))
+            };
+
+            // Upstream of the range every node is cavitated with p = 0 around it: exact
+            // upwind sweep (the stencil is affine in φ_ij with slope adv + at).
+            let faces = Faces {
+                cx: &self.cx,
+                cy: &self.cy,
+            };
+            for i in 1..lo {
+                for j in 0..n2 {
+                    let r = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
+                    state.phi[i * n2 + j] -= r / (adv + at);
+                }
+            }
+
+            let mut dz = 0.0;
+            if !empty {
+                let m = (hi - lo + 1) * n2;
+                let k_of = |i: usize, j: usize| (i - lo) * n2 + j;
+                // Residual F = balance(·) at the current iterate and the Newton matrix ∂F/∂x.
+                self.y1.clear();
+                self.lu.reset(m, n2);
+                for i in lo..=hi {
+                    for j in 0..n2 {
+                        let k = i * n2 + j;
+                        let r = k_of(i, j);
+                        let f =
+                            balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
+                        self.y1.push(-f);
+                        // Diagonal: ∂F/∂p_ij = Σc on the pressurised set, ∂F/∂φ_ij = adv + at
+                        // on the cavitated set.
+                        let cw = faces.cx[k - n2];
+                        let ce = faces.cx[k];
+                        let cs = if j > 0 { faces.cy[i * (n2 - 1) + j - 1] } else { 0.0 };
+                        let cn = if j + 1 < n2 { faces.cy[i * (n2 - 1) + j] } else { 0.0 };
+                        let diag = if state.pressurised[k] {
+                            cw + ce + cs + cn
+                        } else {
+                            adv + at
+                        };
+                        self.lu.add(r, r, diag);
+                        // Off-diagonals depend on the neighbour's unknown only: its pressure
+                        // enters through −c, the upstream φ through −adv, downstream φ not at all.
+                        if i > lo {
+                            let v = if state.pressurised[k - n2] { -cw } else { -adv };
+                            self.lu.add(r, r - n2, v);
+                        }
+                        if i < hi && state.pressurised[k + n2] {
+                            self.lu.add(r, r + n2, -ce);
+                        }
+                        if j > 0 && state.pressurised[k - 1] {
+                            self.lu.add(r, r - 1, -cs);
+                        }
+                        if j + 1 < n2 && state.pressurised[k + 1] {
+                            self.lu.add(r, r + 1, -cn);
+                        }
+                    }
+                }
+                self.lu.factor().map_err(|e| FilmError::Singular {
+                    row: e.row,
+                    pivot: e.value,
+                })?;
+                self.lu.solve(&mut self.y1);
+
+                if let Some(link) = step.ring {
+                    // ∂F/∂Z: the same stencil with conductances ∂c/∂Z and φ' = ∂h/∂Z on the
+                    // pressurised set (φ = h there), without the old-time term.
+                    face_conductance_derivatives(g, &self.h, ring, &mut self.dcx, &mut self.dcy);
+                    self.dphi.clear();
+                    self.dphi.extend((0..g.nodes()).map(|k| {
+                        if state.pressurised[k] && ring[k / n2] {
+                            1.0
+                        } else {
+                            0.0
+                        }
+                    }));
+                    let dfaces = Faces {
+                        cx: &self.dcx,
+                        cy: &self.dcy,
+                    };
+                    self.y2.clear();
+                    for i in lo..=hi {
+                        for j in 0..n2 {
+                            self.y2.push(balance(
+                                g, &dfaces, adv, at, &state.p, &self.dphi, None, i, j,
+                            ));
+                        }
+                    }
+                    self.lu.solve(&mut self.y2);
+                    // Ring equation G = Z − z_pred − κ(W_h(p) − W_ps) = 0, ∂G/∂p_k = −κ·w_k.
+                    let w_h = load(g, ring, &state.p);
+                    let gres = *z - link.z_pred - link.kappa * (w_h - link.w_ps);
+                    let (mut gy1, mut gy2) = (0.0, 0.0);
+                    for i in lo.max(1)..=hi {
+                        if !ring[i] {
+                            continue;
+                        }
+                        for j in 0..n2 {
+                            if state.pressurised[i * n2 + j] {
+                                let r = k_of(i, j);
+                                gy1 += self.y1[r];
+                                gy2 += self.y2[r];
+                            }
+                        }
+                    }
+                    let gx = -link.kappa * load_weight;
+                    dz = -(gres + gx * gy1) / (1.0 - gx * gy2);
+                    for (a, b) in self.y1.iter_mut().zip(&self.y2) {
+                        *a -= b * dz;
+                    }
+                }
+                for i in lo..=hi {
+                    for j in 0..n2 {
+                        let k = i * n2 + j;
+                        let d = self.y1[k_of(i, j)];
+                        if state.pressurised[k] {
+                            state.p[k] += d;
+                        } else {
+                            state.phi[k] += d;
+                        }
+                    }
+                }
+            } else if let Some(link) = step.ring {
+                // No pressure anywhere: W_h = 0 and the ring update is explicit.
+                dz = link.z_pred - link.kappa * link.w_ps - *z;
+            }
+            *z += dz;
+
+            // Downstream of the range: exact upwind sweep again.
+            let faces = Faces {
+                cx: &self.cx,
+                cy: &self.cy,
+            };
+            for i in hi + 1..n1 {
+                for j in 0..n2 {
+                    let r = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
+                    state.phi[i * n2 + j] -= r / (adv + at);
+                }
+            }
+
+            // Active-set update: negative pressure → cavitated; over-full film → pressurised.
+            let pmax = interior
+                .clone()
+                .filter(|&k| state.pressurised[k])
+                .fold(0.0f64, |m, k| m.max(state.p[k]));
+            let p_eps = 1e-13 * pmax;
+            let mut changes = 0;
+            for k in interior.clone() {
+                let hk = step.gap.h(g, k, *z);
+                if state.pressurised[k] {
+                    if state.p[k] < -p_eps {
+                        state.pressurised[k] = false;
+                        state.p[k] = 0.0;
+                        state.phi[k] = hk;
+                        changes += 1;
+                    }
+                } else if state.phi[k] > hk * (1.0 + 1e-13) {
+                    state.pressurised[k] = true;
+                    state.p[k] = 0.0;
+                    state.phi[k] = hk;
+                    changes += 1;
+                }
+            }
+            for k in interior.clone() {
+                if !(state.p[k].is_finite() && state.phi[k].is_finite()) || !z.is_finite() {
+                    let quantity = if !z.is_finite() {
+                        "ring position Z"
+                    } else if !state.p[k].is_finite() {
+                        "pressure"
+                    } else {
+                        "film content hθ"
+                    };
+                    return Err(FilmError::NonFinite {
+                        quantity,
+                        x1: g.x(k / n2),
+                        x2: g.y(k % n2),
+                    });
+                }
+            }
+            if changes == 0 && dz.abs() <= self.tol.z_abs {
+                break;
+            }
+            if iterations >= n1 + self.tol.extra_iterations {
+                return Err(FilmError::NotConverged {
+                    iterations,
+                    changes,
+                    dz: dz.abs(),
+                });
+            }
+        }
+
+        // Final state: exact complementarity (clip round-off), θ = 1 on the pressurised set.
+        for k in interior.clone() {
+            let hk = step.gap.h(g, k, *z);
+            if state.pressurised[k] {
+                state.p[k] = state.p[k].max(0.0);
+                state.phi[k] = hk;
+            } else {
+                state.p[k] = 0.0;
+                state.phi[k] = state.phi[k].min(hk);
+            }
+        }
+        for j in 0..n2 {
+            state.phi[g.idx(n1, j)] = state.phi[g.idx(n1 - 1, j)];
+        }
+        let residual = self.max_relative_residual(step, state, *z);
+        Ok(SolveStats {
+            iterations,
+            residual,
+            w_h: load(g, ring, &state.p),
+        })
+    }
+
+    /// Largest nodal residual of the discrete film equation relative to the largest term of
+    /// that node's balance.
+    fn max_relative_residual(&mut self, step: &Step, state: &FilmState, z: f64) -> f64 {
+        let g = step.grid;
+        self.h.clear();
+        self.h.extend((0..g.nodes()).map(|k| step.gap.h(g, k, z)));
+        face_conductances(g, &self.h, &mut self.cx, &mut self.cy);
+        let faces = Faces {
+            cx: &self.cx,
+            cy: &self.cy,
+        };
+        let adv = step.boundary.u * g.dy;
+        let at = 2.0 * g.dx * g.dy * step.inv_dt;
+        let phi_old = (step.inv_dt > 0.0).then_some(step.phi_old);
+        let mut worst: f64 = 0.0;
+        for i in 1..g.n1 {
+            for j in 0..g.n2 {
+                let k = g.idx(i, j);
+                let r = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
+                let pscale = faces.cx[k - g.n2].max(faces.cx[k]) * state.p[k].abs().max(
+                    state.p[k - g.n2].abs().max(state.p[k + g.n2].abs()),
+                );
+                let scale = pscale + (adv + at) * state.phi[k].abs() + adv * state.phi[k - g.n2];
+                if scale > 0.0 {
+                    worst = worst.max(r.abs() / scale);
+                }
+            }
+        }
+        worst
+    }
+}
+
+/// Hydrodynamic load per unit width W_h = (1/B)∫∫_ring p dx1 dx2 (eq. 16), as the nodal sum
+/// over the node columns under the ring.
+pub fn load(g: &Grid, ring: &[bool], p: &[f64]) -> f64 {
+    let mut s = 0.0;
+    for (i, &r) in ring.iter().enumerate() {
+        if r {
+            s += p[i * g.n2..(i + 1) * g.n2].iter().sum::<f64>();
+        }
+    }
+    s * g.dx * g.dy / g.width
+}
+
+/// Net mass inflow rate of φ = hθ through the x1 boundaries, per unit... (total over the
+/// simulated width): inflow through the face at x1 = dx/2 minus outflow through the face at
+/// x1 = length − dx/2, with the flux q = (u/2)·φ_upwind − (h_f³/2)·∂p/∂x1 of model.md §3.
+/// Over a step, Σ(φ^{n+1} − φ^n)·dx·dy over the interior nodes equals dt times this.
+pub fn boundary_inflow(g: &Grid, gap: &Gap, z: f64, u: f64, state: &FilmState) -> f64 {
+    let n1 = g.n1;
+    let flux = |i: usize, j: usize| {
+        let (k, kn) = (g.idx(i, j), g.idx(i + 1, j));
+        let hf = 0.5 * (gap.h(g, k, z) + gap.h(g, kn, z));
+        0.5 * u * state.phi[k] - 0.5 * hf * hf * hf * (state.p[kn] - state.p[k]) / g.dx
+    };
+    (0..g.n2)
+        .map(|j| (flux(0, j) - flux(n1 - 1, j)) * g.dy)
+        .sum()
+}
+
+/// Mass of film content Σ φ·dx·dy over the interior control volumes.
+pub fn film_mass(g: &Grid, state: &FilmState) -> f64 {
+    state.phi[g.n2..g.n1 * g.n2].iter().sum::<f64>() * g.dx * g.dy
+}

@@ -1,0 +1,386 @@
+//! A run: the coupled transient from an initial state to the periodic regime (model.md §6),
+//! or, for an untextured liner, the steady 1D force balance (model.md §6, last paragraph).
+
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+use crate::case::{CaseSpec, Numerics};
+use crate::dynamics::{Ring, RingState};
+use crate::film::{Boundary, FilmError, FilmSolver, FilmState, SolveStats, Step, Tolerance};
+use crate::friction::{friction, Friction, FrictionModel};
+use crate::scene::Scene;
+use crate::steady::{solve_untextured, SteadyError};
+
+/// Pseudo-period used to average and test an untextured transient run (no texture period).
+pub const UNTEXTURED_PERIOD: f64 = 0.06;
+
+/// Outcomes of one evaluation (model.md §6). Friction coefficients per eq. (11); Z and
+/// clearances in µm.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Outcome {
+    /// Period-mean friction coefficient f̄ and its Couette, Poiseuille and pressure terms.
+    pub f_mean: f64,
+    pub f_couette: f64,
+    pub f_poiseuille: f64,
+    pub f_pressure: f64,
+    /// Mean, minimum and maximum of Z over the last period (µm).
+    pub z_mean: f64,
+    pub z_min: f64,
+    pub z_max: f64,
+    /// Minimum clearance over the period: min over t and over the ring of h_U + Z (µm).
+    pub c_min: f64,
+    /// Texture periods simulated (0 for a steady solve).
+    pub periods: usize,
+    /// Time steps taken (0 for a steady solve).
+    pub steps: usize,
+    /// Whether the periodic regime (or the steady force balance) was reached.
+    pub converged: bool,
+    /// Estimated relative distance of f̄ and Z̄ from their periodic limits at the end.
+    pub periodic_error: f64,
+    /// "steady-1d" or "transient-2d".
+    pub method: String,
+    /// Time step used (divides the texture period exactly); 0 for steady.
+    pub dt: f64,
+    /// Simulated time at the end.
+    pub t_end: f64,
+    /// Mean complementarity/Newton iterations per step (per film solve when steady).
+    pub iterations_per_step: f64,
+    /// Largest relative nodal residual of the film equation over the run.
+    pub max_residual: f64,
+    pub wall_time_s: f64,
+}
+
+/// One row of the time series: values at the end of each step.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SeriesRow {
+    pub t: f64,
+    pub z: f64,
+    pub w_h: f64,
+    pub f: f64,
+    pub f_couette: f64,
+    pub f_poiseuille: f64,
+    pub f_pressure: f64,
+}
+
+/// A run's outcomes and, on request, its time series.
+#[derive(Clone, Debug)]
+pub struct RunResult {
+    pub outcome: Outcome,
+    pub series: Option<Vec<SeriesRow>>,
+}
+
+/// Why a run failed: always names the case and where.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    #[error("case {case}: film solve failed at t = {t:.5}: {source}")]
+    Film {
+        case: String,
+        t: f64,
+        source: FilmError,
+    },
+    #[error("case {case}: the ring reached the liner (Z = {z:.4} µm ≤ 0) at t = {t:.5}; contact is outside the lubrication model")]
+    Contact { case: String, t: f64, z: f64 },
+    #[error("case {case}: steady force balance failed: {source}")]
+    Steady { case: String, source: SteadyError },
+}
+
+/// The coupled transient: film under the moving texture, ring dynamics, friction.
+/// Advance it with `step`; `run_to_periodic` drives it to the periodic regime.
+pub struct Transient {
+    pub case: CaseSpec,
+    pub scene: Scene,
+    pub state: FilmState,
+    /// φ at the previous time level.
+    pub phi_old: Vec<f64>,
+    pub ring: Ring,
+    pub ring_state: RingState,
+    pub t: f64,
+    pub dt: f64,
+    /// Steps per texture period (the period is per/u, or UNTEXTURED_PERIOD).
+    pub steps_per_period: usize,
+    pub steps: usize,
+    pub solver: FilmSolver,
+    pub last: SolveStats,
+    pub friction: Friction,
+    total_iterations: usize,
+    max_residual: f64,
+}
+
+impl Transient {
+    /// The paper's initial state (model.md §4): Z = z0, Z' = v0, and a liner film of
+    /// thickness d_oil everywhere (θ = min(1, d_oil/h)), nothing pressurised. The initial
+    /// acceleration is consistent with that film (W_h = 0): Z''(0) = −W_ps/m.
+    pub fn new(case: &CaseSpec, num: &Numerics) -> Self {
+        let scene = Scene::new(case, num);
+        let period = case
+            .texture
+            .as_ref()
+            .map_or(UNTEXTURED_PERIOD, |t| t.per / case.u);
+        let steps_per_period = ((period / num.dt) - 1e-9).ceil().max(1.0) as usize;
+        let dt = period / steps_per_period as f64;
+        let state = FilmState::cavitated(&scene.grid, &scene.gap, case.z0, case.d_oil);
+        let ring = Ring {
+            mass: case.mass,
+            w_ps: case.w_ps,
+        };
+        Transient {
+            case: case.clone(),
+            phi_old: state.phi.clone(),
+            state,
+            ring,
+            ring_state: RingState {
+                z: case.z0,
+                v: case.v0,
+                a: -case.w_ps / case.mass,
+            },
+            t: 0.0,
+            dt,
+            steps_per_period,
+            steps: 0,
+            solver: FilmSolver::new(Tolerance::default()),
+            last: SolveStats::default(),
+            friction: Friction::default(),
+            scene,
+            total_iterations: 0,
+            max_residual: 0.0,
+        }
+    }
+
+    pub fn friction_model(&self) -> FrictionModel {
+        FrictionModel {
+            u: self.case.u,
+            theta_s: self.case.theta_s,
+            w_ps: self.case.w_ps,
+        }
+    }
+
+    /// One backward-Euler step of the film with the implicit Newmark ring update.
+    pub fn step(&mut self) -> Result<(), SolveError> {
+        let t_new = (self.steps + 1) as f64 * self.dt;
+        self.scene.place(t_new);
+        std::mem::swap(&mut self.phi_old, &mut self.state.phi);
+        self.state.phi.copy_from_slice(&self.phi_old);
+        let s = self.ring_state;
+        let link = self.ring.link(&s, self.dt);
+        let mut z = s.z + self.dt * s.v;
+        let step = Step {
+            grid: &self.scene.grid,
+            gap: &self.scene.gap,
+            phi_old: &self.phi_old,
+            inv_dt: 1.0 / self.dt,
+            boundary: Boundary {
+                u: self.case.u,
+                p_left: 0.0,
+                p_right: 0.0,
+                phi_inlet: self.case.d_oil,
+            },
+            ring: Some(link),
+        };
+        let stats = self
+            .solver
+            .solve(&step, &mut self.state, &mut z)
+            .map_err(|source| SolveError::Film {
+                case: self.case.label(),
+                t: t_new,
+                source,
+            })?;
+        if z <= 0.0 {
+            return Err(SolveError::Contact {
+                case: self.case.label(),
+                t: t_new,
+                z,
+            });
+        }
+        self.ring_state = self.ring.advance(&s, self.dt, z, stats.w_h);
+        self.t = t_new;
+        self.steps += 1;
+        self.last = stats;
+        self.total_iterations += stats.iterations;
+        self.max_residual = self.max_residual.max(stats.residual);
+        self.friction = friction(
+            &self.scene.grid,
+            &self.scene.gap,
+            z,
+            &self.scene.hl,
+            &self.state,
+            &self.friction_model(),
+        );
+        Ok(())
+    }
+
+    /// The time-series row of the current state.
+    pub fn row(&self) -> SeriesRow {
+        SeriesRow {
+            t: self.t,
+            z: self.ring_state.z,
+            w_h: self.last.w_h,
+            f: self.friction.total(),
+            f_couette: self.friction.couette,
+            f_poiseuille: self.friction.poiseuille,
+            f_pressure: self.friction.pressure,
+        }
+    }
+
+    /// Runs period by period until the periodic regime is detected or t_max is reached.
+    pub fn run_to_periodic(
+        &mut self,
+        num: &Numerics,
+        record_series: bool,
+    ) -> Result<RunResult, SolveError> {
+        let start = Instant::now();
+        let mut series = record_series.then(Vec::new);
+        let mut history: Vec<PeriodMeans> = Vec::new();
+        let n = self.steps_per_period;
+        let (converged, periodic_error) = loop {
+            let mut acc = PeriodMeans::empty();
+            for _ in 0..n {
+                self.step()?;
+                let row = self.row();
+                acc.add(&row, &self.friction);
+                if let Some(s) = series.as_mut() {
+                    s.push(row);
+                }
+            }
+            history.push(acc.finish(n));
+            let err = periodic_error(&history);
+            if history.len() >= num.min_periods.max(3) && err <= num.periodic_tol {
+                break (true, err);
+            }
+            if self.t + 1e-12 >= num.t_max {
+                break (false, err);
+            }
+        };
+        let last = history.last().expect("at least one period");
+        let c_min = self.scene.contact.clearance_um(last.z_min);
+        let outcome = Outcome {
+            f_mean: last.friction.total(),
+            f_couette: last.friction.couette,
+            f_poiseuille: last.friction.poiseuille,
+            f_pressure: last.friction.pressure,
+            z_mean: last.z_mean,
+            z_min: last.z_min,
+            z_max: last.z_max,
+            c_min,
+            periods: history.len(),
+            steps: self.steps,
+            converged,
+            periodic_error,
+            method: "transient-2d".into(),
+            dt: self.dt,
+            t_end: self.t,
+            iterations_per_step: self.total_iterations as f64 / self.steps.max(1) as f64,
+            max_residual: self.max_residual,
+            wall_time_s: start.elapsed().as_secs_f64(),
+        };
+        Ok(RunResult { outcome, series })
+    }
+}
+
+/// Means over one texture period.
+#[derive(Clone, Copy, Debug)]
+struct PeriodMeans {
+    friction: Friction,
+    z_mean: f64,
+    z_min: f64,
+    z_max: f64,
+}
+
+impl PeriodMeans {
+    fn empty() -> Self {
+        PeriodMeans {
+            friction: Friction::default(),
+            z_mean: 0.0,
+            z_min: f64::INFINITY,
+            z_max: f64::NEG_INFINITY,
+        }
+    }
+    fn add(&mut self, row: &SeriesRow, f: &Friction) {
+        self.friction.add(f);
+        self.z_mean += row.z;
+        self.z_min = self.z_min.min(row.z);
+        self.z_max = self.z_max.max(row.z);
+    }
+    /// The samples at the n step ends of a period: their plain mean is the trapezoidal mean
+    /// of the periodic signal over the period.
+    fn finish(mut self, n: usize) -> Self {
+        self.friction = self.friction.scaled(1.0 / n as f64);
+        self.z_mean /= n as f64;
+        self
+    }
+}
+
+/// Estimated relative distance of the last period means (f̄ and Z̄) from their periodic
+/// limits: the cycle-to-cycle change d_k, extended by its geometric tail d_k/(1 − r) when the
+/// changes shrink monotonically at ratio r = d_k/d_{k−1} ∈ (0, 1) (a slow creep, model.md §6);
+/// infinite while fewer than three periods exist or while the changes grow.
+fn periodic_error(h: &[PeriodMeans]) -> f64 {
+    if h.len() < 3 {
+        return f64::INFINITY;
+    }
+    let k = h.len() - 1;
+    let est = |y: &dyn Fn(&PeriodMeans) -> f64| {
+        let (y0, y1, y2) = (y(&h[k - 2]), y(&h[k - 1]), y(&h[k]));
+        let (d1, d2) = (y1 - y0, y2 - y1);
+        let scale = y2.abs().max(f64::MIN_POSITIVE);
+        if d2.abs() <= 1e-13 * scale {
+            return d2.abs() / scale;
+        }
+        let r = if d1 != 0.0 { d2 / d1 } else { f64::INFINITY };
+        let tail = if r > 0.0 && r < 1.0 {
+            d2.abs() / (1.0 - r)
+        } else if r <= 0.0 {
+            d2.abs()
+        } else {
+            f64::INFINITY
+        };
+        tail / scale
+    };
+    est(&|p| p.friction.total()).max(est(&|p| p.z_mean))
+}
+
+/// One evaluation with the default dispatch: an untextured liner is solved as the steady
+/// 1D force balance on n1 cells; a textured one by the 2D transient to the periodic regime.
+pub fn simulate(
+    case: &CaseSpec,
+    num: &Numerics,
+    record_series: bool,
+) -> Result<RunResult, SolveError> {
+    match case.texture {
+        None => steady_outcome(case, num.n1),
+        Some(_) => Transient::new(case, num).run_to_periodic(num, record_series),
+    }
+}
+
+/// The steady untextured outcome in the common form.
+pub fn steady_outcome(case: &CaseSpec, n1: usize) -> Result<RunResult, SolveError> {
+    let start = Instant::now();
+    let s = solve_untextured(case, n1).map_err(|source| SolveError::Steady {
+        case: case.label(),
+        source,
+    })?;
+    let c_min = case.contact().clearance_um(s.z);
+    let outcome = Outcome {
+        f_mean: s.friction.total(),
+        f_couette: s.friction.couette,
+        f_poiseuille: s.friction.poiseuille,
+        f_pressure: s.friction.pressure,
+        z_mean: s.z,
+        z_min: s.z,
+        z_max: s.z,
+        c_min,
+        periods: 0,
+        steps: 0,
+        converged: true,
+        periodic_error: 0.0,
+        method: "steady-1d".into(),
+        dt: 0.0,
+        t_end: 0.0,
+        iterations_per_step: 0.0,
+        max_residual: 0.0,
+        wall_time_s: start.elapsed().as_secs_f64(),
+    };
+    Ok(RunResult {
+        outcome,
+        series: None,
+    })
+}
