@@ -48,10 +48,7 @@ impl BandLu {
         for k in 0..n {
             let piv = self.a[k * stride + w];
             if !(piv.is_finite() && piv != 0.0) {
-                return Err(SingularPivot {
-                    row: k,
-                    value: piv,
-                });
+                return Err(SingularPivot { row: k, value: piv });
             }
             let inv = 1.0 / piv;
             let last = (k + w).min(n - 1);

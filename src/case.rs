@@ -225,7 +225,10 @@ impl CaseSpec {
                 return Err(bad(
                     "--l1",
                     t.l1,
-                    format!("2·l1 must not exceed --per = {} (pockets would overlap)", t.per),
+                    format!(
+                        "2·l1 must not exceed --per = {} (pockets would overlap)",
+                        t.per
+                    ),
                 ));
             }
             if 2.0 * t.l2 > t.width * (1.0 + 1e-12) {
@@ -353,6 +356,9 @@ mod tests {
         let thick = CaseSpec::paper(0.8).with_texture(Texture::circular(0.005, 0.06, 20.0));
         assert!(thick.validate(false).is_err());
         assert!(thick.validate(true).is_ok());
-        assert_eq!(CaseSpec::paper(0.03).validate(false).unwrap_err().param, "--R");
+        assert_eq!(
+            CaseSpec::paper(0.03).validate(false).unwrap_err().param,
+            "--R"
+        );
     }
 }

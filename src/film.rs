@@ -95,7 +95,7 @@ pub struct Boundary {
     /// Pressure at x1 = 0 and x1 = length (0 in the paper).
     pub p_left: f64,
     pub p_right: f64,
-    /// Film φ = hθ carried in at x1 = 0 (µm); the caller caps it at the local gap.
+    /// Film φ = hθ carried in at x1 = 0 (µm); capped at the local gap (θ ≤ 1) per node.
     pub phi_inlet: f64,
 }
 
@@ -338,7 +338,7 @@ impl FilmSolver {
         for j in 0..n2 {
             let (k0, kn) = (g.idx(0, j), g.idx(n1, j));
             state.p[k0] = bc.p_left;
-            state.phi[k0] = bc.phi_inlet;
+            state.phi[k0] = bc.phi_inlet.min(step.gap.h(g, k0, *z));
             state.pressurised[k0] = false;
             state.p[kn] = bc.p_right;
             state.pressurised[kn] = false;
@@ -350,8 +350,7 @@ impl FilmSolver {
             iterations += 1;
             // Gap, conductances and their Z-derivatives at the current Z.
             self.h.clear();
-            self.h
-                .extend((0..g.nodes()).map(|k| step.gap.h(g, k, *z)));
+            self.h.extend((0..g.nodes()).map(|k| step.gap.h(g, k, *z)));
             face_conductances(g, &self.h, &mut self.cx, &mut self.cy);
             for k in interior.clone() {
                 if state.pressurised[k] {
@@ -398,15 +397,22 @@ impl FilmSolver {
                     for j in 0..n2 {
                         let k = i * n2 + j;
                         let r = k_of(i, j);
-                        let f =
-                            balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
+                        let f = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
                         self.y1.push(-f);
                         // Diagonal: ∂F/∂p_ij = Σc on the pressurised set, ∂F/∂φ_ij = adv + at
                         // on the cavitated set.
                         let cw = faces.cx[k - n2];
                         let ce = faces.cx[k];
-                        let cs = if j > 0 { faces.cy[i * (n2 - 1) + j - 1] } else { 0.0 };
-                        let cn = if j + 1 < n2 { faces.cy[i * (n2 - 1) + j] } else { 0.0 };
+                        let cs = if j > 0 {
+                            faces.cy[i * (n2 - 1) + j - 1]
+                        } else {
+                            0.0
+                        };
+                        let cn = if j + 1 < n2 {
+                            faces.cy[i * (n2 - 1) + j]
+                        } else {
+                            0.0
+                        };
                         let diag = if state.pressurised[k] {
                             cw + ce + cs + cn
                         } else {
@@ -465,10 +471,7 @@ impl FilmSolver {
                     let w_h = load(g, ring, &state.p);
                     let gres = *z - link.z_pred - link.kappa * (w_h - link.w_ps);
                     let (mut gy1, mut gy2) = (0.0, 0.0);
-                    for i in lo.max(1)..=hi {
-                        if !ring[i] {
-                            continue;
-                        }
+                    for i in (lo..=hi).filter(|&i| ring[i]) {
                         for j in 0..n2 {
                             if state.pressurised[i * n2 + j] {
                                 let r = k_of(i, j);
@@ -535,21 +538,26 @@ impl FilmSolver {
                     changes += 1;
                 }
             }
-            for k in interior.clone() {
-                if !(state.p[k].is_finite() && state.phi[k].is_finite()) || !z.is_finite() {
-                    let quantity = if !z.is_finite() {
-                        "ring position Z"
-                    } else if !state.p[k].is_finite() {
-                        "pressure"
-                    } else {
+            if !z.is_finite() {
+                return Err(FilmError::NonFinite {
+                    quantity: "ring position Z",
+                    x1: f64::NAN,
+                    x2: f64::NAN,
+                });
+            }
+            if let Some(k) = interior
+                .clone()
+                .find(|&k| !(state.p[k].is_finite() && state.phi[k].is_finite()))
+            {
+                return Err(FilmError::NonFinite {
+                    quantity: if state.p[k].is_finite() {
                         "film content hθ"
-                    };
-                    return Err(FilmError::NonFinite {
-                        quantity,
-                        x1: g.x(k / n2),
-                        x2: g.y(k % n2),
-                    });
-                }
+                    } else {
+                        "pressure"
+                    },
+                    x1: g.x(k / n2),
+                    x2: g.y(k % n2),
+                });
             }
             if changes == 0 && dz.abs() <= self.tol.z_abs {
                 break;
@@ -604,9 +612,10 @@ impl FilmSolver {
             for j in 0..g.n2 {
                 let k = g.idx(i, j);
                 let r = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
-                let pscale = faces.cx[k - g.n2].max(faces.cx[k]) * state.p[k].abs().max(
-                    state.p[k - g.n2].abs().max(state.p[k + g.n2].abs()),
-                );
+                let pscale = faces.cx[k - g.n2].max(faces.cx[k])
+                    * state.p[k]
+                        .abs()
+                        .max(state.p[k - g.n2].abs().max(state.p[k + g.n2].abs()));
                 let scale = pscale + (adv + at) * state.phi[k].abs() + adv * state.phi[k - g.n2];
                 if scale > 0.0 {
                     worst = worst.max(r.abs() / scale);
@@ -629,20 +638,20 @@ pub fn load(g: &Grid, ring: &[bool], p: &[f64]) -> f64 {
     s * g.dx * g.dy / g.width
 }
 
-/// Net mass inflow rate of φ = hθ through the x1 boundaries, per unit... (total over the
-/// simulated width): inflow through the face at x1 = dx/2 minus outflow through the face at
-/// x1 = length − dx/2, with the flux q = (u/2)·φ_upwind − (h_f³/2)·∂p/∂x1 of model.md §3.
-/// Over a step, Σ(φ^{n+1} − φ^n)·dx·dy over the interior nodes equals dt times this.
-pub fn boundary_inflow(g: &Grid, gap: &Gap, z: f64, u: f64, state: &FilmState) -> f64 {
+/// Mass flow rates of φ = hθ through the x1 boundaries of the interior control volumes,
+/// summed over the simulated width: (inflow through the face at x1 = dx/2, outflow through
+/// the face at x1 = length − dx/2), with the flux q = (u/2)·φ_upwind − (h_f³/2)·∂p/∂x1 of
+/// model.md §3. Over a step, Σ(φ^{n+1} − φ^n)·dx·dy = dt·(inflow − outflow) at the new level.
+pub fn boundary_flows(g: &Grid, gap: &Gap, z: f64, u: f64, state: &FilmState) -> (f64, f64) {
     let n1 = g.n1;
     let flux = |i: usize, j: usize| {
         let (k, kn) = (g.idx(i, j), g.idx(i + 1, j));
         let hf = 0.5 * (gap.h(g, k, z) + gap.h(g, kn, z));
         0.5 * u * state.phi[k] - 0.5 * hf * hf * hf * (state.p[kn] - state.p[k]) / g.dx
     };
-    (0..g.n2)
-        .map(|j| (flux(0, j) - flux(n1 - 1, j)) * g.dy)
-        .sum()
+    let inflow = (0..g.n2).map(|j| flux(0, j) * g.dy).sum();
+    let outflow = (0..g.n2).map(|j| flux(n1 - 1, j) * g.dy).sum();
+    (inflow, outflow)
 }
 
 /// Mass of film content Σ φ·dx·dy over the interior control volumes.

@@ -206,7 +206,13 @@ mod tests {
         let s: f64 = 0.04;
         let direct = (0.8 - (0.64 - s * s).sqrt()) * 1e4;
         assert!((r.sag_um(s) - direct).abs() < 1e-9);
-        assert_eq!(CircularArc { radius_cm: f64::INFINITY }.sag_um(0.03), 0.0);
+        assert_eq!(
+            CircularArc {
+                radius_cm: f64::INFINITY
+            }
+            .sag_um(0.03),
+            0.0
+        );
     }
 
     #[test]

@@ -14,6 +14,7 @@
 
 pub mod banded;
 pub mod case;
+pub mod cli;
 pub mod dynamics;
 pub mod film;
 pub mod friction;

@@ -227,6 +227,16 @@ impl Transient {
         num: &Numerics,
         record_series: bool,
     ) -> Result<RunResult, SolveError> {
+        self.run_observed(num, record_series, &mut |_| {})
+    }
+
+    /// As `run_to_periodic`, calling `observe` after every texture period.
+    pub fn run_observed(
+        &mut self,
+        num: &Numerics,
+        record_series: bool,
+        observe: &mut dyn FnMut(&Progress),
+    ) -> Result<RunResult, SolveError> {
         let start = Instant::now();
         let mut series = record_series.then(Vec::new);
         let mut history: Vec<PeriodMeans> = Vec::new();
@@ -243,6 +253,13 @@ impl Transient {
             }
             history.push(acc.finish(n));
             let err = periodic_error(&history);
+            observe(&Progress {
+                period: history.len(),
+                t: self.t,
+                f_mean: acc.friction.total() / n as f64,
+                z_mean: acc.z_mean / n as f64,
+                periodic_error: err,
+            });
             if history.len() >= num.min_periods.max(3) && err <= num.periodic_tol {
                 break (true, err);
             }
@@ -274,6 +291,17 @@ impl Transient {
         };
         Ok(RunResult { outcome, series })
     }
+}
+
+/// Reported after each texture period of a transient run.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    pub period: usize,
+    pub t: f64,
+    pub f_mean: f64,
+    pub z_mean: f64,
+    /// Estimated relative distance from the periodic regime (infinite until it can be told).
+    pub periodic_error: f64,
 }
 
 /// Means over one texture period.

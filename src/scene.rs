@@ -23,11 +23,7 @@ impl Scene {
     pub fn new(case: &CaseSpec, num: &Numerics) -> Self {
         let contact = case.contact();
         let width = case.texture.as_ref().map_or(1.0, |t| 0.5 * t.width);
-        Self::with_grid(
-            contact,
-            Grid::new(num.n1, num.n2, 0.2, width),
-            case.u,
-        )
+        Self::with_grid(contact, Grid::new(num.n1, num.n2, 0.2, width), case.u)
     }
 
     pub fn with_grid(contact: Contact, grid: Grid, u: f64) -> Self {
@@ -55,9 +51,7 @@ impl Scene {
         for i in 0..=g.n1 {
             let x = g.x(i);
             let ring_part = if self.gap.ring[i] {
-                self.contact
-                    .ring
-                    .sag_um(x - self.contact.x_center_cm)
+                self.contact.ring.sag_um(x - self.contact.x_center_cm)
             } else {
                 self.contact.e_um
             };

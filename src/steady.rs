@@ -101,7 +101,11 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
     let mut side = 0;
     let mut z = lo;
     for _ in 0..200 {
-        let c = if fa == fb { 0.5 * (a + b) } else { b - fb * (b - a) / (fb - fa) };
+        let c = if fa == fb {
+            0.5 * (a + b)
+        } else {
+            b - fb * (b - a) / (fb - fa)
+        };
         z = c.exp();
         let fc = excess(z, &mut state)?;
         if fc == 0.0 || (b - a).abs() < 1e-13 || fc.abs() < 1e-13 * case.w_ps {

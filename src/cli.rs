@@ -1,0 +1,347 @@
+//! The `texopt` command line. Errors say what was wrong and how to fix it; bad input exits
+//! with code 2 and writes nothing.
+
+use clap::{Args, Parser, Subcommand};
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
+
+use crate::case::{CaseSpec, InputError, Numerics, Texture};
+use crate::run::{simulate, Outcome, Progress, RunResult, SeriesRow, Transient};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "texopt",
+    version,
+    about = "Design liner textures for the piston-ring/liner contact (transient mass-conserving lubrication with ring dynamics)"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Simulate one ring/liner case to its periodic regime and report friction and clearance.
+    Simulate(SimulateArgs),
+}
+
+/// Units: lengths along the liner in cm, gaps and depths in µm, time in ms (L/U), friction
+/// coefficients per eq. (11) of the paper (the paper prints them divided by 10).
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct SimulateArgs {
+    /// Ring face radius R in cm ("inf" for a flat ring); must exceed 0.04 (half the ring width).
+    #[arg(long = "R", value_name = "CM", allow_hyphen_values = true, value_parser = parse_radius)]
+    pub r: f64,
+    /// Pocket semiaxis along the sliding direction (cm).
+    #[arg(long, value_name = "CM", allow_hyphen_values = true)]
+    pub l1: Option<f64>,
+    /// Pocket semiaxis across the sliding direction (cm) [default: l1].
+    #[arg(long, value_name = "CM", allow_hyphen_values = true)]
+    pub l2: Option<f64>,
+    /// Texture period along the sliding direction (cm).
+    #[arg(long, value_name = "CM", allow_hyphen_values = true)]
+    pub per: Option<f64>,
+    /// Texture period across the sliding direction (cm) [default: per].
+    #[arg(long, value_name = "CM", allow_hyphen_values = true)]
+    pub width: Option<f64>,
+    /// Pocket depth (µm); absent or 0: untextured liner (solved as a steady 1D problem).
+    #[arg(long, value_name = "UM", allow_hyphen_values = true)]
+    pub depth: Option<f64>,
+    /// x1 position of a pocket centre at t = 0 (cm): the texture's initial phase.
+    #[arg(
+        long,
+        value_name = "CM",
+        allow_hyphen_values = true,
+        default_value_t = 0.0
+    )]
+    pub phase: f64,
+    /// Mesh N1xN2: cells along x1 over 0.2 cm and along x2 over half a texture cell.
+    #[arg(long, value_name = "N1xN2", default_value = "512x32", value_parser = parse_mesh)]
+    pub mesh: (usize, usize),
+    /// Largest time step (ms); the step used divides the texture period exactly.
+    #[arg(
+        long,
+        value_name = "DT",
+        allow_hyphen_values = true,
+        default_value_t = 4e-4
+    )]
+    pub dt: f64,
+    /// Shear threshold θ_s of the Couette friction switch.
+    #[arg(
+        long = "theta-s",
+        value_name = "THETA",
+        allow_hyphen_values = true,
+        default_value_t = 0.95
+    )]
+    pub theta_s: f64,
+    /// Inlet oil film thickness (µm); 20 is fully flooded.
+    #[arg(
+        long = "d-oil",
+        value_name = "UM",
+        allow_hyphen_values = true,
+        default_value_t = 20.0
+    )]
+    pub d_oil: f64,
+    /// Relative tolerance of the periodic-regime test (estimated distance of the period-mean
+    /// friction and Z from their periodic limits).
+    #[arg(
+        long = "periodic-tol",
+        value_name = "TOL",
+        allow_hyphen_values = true,
+        default_value_t = 1e-5
+    )]
+    pub periodic_tol: f64,
+    /// Give up after this much simulated time (ms) and report converged = false.
+    #[arg(
+        long = "t-max",
+        value_name = "T",
+        allow_hyphen_values = true,
+        default_value_t = 30.0
+    )]
+    pub t_max: f64,
+    /// Accept pockets that break thin-film validity (10⁴·l < 5·depth).
+    #[arg(long = "allow-thick-pockets")]
+    pub allow_thick_pockets: bool,
+    /// Solve an untextured liner with the 2D transient too (default: steady 1D force balance).
+    #[arg(long)]
+    pub transient: bool,
+    /// Print one JSON object (inputs and outcomes) instead of the summary.
+    #[arg(long)]
+    pub json: bool,
+    /// Write the time series (t, Z, W_h, f and its three terms per step) as CSV to FILE.
+    #[arg(long, value_name = "FILE")]
+    pub series: Option<PathBuf>,
+}
+
+fn parse_radius(s: &str) -> Result<f64, String> {
+    let t = s.trim();
+    if t.eq_ignore_ascii_case("inf") || t.eq_ignore_ascii_case("infinity") {
+        return Ok(f64::INFINITY);
+    }
+    t.parse::<f64>()
+        .map_err(|_| format!("expected a radius in cm (e.g. 0.8) or \"inf\", got {s:?}"))
+}
+
+fn parse_mesh(s: &str) -> Result<(usize, usize), String> {
+    let err = || format!("expected N1xN2 with whole numbers, e.g. 512x32, got {s:?}");
+    let (a, b) = s.split_once(['x', 'X']).ok_or_else(err)?;
+    let n1 = a.trim().parse::<usize>().map_err(|_| err())?;
+    let n2 = b.trim().parse::<usize>().map_err(|_| err())?;
+    Ok((n1, n2))
+}
+
+/// Exit codes: 0 done, 1 the solve failed or did not reach the periodic regime, 2 bad input.
+pub fn main_with(cli: Cli) -> i32 {
+    match cli.command {
+        Command::Simulate(a) => match simulate_cmd(&a) {
+            Ok(code) => code,
+            Err(CmdError::Input(e)) => {
+                eprintln!("error: {e}");
+                2
+            }
+            Err(CmdError::Other(e)) => {
+                eprintln!("error: {e}");
+                1
+            }
+        },
+    }
+}
+
+enum CmdError {
+    Input(String),
+    Other(String),
+}
+
+impl From<InputError> for CmdError {
+    fn from(e: InputError) -> Self {
+        CmdError::Input(e.to_string())
+    }
+}
+
+/// The case and numerics named by the flags, validated.
+pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
+    let mut case = CaseSpec::paper(a.r);
+    case.theta_s = a.theta_s;
+    case.d_oil = a.d_oil;
+    let depth = a.depth.unwrap_or(0.0);
+    if !depth.is_finite() || depth < 0.0 {
+        return Err(InputError {
+            param: "--depth".into(),
+            value: depth.to_string(),
+            rule: "must be a finite depth ≥ 0 µm (0 or absent: untextured)".into(),
+        });
+    }
+    if depth > 0.0 {
+        let need = |name: &str, v: Option<f64>| {
+            v.ok_or_else(|| InputError {
+                param: name.into(),
+                value: "missing".into(),
+                rule: format!("a textured liner (--depth {depth}) needs {name}"),
+            })
+        };
+        let l1 = need("--l1", a.l1)?;
+        let per = need("--per", a.per)?;
+        case.texture = Some(Texture {
+            l1,
+            l2: a.l2.unwrap_or(l1),
+            per,
+            width: a.width.unwrap_or(per),
+            depth,
+            phase: a.phase,
+        });
+    }
+    let num = Numerics {
+        n1: a.mesh.0,
+        n2: a.mesh.1,
+        dt: a.dt,
+        periodic_tol: a.periodic_tol,
+        t_max: a.t_max,
+        ..Numerics::default()
+    };
+    case.validate(a.allow_thick_pockets)?;
+    num.validate(&case)?;
+    Ok((case, num))
+}
+
+fn simulate_cmd(a: &SimulateArgs) -> Result<i32, CmdError> {
+    let (case, num) = case_from_args(a)?;
+    if case.texture.is_none()
+        && (a.l1.is_some() || a.per.is_some() || a.l2.is_some() || a.width.is_some())
+    {
+        eprintln!("note: --depth is 0 or absent, so the liner is untextured; the pocket flags are not used");
+    }
+    let transient = case.texture.is_some() || a.transient;
+    if let Some(path) = &a.series {
+        if !transient {
+            return Err(CmdError::Input(format!(
+                "--series {}: an untextured liner is solved as a steady 1D problem with no time series; add --transient to run it as a 2D transient",
+                path.display()
+            )));
+        }
+        let dir = path
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(std::path::Path::new("."));
+        if !dir.is_dir() {
+            return Err(CmdError::Input(format!(
+                "--series {}: the directory {} does not exist; create it or choose another path",
+                path.display(),
+                dir.display()
+            )));
+        }
+    }
+
+    let show = std::io::stderr().is_terminal() && !a.json;
+    let mut observe = |p: &Progress| {
+        if show {
+            eprint!(
+                "\r  period {:4}  t = {:7.3}  f̄ = {:.5}  Z̄ = {:.4} µm  est. periodic error {:.1e}   ",
+                p.period, p.t, p.f_mean, p.z_mean, p.periodic_error
+            );
+            let _ = std::io::stderr().flush();
+        }
+    };
+    let result = if transient {
+        Transient::new(&case, &num).run_observed(&num, a.series.is_some(), &mut observe)
+    } else {
+        simulate(&case, &num, false)
+    };
+    if show && transient {
+        eprintln!();
+    }
+    let RunResult { outcome, series } = result.map_err(|e| CmdError::Other(e.to_string()))?;
+
+    if let (Some(path), Some(rows)) = (&a.series, &series) {
+        write_series(path, rows).map_err(|e| {
+            CmdError::Other(format!("could not write --series {}: {e}", path.display()))
+        })?;
+    }
+    if a.json {
+        let report = serde_json::json!({
+            "inputs": { "case": case, "numerics": num, "mesh": format!("{}x{}", num.n1, num.n2) },
+        });
+        let mut obj = report.as_object().cloned().unwrap_or_default();
+        if let serde_json::Value::Object(o) = serde_json::to_value(&outcome).unwrap_or_default() {
+            obj.extend(o);
+        }
+        println!("{}", serde_json::Value::Object(obj));
+    } else {
+        print_summary(&case, &num, &outcome);
+    }
+    if !outcome.converged {
+        eprintln!(
+            "warning: the periodic regime was not reached by t = {} (estimated error {:.1e} > tolerance {:.1e}); the numbers above are not final. Raise --t-max or loosen --periodic-tol.",
+            num.t_max, outcome.periodic_error, num.periodic_tol
+        );
+        return Ok(1);
+    }
+    Ok(0)
+}
+
+fn write_series(path: &std::path::Path, rows: &[SeriesRow]) -> std::io::Result<()> {
+    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+    writeln!(w, "t,Z,W_h,f,f_couette,f_poiseuille,f_pressure")?;
+    for r in rows {
+        writeln!(
+            w,
+            "{},{},{},{},{},{},{}",
+            r.t, r.z, r.w_h, r.f, r.f_couette, r.f_poiseuille, r.f_pressure
+        )?;
+    }
+    w.flush()
+}
+
+fn print_summary(case: &CaseSpec, num: &Numerics, o: &Outcome) {
+    let ring = if case.r.is_infinite() {
+        "flat ring".to_string()
+    } else {
+        format!("ring face radius R = {} cm", case.r)
+    };
+    match &case.texture {
+        None => println!("texopt simulate: {ring}, untextured liner"),
+        Some(t) => println!(
+            "texopt simulate: {ring}; pockets l1 = {} cm, l2 = {} cm, depth = {} µm on a {} × {} cm lattice (textured area {:.1} %)",
+            t.l1, t.l2, t.depth, t.per, t.width, 100.0 * t.area_fraction()
+        ),
+    }
+    if o.method == "steady-1d" {
+        println!("  steady 1D force balance on {} cells", num.n1);
+    } else {
+        println!(
+            "  transient on {}x{} cells, dt = {:.4e} ms: {} periods, {} steps, t = {:.3} ms; periodic regime {} (est. error {:.1e})",
+            num.n1,
+            num.n2,
+            o.dt,
+            o.periods,
+            o.steps,
+            o.t_end,
+            if o.converged { "reached" } else { "NOT reached" },
+            o.periodic_error
+        );
+    }
+    println!(
+        "  mean friction coefficient  f = {:.5}   (eq. 11; the paper prints f/10 = {:.6})",
+        o.f_mean,
+        o.f_mean / 10.0
+    );
+    println!(
+        "    Couette {:.5}, Poiseuille {:.5}, pressure {:.5}",
+        o.f_couette, o.f_poiseuille, o.f_pressure
+    );
+    println!(
+        "  ring position Z: mean {:.4} µm, min {:.4} µm, max {:.4} µm",
+        o.z_mean, o.z_min, o.z_max
+    );
+    println!("  minimum clearance C_min = {:.4} µm", o.c_min);
+    if o.method == "steady-1d" {
+        println!("  wall time {:.3} s", o.wall_time_s);
+    } else {
+        println!(
+            "  wall time {:.2} s ({:.2} ms/step, {:.2} active-set iterations per step)",
+            o.wall_time_s,
+            1e3 * o.wall_time_s / o.steps.max(1) as f64,
+            o.iterations_per_step
+        );
+    }
+}

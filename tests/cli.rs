@@ -1,0 +1,222 @@
+//! The command-line contract: bad input is refused with a one-line message naming the
+//! parameter, exit code 2, nothing written; `--json` and `--series` deliver what they promise.
+
+use std::process::Command;
+
+fn texopt(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_texopt"))
+        .args(args)
+        .output()
+        .expect("run texopt");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("texopt-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+#[test]
+fn bad_inputs_are_refused_with_exit_2_and_a_message_naming_the_parameter() {
+    let series = scratch("refused.csv");
+    let s = series.to_str().unwrap();
+    let tex = ["--l1", "0.01", "--per", "0.06", "--depth", "5"];
+    let with_tex = |extra: &[&'static str]| -> Vec<String> {
+        let mut v: Vec<String> = ["simulate", "--R", "0.8"]
+            .iter()
+            .map(|x| x.to_string())
+            .collect();
+        v.extend(tex.iter().map(|x| x.to_string()));
+        v.extend(extra.iter().map(|x| x.to_string()));
+        v.extend(["--series".to_string(), s.to_string()]);
+        v
+    };
+    // (arguments, text the one-line error must contain)
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (to(&["simulate", "--R", "0.03"]), "--R"),
+        (to(&["simulate", "--R", "-2"]), "--R"),
+        (to(&["simulate", "--R", "nan"]), "--R"),
+        (to(&["simulate", "--R", "abc"]), "--R"),
+        (to(&["simulate"]), "--R"),
+        (
+            to(&[
+                "simulate", "--R", "0.8", "--l1", "0.04", "--per", "0.06", "--depth", "5",
+            ]),
+            "--l1",
+        ),
+        (
+            to(&[
+                "simulate", "--R", "0.8", "--l1", "0.01", "--l2", "0.04", "--per", "0.06",
+                "--depth", "5",
+            ]),
+            "--l2",
+        ),
+        (
+            to(&[
+                "simulate", "--R", "0.8", "--l1", "0.0025", "--per", "0.06", "--depth", "10",
+            ]),
+            "thin-film",
+        ),
+        (
+            to(&[
+                "simulate", "--R", "0.8", "--l1", "-0.01", "--per", "0.06", "--depth", "5",
+            ]),
+            "--l1",
+        ),
+        (
+            to(&[
+                "simulate", "--R", "0.8", "--l1", "0.01", "--per", "0", "--depth", "5",
+            ]),
+            "--per",
+        ),
+        (
+            to(&[
+                "simulate", "--R", "0.8", "--l1", "0.01", "--per", "inf", "--depth", "5",
+            ]),
+            "--per",
+        ),
+        (
+            to(&["simulate", "--R", "0.8", "--per", "0.06", "--depth", "5"]),
+            "--l1",
+        ),
+        (
+            to(&["simulate", "--R", "0.8", "--l1", "0.01", "--depth", "5"]),
+            "--per",
+        ),
+        (to(&["simulate", "--R", "0.8", "--depth", "-1"]), "--depth"),
+        (with_tex(&["--mesh", "16x32"]), "--mesh"),
+        (with_tex(&["--mesh", "8x32"]), "--mesh"),
+        (with_tex(&["--mesh", "512x2"]), "--mesh"),
+        (with_tex(&["--mesh", "512"]), "--mesh"),
+        (with_tex(&["--mesh", "ax3"]), "--mesh"),
+        (with_tex(&["--dt", "0"]), "--dt"),
+        (with_tex(&["--dt", "-1e-4"]), "--dt"),
+        (with_tex(&["--theta-s", "1.5"]), "--theta-s"),
+        (with_tex(&["--d-oil", "0"]), "--d-oil"),
+        (with_tex(&["--t-max", "0"]), "--t-max"),
+        (with_tex(&["--periodic-tol", "-1"]), "--periodic-tol"),
+        (with_tex(&["--width", "0.01"]), "--l2"),
+        (
+            to(&["simulate", "--R", "0.8", "--series", s]),
+            "--transient",
+        ),
+        (
+            to(&[
+                "simulate",
+                "--R",
+                "0.8",
+                "--l1",
+                "0.01",
+                "--per",
+                "0.06",
+                "--depth",
+                "5",
+                "--series",
+                "/nonexistent-dir/x.csv",
+            ]),
+            "does not exist",
+        ),
+    ];
+    for (args, needle) in &cases {
+        let a: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (code, out, err) = texopt(&a);
+        assert_eq!(code, 2, "{a:?} exited {code}: {err}");
+        assert!(out.is_empty(), "{a:?} printed to stdout: {out}");
+        assert!(
+            err.contains(needle),
+            "{a:?}: message {err:?} lacks {needle:?}"
+        );
+        assert!(!err.contains("panicked"), "{a:?} panicked: {err}");
+        assert!(!series.exists(), "{a:?} wrote {}", series.display());
+    }
+    // Our own messages are one line (clap's usage errors carry their usage hint).
+    let (_, _, err) = texopt(&a2(&[
+        "simulate", "--R", "0.8", "--l1", "0.04", "--per", "0.06", "--depth", "5",
+    ]));
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("0.04") && err.contains("2·l1"));
+}
+
+fn to(a: &[&str]) -> Vec<String> {
+    a.iter().map(|x| x.to_string()).collect()
+}
+
+fn a2<'a>(a: &'a [&'a str]) -> Vec<&'a str> {
+    a.to_vec()
+}
+
+#[test]
+fn json_and_series_deliver_the_promised_fields() {
+    let series = scratch("series.csv");
+    let (code, out, err) = texopt(&[
+        "simulate",
+        "--R",
+        "3.2",
+        "--l1",
+        "0.03",
+        "--per",
+        "0.06",
+        "--depth",
+        "10",
+        "--mesh",
+        "64x4",
+        "--json",
+        "--series",
+        series.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).expect("one JSON object");
+    for key in [
+        "f_mean",
+        "f_couette",
+        "f_poiseuille",
+        "f_pressure",
+        "z_mean",
+        "z_min",
+        "z_max",
+        "c_min",
+        "periods",
+        "steps",
+        "converged",
+        "wall_time_s",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key} in {out}");
+    }
+    assert_eq!(v["inputs"]["case"]["R"], 3.2);
+    assert_eq!(v["inputs"]["mesh"], "64x4");
+    assert_eq!(v["converged"], true);
+    let csv = std::fs::read_to_string(&series).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t,Z,W_h,f,f_couette,f_poiseuille,f_pressure"
+    );
+    assert_eq!(lines.count() as u64, v["steps"].as_u64().unwrap());
+
+    // The untextured liner: steady 1D, human summary with units.
+    let (code, out, _) = texopt(&["simulate", "--R", "0.8"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("µm") && out.contains("steady 1D"), "{out}");
+    // --allow-thick-pockets lifts the thin-film rule.
+    let (code, _, err) = texopt(&[
+        "simulate",
+        "--R",
+        "0.8",
+        "--l1",
+        "0.0025",
+        "--per",
+        "0.06",
+        "--depth",
+        "10",
+        "--mesh",
+        "128x16",
+        "--allow-thick-pockets",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+}
