@@ -178,11 +178,12 @@ impl Default for Tolerance {
 /// Why a film solve failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FilmError {
-    #[error("complementarity iteration did not converge in {iterations} iterations ({changes} active-set changes in the last one, last |δZ| = {dz:.3e} µm)")]
+    #[error("complementarity iteration did not converge in {iterations} iterations ({changes} active-set changes in the last one, last |δZ| = {dz:.3e} µm, Z = {z:.4e} µm)")]
     NotConverged {
         iterations: usize,
         changes: usize,
         dz: f64,
+        z: f64,
     },
     #[error("non-finite {quantity} at x1 = {x1:.5} cm, x2 = {x2:.5} cm")]
     NonFinite {
@@ -190,6 +191,8 @@ pub enum FilmError {
         x1: f64,
         x2: f64,
     },
+    #[error("the gap closed (h = {h:.3e} µm at x1 = {x1:.5} cm, x2 = {x2:.5} cm): solid contact is outside the lubrication model")]
+    GapClosed { h: f64, x1: f64, x2: f64 },
     #[error("singular film matrix at unknown {row} (pivot {pivot:e})")]
     Singular { row: usize, pivot: f64 },
 }
@@ -344,6 +347,10 @@ impl FilmSolver {
             state.pressurised[kn] = false;
         }
         let interior = n2..n1 * n2;
+        let ring_min_base = (0..g.nodes())
+            .filter(|&k| ring[k / n2])
+            .map(|k| step.gap.base[k])
+            .fold(f64::INFINITY, f64::min);
 
         let mut iterations = 0;
         loop {
@@ -351,6 +358,13 @@ impl FilmSolver {
             // Gap, conductances and their Z-derivatives at the current Z.
             self.h.clear();
             self.h.extend((0..g.nodes()).map(|k| step.gap.h(g, k, *z)));
+            if let Some(k) = (0..g.nodes()).find(|&k| self.h[k] <= 0.0 || self.h[k].is_nan()) {
+                return Err(FilmError::GapClosed {
+                    h: self.h[k],
+                    x1: g.x(k / n2),
+                    x2: g.y(k % n2),
+                });
+            }
             face_conductances(g, &self.h, &mut self.cx, &mut self.cy);
             for k in interior.clone() {
                 if state.pressurised[k] {
@@ -482,6 +496,11 @@ impl FilmSolver {
                     }
                     let gx = -link.kappa * load_weight;
                     dz = -(gres + gx * gy1) / (1.0 - gx * gy2);
+                    // Damping: an update may at most halve the smallest gap under the ring, so
+                    // no iterate closes it (a ring truly pushed into the liner still fails).
+                    if ring_min_base + *z + dz <= 0.5 * (ring_min_base + *z) {
+                        dz = -0.5 * (ring_min_base + *z);
+                    }
                     for (a, b) in self.y1.iter_mut().zip(&self.y2) {
                         *a -= b * dz;
                     }
@@ -567,6 +586,7 @@ impl FilmSolver {
                     iterations,
                     changes,
                     dz: dz.abs(),
+                    z: *z,
                 });
             }
         }
@@ -657,4 +677,39 @@ pub fn boundary_flows(g: &Grid, gap: &Gap, z: f64, u: f64, state: &FilmState) ->
 /// Mass of film content Σ φ·dx·dy over the interior control volumes.
 pub fn film_mass(g: &Grid, state: &FilmState) -> f64 {
     state.phi[g.n2..g.n1 * g.n2].iter().sum::<f64>() * g.dx * g.dy
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_closed_gap_is_an_error_not_a_number() {
+        let g = Grid::new(16, 1, 1.0, 1.0);
+        let mut base = vec![1.0; 17];
+        base[8] = 0.0;
+        let gap = Gap {
+            base,
+            ring: vec![false; 17],
+        };
+        let phi_old = vec![1.0; 17];
+        let step = Step {
+            grid: &g,
+            gap: &gap,
+            phi_old: &phi_old,
+            inv_dt: 0.0,
+            boundary: Boundary {
+                u: 1.0,
+                p_left: 0.0,
+                p_right: 0.0,
+                phi_inlet: 1.0,
+            },
+            ring: None,
+        };
+        let mut st = FilmState::flooded(&g, &gap, 0.0);
+        let err = FilmSolver::new(Tolerance::default())
+            .solve(&step, &mut st, &mut 0.0)
+            .unwrap_err();
+        assert!(matches!(err, FilmError::GapClosed { x1, .. } if (x1 - 0.5).abs() < 1e-12));
+    }
 }

@@ -162,7 +162,9 @@ impl Transient {
         self.state.phi.copy_from_slice(&self.phi_old);
         let s = self.ring_state;
         let link = self.ring.link(&s, self.dt);
-        let mut z = s.z + self.dt * s.v;
+        // Initial guess: the velocity extrapolation, but never closer to the liner than half
+        // the current clearance (the iteration then moves Z as far as the film demands).
+        let mut z = (s.z + self.dt * s.v).max(0.5 * s.z);
         let step = Step {
             grid: &self.scene.grid,
             gap: &self.scene.gap,

@@ -73,3 +73,23 @@ fn periodic_outcomes_do_not_depend_on_the_initial_phase() {
         assert!(rel(o.z_max, a.z_max) < 0.005);
     }
 }
+
+#[test]
+fn a_ring_pushed_into_the_liner_fails_loudly_naming_the_case() {
+    // A load 10⁴ times the paper's cannot be carried: the ring must reach the liner, and the
+    // run must say so (never return outcomes).
+    let mut case = CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0));
+    case.w_ps *= 1e4;
+    let num = Numerics {
+        n1: 64,
+        n2: 4,
+        ..Numerics::default()
+    };
+    let err = Transient::new(&case, &num)
+        .run_to_periodic(&num, false)
+        .unwrap_err();
+    let msg = err.to_string();
+    println!("{msg}");
+    assert!(msg.contains("R=0.8 l1=0.01"), "{msg}");
+    assert!(msg.contains("t = "), "{msg}");
+}
