@@ -274,31 +274,30 @@ impl Numerics {
         positive("--periodic-tol", self.periodic_tol)?;
         positive("--t-max", self.t_max)?;
         if let Some(t) = &case.texture {
-            let dx = 0.2 / self.n1 as f64;
-            let dy = 0.5 * t.width / self.n2 as f64;
-            if 2.0 * t.l1 < 2.0 * dx * (1.0 - 1e-12) {
-                return Err(bad(
-                    "--mesh",
-                    format!("{}x{}", self.n1, self.n2),
-                    format!(
-                        "puts {:.2} cells across the pocket axis 2·l1 = {} cm (need ≥ 2); raise N1 to at least {}",
-                        2.0 * t.l1 / dx,
-                        2.0 * t.l1,
-                        (0.2 / t.l1).ceil()
-                    ),
-                ));
-            }
-            if 2.0 * t.l2 < 2.0 * dy * (1.0 - 1e-12) {
-                return Err(bad(
-                    "--mesh",
-                    format!("{}x{}", self.n1, self.n2),
-                    format!(
-                        "puts {:.2} cells across the pocket axis 2·l2 = {} cm (need ≥ 2); raise N2 to at least {}",
-                        2.0 * t.l2 / dy,
-                        2.0 * t.l2,
-                        (0.5 * t.width / t.l2).ceil()
-                    ),
-                ));
+            // (axis, semiaxis, cell size, extent the cells divide, name of the count)
+            let axes = [
+                ("l1", t.l1, 0.2 / self.n1 as f64, 0.2, "N1"),
+                (
+                    "l2",
+                    t.l2,
+                    0.5 * t.width / self.n2 as f64,
+                    0.5 * t.width,
+                    "N2",
+                ),
+            ];
+            for (axis, l, d, extent, count) in axes {
+                if 2.0 * l < 2.0 * d * (1.0 - 1e-12) {
+                    return Err(bad(
+                        "--mesh",
+                        format!("{}x{}", self.n1, self.n2),
+                        format!(
+                            "puts {:.2} cells across the pocket axis 2·{axis} = {} cm (need ≥ 2); raise {count} to at least {}",
+                            2.0 * l / d,
+                            2.0 * l,
+                            (extent / l).ceil()
+                        ),
+                    ));
+                }
             }
         }
         Ok(())
