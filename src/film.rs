@@ -591,15 +591,16 @@ impl FilmSolver {
             }
         }
 
-        // Final state: exact complementarity (clip round-off), θ = 1 on the pressurised set.
+        // Final state: p = 0 on the cavitated set, θ = 1 on the pressurised set, round-off
+        // negative pressures clipped. φ on the cavitated set is left as solved (θ ≤ 1 + 1e-13,
+        // the switching threshold): clipping it would remove mass where φ ≈ h is large (the
+        // flooded gap e upstream of the ring) and break the exact discrete balance.
         for k in interior.clone() {
-            let hk = step.gap.h(g, k, *z);
             if state.pressurised[k] {
                 state.p[k] = state.p[k].max(0.0);
-                state.phi[k] = hk;
+                state.phi[k] = step.gap.h(g, k, *z);
             } else {
                 state.p[k] = 0.0;
-                state.phi[k] = state.phi[k].min(hk);
             }
         }
         for j in 0..n2 {
@@ -672,11 +673,6 @@ pub fn boundary_flows(g: &Grid, gap: &Gap, z: f64, u: f64, state: &FilmState) ->
     let inflow = (0..g.n2).map(|j| flux(0, j) * g.dy).sum();
     let outflow = (0..g.n2).map(|j| flux(n1 - 1, j) * g.dy).sum();
     (inflow, outflow)
-}
-
-/// Mass of film content Σ φ·dx·dy over the interior control volumes.
-pub fn film_mass(g: &Grid, state: &FilmState) -> f64 {
-    state.phi[g.n2..g.n1 * g.n2].iter().sum::<f64>() * g.dx * g.dy
 }
 
 #[cfg(test)]
