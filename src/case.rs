@@ -2,6 +2,8 @@
 //! the numerical fidelity, with the validity rules of model.md §2 checked up front.
 
 use serde::{Deserialize, Serialize};
+
+use crate::film::{Method, Tolerance};
 use std::sync::Arc;
 
 use crate::geometry::{CircularArc, Contact, HalfEllipsoid, Liner};
@@ -143,6 +145,114 @@ pub struct Numerics {
     pub t_max: f64,
     /// At least this many texture periods are simulated.
     pub min_periods: usize,
+    /// Linear solver of the film iteration.
+    #[serde(default)]
+    pub solver: Method,
+    /// Film solve tolerance (multigrid): largest nodal mass residual relative to the
+    /// Couette flux through the thinnest film under the ring.
+    #[serde(default = "default_solve_tol")]
+    pub solve_tol: f64,
+    /// Multigrid: most V-cycles per linear solve.
+    #[serde(default = "default_cycles")]
+    pub cycles: usize,
+    /// Initial state of the transient.
+    #[serde(default)]
+    pub start: Start,
+    /// Jump the state along a dominant, monotone slow mode to its limit when the period means
+    /// show one (geometric extrapolation of the period-end states; the periodic regime is
+    /// then verified on fresh periods).
+    #[serde(default = "yes")]
+    pub extrapolate: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// Named fidelity tiers the rest of the product asks for. Each fixes the mesh and time
+/// step (dt refined with dx, as in the paper's §3.3); their measured error and cost are in
+/// results/speed.md and the README.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Fidelity {
+    /// 128×8, dt = 1.6e-3: screening.
+    Draft,
+    /// 256×16, dt = 8e-4: studies and optimisation.
+    Fast,
+    /// 512×32, dt = 4e-4: the paper's fidelity.
+    Paper,
+    /// 1024×64, dt = 2e-4: checks.
+    Fine,
+}
+
+impl Fidelity {
+    pub const ALL: [Fidelity; 4] = [
+        Fidelity::Draft,
+        Fidelity::Fast,
+        Fidelity::Paper,
+        Fidelity::Fine,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Fidelity::Draft => "draft",
+            Fidelity::Fast => "fast",
+            Fidelity::Paper => "paper",
+            Fidelity::Fine => "fine",
+        }
+    }
+
+    /// Refinement level relative to draft (0..=3): mesh ×2ˡ in each direction, dt / 2ˡ.
+    fn level(self) -> u32 {
+        match self {
+            Fidelity::Draft => 0,
+            Fidelity::Fast => 1,
+            Fidelity::Paper => 2,
+            Fidelity::Fine => 3,
+        }
+    }
+
+    /// The numerics of this tier (other settings at their defaults).
+    pub fn numerics(self) -> Numerics {
+        let f = 1usize << self.level();
+        Numerics {
+            n1: 128 * f,
+            n2: 8 * f,
+            dt: 1.6e-3 / f as f64,
+            ..Numerics::default()
+        }
+    }
+}
+
+/// Where a transient run starts (the periodic regime it reaches does not depend on it).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Start {
+    /// The paper's initial state (model.md §4): Z = z0, Z' = v0, flooded upstream gap.
+    Paper,
+    /// The untextured force balance (steady 1D film at its Z, at rest): the texture only
+    /// perturbs an already balanced ring, so the periodic regime comes sooner.
+    #[default]
+    Equilibrium,
+}
+
+fn default_solve_tol() -> f64 {
+    Tolerance::default().residual
+}
+
+fn default_cycles() -> usize {
+    Tolerance::default().cycles
+}
+
+impl Numerics {
+    /// The film-solver settings these numerics ask for.
+    pub fn film_tolerance(&self) -> Tolerance {
+        Tolerance {
+            residual: self.solve_tol,
+            cycles: self.cycles,
+            ..Tolerance::default()
+        }
+    }
 }
 
 impl Default for Numerics {
@@ -155,6 +265,11 @@ impl Default for Numerics {
             periodic_tol: 1e-5,
             t_max: 30.0,
             min_periods: 3,
+            solver: Method::default(),
+            solve_tol: default_solve_tol(),
+            cycles: default_cycles(),
+            start: Start::default(),
+            extrapolate: true,
         }
     }
 }
@@ -272,6 +387,14 @@ impl Numerics {
         }
         positive("--dt", self.dt)?;
         positive("--periodic-tol", self.periodic_tol)?;
+        positive("--solve-tol", self.solve_tol)?;
+        if self.cycles == 0 {
+            return Err(bad(
+                "cycles",
+                0,
+                "needs at least 1 V-cycle per Newton iteration",
+            ));
+        }
         positive("--t-max", self.t_max)?;
         if let Some(t) = &case.texture {
             // (axis, semiaxis, cell size, extent the cells divide, name of the count)

@@ -5,7 +5,8 @@ use clap::{Args, Parser, Subcommand};
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 
-use crate::case::{CaseSpec, InputError, Numerics, Texture};
+use crate::case::{CaseSpec, Fidelity, InputError, Numerics, Start, Texture};
+use crate::film::Method;
 use crate::run::{simulate, Outcome, Progress, RunResult, SeriesRow, Transient};
 
 #[derive(Parser, Debug)]
@@ -23,6 +24,24 @@ pub struct Cli {
 pub enum Command {
     /// Simulate one ring/liner case to its periodic regime and report friction and clearance.
     Simulate(SimulateArgs),
+    /// Time the fixed benchmark cases (Case I, Case III, R = 51.2, untextured) and write JSON.
+    Bench(BenchArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Fidelity tier of every case.
+    #[arg(long, value_enum, default_value_t = FidelityArg::Paper)]
+    pub fidelity: FidelityArg,
+    /// Only the named cases (repeatable): case-I, case-III, conformal-R51.2, untextured-R0.8.
+    #[arg(long = "case", value_name = "NAME")]
+    pub cases: Vec<String>,
+    /// Film linear solver.
+    #[arg(long, value_enum, default_value_t = SolverArg::Direct)]
+    pub solver: SolverArg,
+    /// Where to write the results (JSON).
+    #[arg(long, value_name = "FILE", default_value = "results/bench.json")]
+    pub out: PathBuf,
 }
 
 /// Units: lengths along the liner in cm, gaps and depths in µm, time in ms (L/U), friction
@@ -56,17 +75,18 @@ pub struct SimulateArgs {
         default_value_t = 0.0
     )]
     pub phase: f64,
-    /// Mesh N1xN2: cells along x1 over 0.2 cm and along x2 over half a texture cell.
-    #[arg(long, value_name = "N1xN2", default_value = "512x32", value_parser = parse_mesh)]
-    pub mesh: (usize, usize),
-    /// Largest time step (ms); the step used divides the texture period exactly.
-    #[arg(
-        long,
-        value_name = "DT",
-        allow_hyphen_values = true,
-        default_value_t = 4e-4
-    )]
-    pub dt: f64,
+    /// Fidelity tier: draft (128x8, dt 1.6e-3), fast (256x16, 8e-4), paper (512x32, 4e-4) or
+    /// fine (1024x64, 2e-4). --mesh and --dt override its parts.
+    #[arg(long, value_enum, default_value_t = FidelityArg::Paper)]
+    pub fidelity: FidelityArg,
+    /// Mesh N1xN2: cells along x1 over 0.2 cm and along x2 over half a texture cell
+    /// [default: from --fidelity].
+    #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
+    pub mesh: Option<(usize, usize)>,
+    /// Largest time step (ms); the step used divides the texture period exactly
+    /// [default: from --fidelity].
+    #[arg(long, value_name = "DT", allow_hyphen_values = true)]
+    pub dt: Option<f64>,
     /// Shear threshold θ_s of the Couette friction switch.
     #[arg(
         long = "theta-s",
@@ -100,6 +120,28 @@ pub struct SimulateArgs {
         default_value_t = 30.0
     )]
     pub t_max: f64,
+    /// Film linear solver: direct (band LU, default) or multigrid (experimental).
+    #[arg(long, value_enum, default_value_t = SolverArg::Direct)]
+    pub solver: SolverArg,
+    /// Film solve tolerance (multigrid): largest nodal mass residual relative to the Couette
+    /// flux through the thinnest film under the ring.
+    #[arg(
+        long = "solve-tol",
+        value_name = "TOL",
+        allow_hyphen_values = true,
+        default_value_t = 1e-8
+    )]
+    pub solve_tol: f64,
+    /// Most multigrid V-cycles (GMRES iterations) per linear solve of the film iteration.
+    #[arg(long, value_name = "N", default_value_t = 8)]
+    pub cycles: usize,
+    /// Initial state of the transient: equilibrium (untextured force balance, default) or
+    /// paper (Z = 2.5 µm at rest, model.md §4). The periodic answer does not depend on it.
+    #[arg(long, value_enum, default_value_t = StartArg::Equilibrium)]
+    pub start: StartArg,
+    /// Do not jump the state along a dominant slow mode (simulate every period of the approach).
+    #[arg(long = "no-extrapolate")]
+    pub no_extrapolate: bool,
     /// Accept pockets that break thin-film validity (10⁴·l < 5·depth).
     #[arg(long = "allow-thick-pockets")]
     pub allow_thick_pockets: bool,
@@ -112,6 +154,58 @@ pub struct SimulateArgs {
     /// Write the time series (t, Z, W_h, f and its three terms per step) as CSV to FILE.
     #[arg(long, value_name = "FILE")]
     pub series: Option<PathBuf>,
+}
+
+/// The `--fidelity` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum FidelityArg {
+    Draft,
+    Fast,
+    Paper,
+    Fine,
+}
+
+impl From<FidelityArg> for Fidelity {
+    fn from(f: FidelityArg) -> Fidelity {
+        match f {
+            FidelityArg::Draft => Fidelity::Draft,
+            FidelityArg::Fast => Fidelity::Fast,
+            FidelityArg::Paper => Fidelity::Paper,
+            FidelityArg::Fine => Fidelity::Fine,
+        }
+    }
+}
+
+/// The `--start` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum StartArg {
+    Equilibrium,
+    Paper,
+}
+
+impl From<StartArg> for Start {
+    fn from(s: StartArg) -> Start {
+        match s {
+            StartArg::Equilibrium => Start::Equilibrium,
+            StartArg::Paper => Start::Paper,
+        }
+    }
+}
+
+/// The `--solver` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SolverArg {
+    Multigrid,
+    Direct,
+}
+
+impl From<SolverArg> for Method {
+    fn from(s: SolverArg) -> Method {
+        match s {
+            SolverArg::Multigrid => Method::Multigrid,
+            SolverArg::Direct => Method::Direct,
+        }
+    }
 }
 
 fn parse_radius(s: &str) -> Result<f64, String> {
@@ -133,19 +227,88 @@ fn parse_mesh(s: &str) -> Result<(usize, usize), String> {
 
 /// Exit codes: 0 done, 1 the solve failed or did not reach the periodic regime, 2 bad input.
 pub fn main_with(cli: Cli) -> i32 {
-    match cli.command {
-        Command::Simulate(a) => match simulate_cmd(&a) {
-            Ok(code) => code,
-            Err(CmdError::Input(e)) => {
-                eprintln!("error: {e}");
-                2
-            }
-            Err(CmdError::Other(e)) => {
-                eprintln!("error: {e}");
-                1
-            }
-        },
+    let result = match cli.command {
+        Command::Simulate(a) => simulate_cmd(&a),
+        Command::Bench(a) => bench_cmd(&a),
+    };
+    match result {
+        Ok(code) => code,
+        Err(CmdError::Input(e)) => {
+            eprintln!("error: {e}");
+            2
+        }
+        Err(CmdError::Other(e)) => {
+            eprintln!("error: {e}");
+            1
+        }
     }
+}
+
+fn bench_cmd(a: &BenchArgs) -> Result<i32, CmdError> {
+    let all = crate::bench::cases();
+    for name in &a.cases {
+        if !all.iter().any(|c| c.name == name) {
+            let names: Vec<_> = all.iter().map(|c| c.name).collect();
+            return Err(CmdError::Input(format!(
+                "--case {name}: no such benchmark case; choose from {}",
+                names.join(", ")
+            )));
+        }
+    }
+    let dir = a
+        .out
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(std::path::Path::new("."));
+    if !dir.is_dir() {
+        return Err(CmdError::Input(format!(
+            "--out {}: the directory {} does not exist; create it or choose another path",
+            a.out.display(),
+            dir.display()
+        )));
+    }
+    let fidelity = Fidelity::from(a.fidelity);
+    let num = Numerics {
+        solver: a.solver.into(),
+        ..fidelity.numerics()
+    };
+    let mut rows = Vec::new();
+    let mut failed = 0;
+    for c in all
+        .iter()
+        .filter(|c| a.cases.is_empty() || a.cases.iter().any(|n| n == c.name))
+    {
+        eprintln!("running {} ({}) …", c.name, c.case.label());
+        match crate::bench::run_case(c, fidelity, &num) {
+            Ok(row) => {
+                println!("{}", row.line());
+                rows.push(row);
+            }
+            Err(e) => {
+                failed += 1;
+                println!("{:16} FAILED: {e}", c.name);
+            }
+        }
+    }
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let report = serde_json::json!({
+        "texopt_version": env!("CARGO_PKG_VERSION"),
+        "unix_time": secs,
+        "threads_available": std::thread::available_parallelism().map_or(1, |n| n.get()),
+        "threads_used": 1,
+        "fidelity": fidelity.name(),
+        "numerics": num,
+        "cases": rows,
+    });
+    std::fs::write(
+        &a.out,
+        serde_json::to_string_pretty(&report).unwrap_or_default(),
+    )
+    .map_err(|e| CmdError::Other(format!("could not write --out {}: {e}", a.out.display())))?;
+    eprintln!("wrote {}", a.out.display());
+    Ok(if failed > 0 { 1 } else { 0 })
 }
 
 enum CmdError {
@@ -191,12 +354,18 @@ pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputErr
             phase: a.phase,
         });
     }
+    let tier = Fidelity::from(a.fidelity).numerics();
     let num = Numerics {
-        n1: a.mesh.0,
-        n2: a.mesh.1,
-        dt: a.dt,
+        n1: a.mesh.map_or(tier.n1, |m| m.0),
+        n2: a.mesh.map_or(tier.n2, |m| m.1),
+        dt: a.dt.unwrap_or(tier.dt),
         periodic_tol: a.periodic_tol,
         t_max: a.t_max,
+        solver: a.solver.into(),
+        solve_tol: a.solve_tol,
+        cycles: a.cycles,
+        start: a.start.into(),
+        extrapolate: !a.no_extrapolate,
         ..Numerics::default()
     };
     case.validate(a.allow_thick_pockets)?;

@@ -22,6 +22,7 @@
 //! the Newmark coupling of model.md §4 is implicit and converged inside the same iteration.
 
 use crate::banded::BandLu;
+use crate::multigrid::LineMultigrid;
 
 /// The mesh: n1 cells along x1 over [0, length] (vertex-centred, n1 + 1 nodes) and n2 cells
 /// along x2 over [0, half_width] (cell-centred). Node (i, j) is stored at i·n2 + j.
@@ -154,12 +155,49 @@ impl FilmState {
     }
 }
 
+/// How the linear systems of the complementarity iteration are solved. Both use the same
+/// matrix, assembled from the one stencil; they differ only in how it is inverted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// Exact band LU of the Newton system in every iteration (the default: at the paper's
+    /// 512×32 it is the fastest measured, see results/speed.md).
+    #[default]
+    Direct,
+    /// Experimental: inexact semi-smooth Newton, each linear system solved by GMRES with a
+    /// line-multigrid V-cycle ([`crate::multigrid`]) as preconditioner. Its cost grows
+    /// linearly with the mesh (the band LU's with N1·N2³), but on the flooded gap e the active
+    /// set can flicker under inexact solves; it is not yet robust (results/speed.md).
+    Multigrid,
+    /// Test reference, the simplest sound solver: the band LU of the whole domain in every
+    /// iteration (no restriction to the pressurised range, no upwind sweeps).
+    Reference,
+}
+
+impl Method {
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Multigrid => "multigrid",
+            Method::Reference => "reference",
+            Method::Direct => "direct",
+        }
+    }
+}
+
 /// Tolerances of the complementarity/ring iteration.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerance {
     /// Converged when the active set no longer changes and the last ring update |δZ| is
-    /// below this (µm). The linear solves are exact, so the residual is then at round-off.
+    /// below this (µm). With the direct method the residual is then at round-off.
     pub z_abs: f64,
+    /// Multigrid: also the largest nodal mass residual, relative to that node's flux terms
+    /// (Σc·|p| + (adv + at)·φ), must be below this.
+    pub residual: f64,
+    /// Multigrid: at most this many V-cycles (GMRES iterations) per linear solve.
+    pub cycles: usize,
+    /// Multigrid: a linear solve stops once its residual has dropped by this factor
+    /// (inexact Newton forcing term).
+    pub inner: f64,
     /// Iteration cap beyond n1 (a cold start moves a cavitation front by about one node per
     /// iteration, and the iteration is monotone for M-matrices, so n1 + this bounds a sound
     /// solve): more means a failed solve (an error, never a number).
@@ -169,7 +207,10 @@ pub struct Tolerance {
 impl Default for Tolerance {
     fn default() -> Self {
         Tolerance {
-            z_abs: 1e-11,
+            z_abs: 1e-10,
+            residual: 1e-8,
+            cycles: 8,
+            inner: 1e-2,
             extra_iterations: 60,
         }
     }
@@ -200,8 +241,10 @@ pub enum FilmError {
 /// What one film solve did.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SolveStats {
-    /// Active-set/Newton iterations (one band LU each).
+    /// Active-set/Newton iterations.
     pub iterations: usize,
+    /// Multigrid V-cycles (0 for the direct method).
+    pub cycles: usize,
     /// Largest nodal mass-balance residual after the solve, relative to the largest flux
     /// term at that node (round-off level when converged).
     pub residual: f64,
@@ -213,7 +256,11 @@ pub struct SolveStats {
 #[derive(Debug, Default, Clone)]
 pub struct FilmSolver {
     pub tol: Tolerance,
+    pub method: Method,
     lu: BandLu,
+    mg: LineMultigrid,
+    rhs1: Vec<f64>,
+    rhs2: Vec<f64>,
     h: Vec<f64>,
     cx: Vec<f64>,
     cy: Vec<f64>,
@@ -320,6 +367,134 @@ impl FilmSolver {
         }
     }
 
+    pub fn with_method(tol: Tolerance, method: Method) -> Self {
+        FilmSolver {
+            tol,
+            method,
+            ..Default::default()
+        }
+    }
+
+    /// Assembles, over node columns lo..=hi, the Newton matrix ∂F/∂x of the current active
+    /// set (into the multigrid's fine operator) and −F (into y1). Returns the largest nodal
+    /// |F| relative to that node's flux terms.
+    fn assemble(
+        &mut self,
+        step: &Step,
+        state: &FilmState,
+        lo: usize,
+        hi: usize,
+        adv: f64,
+        at: f64,
+    ) -> f64 {
+        let g = step.grid;
+        let n2 = g.n2;
+        let phi_old = (step.inv_dt > 0.0).then_some(step.phi_old);
+        let faces = Faces {
+            cx: &self.cx,
+            cy: &self.cy,
+        };
+        let active = self.mg.fine_active_mut();
+        active.clear();
+        active.extend_from_slice(&state.pressurised[lo * n2..(hi + 1) * n2]);
+        let a = self.mg.fine_mut();
+        a.reset(hi - lo + 1, n2);
+        self.y1.clear();
+        let mut fmax: f64 = 0.0;
+        for i in lo..=hi {
+            for j in 0..n2 {
+                let k = i * n2 + j;
+                let r = (i - lo) * n2 + j;
+                let f = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
+                self.y1.push(-f);
+                let cw = faces.cx[k - n2];
+                let ce = faces.cx[k];
+                let cs = if j > 0 {
+                    faces.cy[i * (n2 - 1) + j - 1]
+                } else {
+                    0.0
+                };
+                let cn = if j + 1 < n2 {
+                    faces.cy[i * (n2 - 1) + j]
+                } else {
+                    0.0
+                };
+                let csum = cw + ce + cs + cn;
+                // Relative to the node's largest terms: its Poiseuille and Couette fluxes.
+                let scale = csum * state.p[k].abs() + (adv + at) * state.phi[k].abs();
+                if scale > 0.0 {
+                    fmax = fmax.max(f.abs() / scale);
+                }
+                // Diagonal: ∂F/∂p_ij = Σc on the pressurised set, ∂F/∂φ_ij = adv + at on the
+                // cavitated set.
+                a.c[r] = if state.pressurised[k] { csum } else { adv + at };
+                // Off-diagonals depend on the neighbour's unknown only: its pressure enters
+                // through −c, the upstream φ through −adv, downstream φ not at all.
+                if i > lo {
+                    a.w[r] = if state.pressurised[k - n2] { -cw } else { -adv };
+                }
+                if i < hi && state.pressurised[k + n2] {
+                    a.e[r] = -ce;
+                }
+                if j > 0 && state.pressurised[k - 1] {
+                    a.s[r] = -cs;
+                }
+                if j + 1 < n2 && state.pressurised[k + 1] {
+                    a.n[r] = -cn;
+                }
+            }
+        }
+        fmax
+    }
+
+    /// Prepares the assembled matrix for solves: band LU, or the multigrid hierarchy.
+    fn factor(&mut self) -> Result<(), FilmError> {
+        match self.method {
+            Method::Direct | Method::Reference => {
+                let a = self.mg.fine();
+                let n2 = a.n2;
+                self.lu.reset(a.len(), n2);
+                for r in 0..a.len() {
+                    self.lu.add(r, r, a.c[r]);
+                    if r >= n2 {
+                        self.lu.add(r, r - n2, a.w[r]);
+                    }
+                    if r + n2 < a.len() {
+                        self.lu.add(r, r + n2, a.e[r]);
+                    }
+                    if r % n2 > 0 {
+                        self.lu.add(r, r - 1, a.s[r]);
+                    }
+                    if r % n2 + 1 < n2 {
+                        self.lu.add(r, r + 1, a.n[r]);
+                    }
+                }
+                self.lu.factor().map_err(|e| FilmError::Singular {
+                    row: e.row,
+                    pivot: e.value,
+                })
+            }
+            Method::Multigrid => self.mg.setup().map_err(|e| FilmError::Singular {
+                row: e.node,
+                pivot: e.value,
+            }),
+        }
+    }
+
+    /// Solves A x = rhs: exactly (direct; x's content ignored) or by `cycles` V-cycles from
+    /// the guess in x. Returns the V-cycles used.
+    fn solve_linear(&mut self, x: &mut Vec<f64>, rhs: &[f64], cycles: usize, rel: f64) -> usize {
+        match self.method {
+            Method::Direct | Method::Reference => {
+                x.clear();
+                x.extend_from_slice(rhs);
+                self.lu.solve(x);
+                0
+            }
+            Method::Multigrid => self.mg.gmres(x, rhs, rel, cycles),
+        }
+    }
+
     /// Solves one film problem in place. `state` holds the initial guess (normally the
     /// previous time level) and receives the solution; `z` the ring position, updated when
     /// the problem carries a `RingLink`.
@@ -353,6 +528,10 @@ impl FilmSolver {
             .fold(f64::INFINITY, f64::min);
 
         let mut iterations = 0;
+        let mut cycles = 0;
+        // What the last update did (multigrid: convergence is judged on the next residual).
+        let (mut last_changes, mut last_dz) = (usize::MAX, f64::INFINITY);
+        let mut y2_range = None;
         loop {
             iterations += 1;
             // Gap, conductances and their Z-derivatives at the current Z.
@@ -380,8 +559,10 @@ impl FilmSolver {
                     hi = hi.max(k / n2);
                 }
             }
-            let empty = lo == usize::MAX;
-            let (lo, hi) = if empty {
+            let empty = lo == usize::MAX && self.method != Method::Reference;
+            let (lo, hi) = if self.method == Method::Reference {
+                (1, n1 - 1)
+            } else if empty {
                 (n1, n1 - 1)
             } else {
                 (lo.saturating_sub(1).max(1), (hi + 1).min(n1 - 1))
@@ -402,59 +583,34 @@ impl FilmSolver {
 
             let mut dz = 0.0;
             if !empty {
-                let m = (hi - lo + 1) * n2;
-                let k_of = |i: usize, j: usize| (i - lo) * n2 + j;
+                let m1 = hi - lo + 1;
                 // Residual F = balance(·) at the current iterate and the Newton matrix ∂F/∂x.
-                self.y1.clear();
-                self.lu.reset(m, n2);
-                for i in lo..=hi {
-                    for j in 0..n2 {
-                        let k = i * n2 + j;
-                        let r = k_of(i, j);
-                        let f = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
-                        self.y1.push(-f);
-                        // Diagonal: ∂F/∂p_ij = Σc on the pressurised set, ∂F/∂φ_ij = adv + at
-                        // on the cavitated set.
-                        let cw = faces.cx[k - n2];
-                        let ce = faces.cx[k];
-                        let cs = if j > 0 {
-                            faces.cy[i * (n2 - 1) + j - 1]
-                        } else {
-                            0.0
-                        };
-                        let cn = if j + 1 < n2 {
-                            faces.cy[i * (n2 - 1) + j]
-                        } else {
-                            0.0
-                        };
-                        let diag = if state.pressurised[k] {
-                            cw + ce + cs + cn
-                        } else {
-                            adv + at
-                        };
-                        self.lu.add(r, r, diag);
-                        // Off-diagonals depend on the neighbour's unknown only: its pressure
-                        // enters through −c, the upstream φ through −adv, downstream φ not at all.
-                        if i > lo {
-                            let v = if state.pressurised[k - n2] { -cw } else { -adv };
-                            self.lu.add(r, r - n2, v);
-                        }
-                        if i < hi && state.pressurised[k + n2] {
-                            self.lu.add(r, r + n2, -ce);
-                        }
-                        if j > 0 && state.pressurised[k - 1] {
-                            self.lu.add(r, r - 1, -cs);
-                        }
-                        if j + 1 < n2 && state.pressurised[k + 1] {
-                            self.lu.add(r, r + 1, -cn);
-                        }
-                    }
+                let fmax = self.assemble(step, state, lo, hi, adv, at);
+                let f_tol = self.tol.residual;
+                if self.method == Method::Multigrid
+                    && last_changes == 0
+                    && last_dz <= self.tol.z_abs
+                    && fmax <= f_tol
+                {
+                    break;
                 }
-                self.lu.factor().map_err(|e| FilmError::Singular {
-                    row: e.row,
-                    pivot: e.value,
-                })?;
-                self.lu.solve(&mut self.y1);
+                self.factor()?;
+                // Newton correction from zero (the residual is the right-hand side).
+                let rhs1 = std::mem::take(&mut self.y1);
+                let mut y1 = std::mem::take(&mut self.rhs1);
+                y1.clear();
+                y1.resize(rhs1.len(), 0.0);
+                // Inexact Newton while the active set moves; once an iteration changed nothing
+                // or the set keeps flickering, solve accurately (an inexact iterate can flip
+                // nodes where p ≈ 0 and θ ≈ 1 back and forth).
+                let (rel, max_cycles) = if last_changes == 0 || iterations > 4 {
+                    (self.tol.residual, 4 * self.tol.cycles)
+                } else {
+                    (self.tol.inner, self.tol.cycles)
+                };
+                cycles += self.solve_linear(&mut y1, &rhs1, max_cycles, rel);
+                self.y1 = y1;
+                self.rhs1 = rhs1;
 
                 if let Some(link) = step.ring {
                     // ∂F/∂Z: the same stencil with conductances ∂c/∂Z and φ' = ∂h/∂Z on the
@@ -472,15 +628,32 @@ impl FilmSolver {
                         cx: &self.dcx,
                         cy: &self.dcy,
                     };
-                    self.y2.clear();
+                    self.rhs2.clear();
                     for i in lo..=hi {
                         for j in 0..n2 {
-                            self.y2.push(balance(
+                            self.rhs2.push(balance(
                                 g, &dfaces, adv, at, &state.p, &self.dphi, None, i, j,
                             ));
                         }
                     }
-                    self.lu.solve(&mut self.y2);
+                    // The sensitivity only sets the rate of the Z iteration, not its limit:
+                    // the multigrid path refines the previous one by a single cycle.
+                    // The multigrid path keeps the sensitivity of the step's first iteration
+                    // while the range holds: it sets only the rate of the Z iteration.
+                    if self.method != Method::Multigrid
+                        || y2_range != Some((lo, hi))
+                        || iterations > 2
+                    {
+                        let mut y2 = std::mem::take(&mut self.y2);
+                        y2.clear();
+                        y2.resize(self.rhs2.len(), 0.0);
+                        let rhs2 = std::mem::take(&mut self.rhs2);
+                        cycles +=
+                            self.solve_linear(&mut y2, &rhs2, self.tol.cycles, self.tol.inner);
+                        self.rhs2 = rhs2;
+                        self.y2 = y2;
+                        y2_range = Some((lo, hi));
+                    }
                     // Ring equation G = Z − z_pred − κ(W_h(p) − W_ps) = 0, ∂G/∂p_k = −κ·w_k.
                     let w_h = load(g, ring, &state.p);
                     let gres = *z - link.z_pred - link.kappa * (w_h - link.w_ps);
@@ -488,7 +661,7 @@ impl FilmSolver {
                     for i in (lo..=hi).filter(|&i| ring[i]) {
                         for j in 0..n2 {
                             if state.pressurised[i * n2 + j] {
-                                let r = k_of(i, j);
+                                let r = (i - lo) * n2 + j;
                                 gy1 += self.y1[r];
                                 gy2 += self.y2[r];
                             }
@@ -505,10 +678,11 @@ impl FilmSolver {
                         *a -= b * dz;
                     }
                 }
+                debug_assert_eq!(self.y1.len(), m1 * n2);
                 for i in lo..=hi {
                     for j in 0..n2 {
                         let k = i * n2 + j;
-                        let d = self.y1[k_of(i, j)];
+                        let d = self.y1[(i - lo) * n2 + j];
                         if state.pressurised[k] {
                             state.p[k] += d;
                         } else {
@@ -539,7 +713,9 @@ impl FilmSolver {
                 .clone()
                 .filter(|&k| state.pressurised[k])
                 .fold(0.0f64, |m, k| m.max(state.p[k]));
-            let p_eps = 1e-13 * pmax;
+            // Switching thresholds at round-off.
+            let eps = 1e-13;
+            let p_eps = eps * pmax;
             let mut changes = 0;
             for k in interior.clone() {
                 let hk = step.gap.h(g, k, *z);
@@ -550,7 +726,7 @@ impl FilmSolver {
                         state.phi[k] = hk;
                         changes += 1;
                     }
-                } else if state.phi[k] > hk * (1.0 + 1e-13) {
+                } else if state.phi[k] > hk * (1.0 + eps) {
                     state.pressurised[k] = true;
                     state.p[k] = 0.0;
                     state.phi[k] = hk;
@@ -578,9 +754,12 @@ impl FilmSolver {
                     x2: g.y(k % n2),
                 });
             }
-            if changes == 0 && dz.abs() <= self.tol.z_abs {
+            // An exact linear solve leaves a round-off residual: settled set and Z suffice.
+            let exact = empty || self.method != Method::Multigrid;
+            if exact && changes == 0 && dz.abs() <= self.tol.z_abs {
                 break;
             }
+            (last_changes, last_dz) = (changes, dz.abs());
             if iterations >= n1 + self.tol.extra_iterations {
                 return Err(FilmError::NotConverged {
                     iterations,
@@ -590,7 +769,6 @@ impl FilmSolver {
                 });
             }
         }
-
         // Final state: p = 0 on the cavitated set, θ = 1 on the pressurised set, round-off
         // negative pressures clipped. φ on the cavitated set is left as solved (θ ≤ 1 + 1e-13,
         // the switching threshold): clipping it would remove mass where φ ≈ h is large (the
@@ -609,6 +787,7 @@ impl FilmSolver {
         let residual = self.max_relative_residual(step, state, *z);
         Ok(SolveStats {
             iterations,
+            cycles,
             residual,
             w_h: load(g, ring, &state.p),
         })

@@ -13,12 +13,15 @@
 //! ```
 
 pub mod banded;
+pub mod bench;
 pub mod case;
 pub mod cli;
 pub mod dynamics;
 pub mod film;
 pub mod friction;
 pub mod geometry;
+pub mod multigrid;
+pub mod plot;
 pub mod run;
 pub mod scene;
 pub mod steady;

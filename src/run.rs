@@ -4,9 +4,9 @@
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
-use crate::case::{CaseSpec, Numerics};
+use crate::case::{CaseSpec, Numerics, Start};
 use crate::dynamics::{Ring, RingState};
-use crate::film::{Boundary, FilmError, FilmSolver, FilmState, SolveStats, Step, Tolerance};
+use crate::film::{Boundary, FilmError, FilmSolver, FilmState, SolveStats, Step};
 use crate::friction::{friction, Friction, FrictionModel};
 use crate::scene::Scene;
 use crate::steady::{solve_untextured, SteadyError};
@@ -86,6 +86,7 @@ pub enum SolveError {
 
 /// The coupled transient: film under the moving texture, ring dynamics, friction.
 /// Advance it with `step`; `run_to_periodic` drives it to the periodic regime.
+#[derive(Clone)]
 pub struct Transient {
     pub case: CaseSpec,
     pub scene: Scene,
@@ -116,6 +117,9 @@ impl Transient {
     /// ≈ 12 ms, and the bank's back-pressure lifts Z by up to 0.3 % on the way. Starting from the
     /// flooded inlet reaches the same periodic regime without that creep. The initial
     /// acceleration is consistent with the unpressurised film: Z''(0) = −W_ps/m.
+    ///
+    /// With `Start::Equilibrium` (numerics) the run starts instead from the untextured force
+    /// balance; the periodic regime it reaches is the same (tests/start.rs).
     pub fn new(case: &CaseSpec, num: &Numerics) -> Self {
         let scene = Scene::new(case, num);
         let period = case
@@ -124,15 +128,53 @@ impl Transient {
             .map_or(UNTEXTURED_PERIOD, |t| t.per / case.u);
         let steps_per_period = ((period / num.dt) - 1e-9).ceil().max(1.0) as usize;
         let dt = period / steps_per_period as f64;
-        let mut state = FilmState::cavitated(&scene.grid, &scene.gap, case.z0, case.d_oil);
-        let (a, _) = scene.contact.ring_edges();
         let g = &scene.grid;
-        for i in (0..=g.n1).filter(|&i| g.x(i) < a) {
-            for j in 0..g.n2 {
-                let k = g.idx(i, j);
-                state.phi[k] = scene.gap.h(g, k, case.z0);
+        let equilibrium = match num.start {
+            Start::Paper => None,
+            // A contact that has no untextured balance falls back to the paper's start.
+            Start::Equilibrium => solve_untextured(case, num.n1).ok(),
+        };
+        let (state, ring_state) = match equilibrium {
+            // The untextured force balance (model.md §6) laid on the textured gap: its
+            // saturation and pressure per column, Z at the balance, at rest, W_h = W_ps so
+            // Z''(0) = 0. The texture then only perturbs a balanced ring.
+            Some(eq) => {
+                let mut st = FilmState::cavitated(g, &scene.gap, eq.z, 0.0);
+                for i in 0..=g.n1 {
+                    for j in 0..g.n2 {
+                        let k = g.idx(i, j);
+                        let h = scene.gap.h(g, k, eq.z);
+                        st.phi[k] = eq.theta[i].min(1.0) * h;
+                        if eq.p[i] > 0.0 && i > 0 && i < g.n1 {
+                            st.p[k] = eq.p[i];
+                            st.pressurised[k] = true;
+                        }
+                    }
+                }
+                let rs = RingState {
+                    z: eq.z,
+                    v: 0.0,
+                    a: 0.0,
+                };
+                (st, rs)
             }
-        }
+            None => {
+                let mut st = FilmState::cavitated(g, &scene.gap, case.z0, case.d_oil);
+                let (a, _) = scene.contact.ring_edges();
+                for i in (0..=g.n1).filter(|&i| g.x(i) < a) {
+                    for j in 0..g.n2 {
+                        let k = g.idx(i, j);
+                        st.phi[k] = scene.gap.h(g, k, case.z0);
+                    }
+                }
+                let rs = RingState {
+                    z: case.z0,
+                    v: case.v0,
+                    a: -case.w_ps / case.mass,
+                };
+                (st, rs)
+            }
+        };
         let ring = Ring {
             mass: case.mass,
             w_ps: case.w_ps,
@@ -142,16 +184,12 @@ impl Transient {
             phi_old: state.phi.clone(),
             state,
             ring,
-            ring_state: RingState {
-                z: case.z0,
-                v: case.v0,
-                a: -case.w_ps / case.mass,
-            },
+            ring_state,
             t: 0.0,
             dt,
             steps_per_period,
             steps: 0,
-            solver: FilmSolver::new(Tolerance::default()),
+            solver: FilmSolver::with_method(num.film_tolerance(), num.solver),
             last: SolveStats::default(),
             friction: Friction::default(),
             scene,
@@ -253,14 +291,28 @@ impl Transient {
         record_series: bool,
         observe: &mut dyn FnMut(&Progress),
     ) -> Result<RunResult, SolveError> {
+        self.run_with(num, record_series, observe, &mut |_| {})
+    }
+
+    /// As `run_observed`, also calling `on_step` with the state after every time step.
+    pub fn run_with(
+        &mut self,
+        num: &Numerics,
+        record_series: bool,
+        observe: &mut dyn FnMut(&Progress),
+        on_step: &mut dyn FnMut(&Transient),
+    ) -> Result<RunResult, SolveError> {
         let start = Instant::now();
         let mut series = record_series.then(Vec::new);
         let mut history: Vec<PeriodMeans> = Vec::new();
         let n = self.steps_per_period;
+        let mut snaps: Vec<PeriodEnd> = Vec::new();
+        let (mut jumps, mut since_jump) = (0, 0);
         let (converged, periodic_error) = loop {
             let mut acc = PeriodMeans::empty();
             for _ in 0..n {
                 self.step()?;
+                on_step(self);
                 let row = self.row();
                 acc.add(&row, &self.friction);
                 if let Some(s) = series.as_mut() {
@@ -268,10 +320,28 @@ impl Transient {
                 }
             }
             history.push(acc.finish(n));
+            if num.extrapolate && jumps < MAX_JUMPS {
+                snaps.push(PeriodEnd::of(self));
+                if snaps.len() > 3 {
+                    snaps.remove(0);
+                }
+                if let Some(r) = slow_mode_ratio(&history[since_jump..]) {
+                    // One dominant, monotone slow mode (ratios steady over three periods):
+                    // jump the state along it to its limit. Only the start of the remaining
+                    // run changes; the periodic test then runs on fresh periods.
+                    if snaps.len() == 3 {
+                        self.jump_along(&snaps[1], &snaps[2], r / (1.0 - r));
+                        jumps += 1;
+                        since_jump = history.len();
+                        snaps.clear();
+                    }
+                }
+            }
             // The estimate must hold at two consecutive period ends, so that one lucky
             // cancellation between a decaying oscillation and a drift does not stop the run.
-            let err = periodic_error(&history).max(if history.len() > 3 {
-                periodic_error(&history[..history.len() - 1])
+            let fresh = &history[since_jump..];
+            let err = periodic_error(fresh).max(if fresh.len() > 3 {
+                periodic_error(&fresh[..fresh.len() - 1])
             } else {
                 f64::INFINITY
             });
@@ -282,7 +352,7 @@ impl Transient {
                 z_mean: acc.z_mean / n as f64,
                 periodic_error: err,
             });
-            if history.len() >= num.min_periods.max(4) && err <= num.periodic_tol {
+            if history.len() - since_jump >= num.min_periods.max(4) && err <= num.periodic_tol {
                 break (true, err);
             }
             if self.t + 1e-12 >= num.t_max {
@@ -363,6 +433,66 @@ impl PeriodMeans {
 /// limits: the cycle-to-cycle change d_k, extended by its geometric tail d_k/(1 − r) when the
 /// changes shrink monotonically at ratio r = d_k/d_{k−1} ∈ (0, 1) (a slow creep, model.md §6);
 /// infinite while fewer than three periods exist or while the changes grow.
+/// Most state extrapolations per run.
+const MAX_JUMPS: usize = 3;
+
+/// The state at the end of a texture period (same texture phase at every period end).
+struct PeriodEnd {
+    phi: Vec<f64>,
+    ring: RingState,
+}
+
+impl PeriodEnd {
+    fn of(t: &Transient) -> Self {
+        PeriodEnd {
+            phi: t.state.phi.clone(),
+            ring: t.ring_state,
+        }
+    }
+}
+
+impl Transient {
+    /// Moves the state to b + c·(b − a) (a, b: consecutive period ends; c = r/(1 − r) is the
+    /// geometric tail of a mode decaying by r per period), keeping θ in [0, 1]. The film
+    /// content and the ring move together, as the slow mode couples them (the oil held in
+    /// the contact and the clearance it carries).
+    fn jump_along(&mut self, a: &PeriodEnd, b: &PeriodEnd, c: f64) {
+        let g = &self.scene.grid;
+        let z = b.ring.z + c * (b.ring.z - a.ring.z);
+        for k in 0..g.nodes() {
+            let h = self.scene.gap.h(g, k, z);
+            let phi = b.phi[k] + c * (b.phi[k] - a.phi[k]);
+            self.state.phi[k] = phi.clamp(0.0, h);
+            if self.state.pressurised[k] {
+                self.state.phi[k] = h;
+            }
+        }
+        self.ring_state = RingState {
+            z,
+            v: b.ring.v + c * (b.ring.v - a.ring.v),
+            a: b.ring.a + c * (b.ring.a - a.ring.a),
+        };
+    }
+}
+
+/// The per-period decay ratio r of the period-mean Z when the last four periods show one
+/// monotone geometric mode (three successive ratios within 2 % of each other, 0.5 < r < 0.99,
+/// and the changes still well above round-off); None otherwise (oscillating or noisy).
+fn slow_mode_ratio(h: &[PeriodMeans]) -> Option<f64> {
+    if h.len() < 5 {
+        return None;
+    }
+    let k = h.len() - 1;
+    let d: Vec<f64> = (k - 3..=k).map(|i| h[i].z_mean - h[i - 1].z_mean).collect();
+    if d.iter().any(|x| x.abs() < 1e-9 * h[k].z_mean.abs()) {
+        return None;
+    }
+    let r: Vec<f64> = d.windows(2).map(|w| w[1] / w[0]).collect();
+    let steady = r.iter().all(|&x| x > 0.5 && x < 0.99)
+        && r.windows(2).all(|w| (w[1] - w[0]).abs() <= 0.02 * w[1]);
+    steady.then_some(r[2])
+}
+
 fn periodic_error(h: &[PeriodMeans]) -> f64 {
     if h.len() < 3 {
         return f64::INFINITY;

@@ -1,0 +1,244 @@
+//! Speed against accuracy (Case I and Case III): error of f̄ against wall time per case over
+//! meshes, time steps, periodicity tolerances and solver variants.
+//!
+//!   cargo run --release --example speed -- run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid]
+//!   cargo run --release --example speed -- report
+//!
+//! CASE is case-I or case-III (the benchmark cases). Each run appends one JSON line to
+//! results/speed/runs.jsonl (the Case I runs of results/convergence/ are read too); the
+//! report takes as reference the finest run of each case
+//! (largest mesh, then smallest dt, then tightest tolerance) and writes results/speed.csv,
+//! results/speed.md and results/speed.png with the Pareto-optimal settings marked.
+use std::fs;
+use std::io::Write;
+use std::path::Path;
+use texopt::bench::cases;
+use texopt::case::Numerics;
+use texopt::film::Method;
+use texopt::plot::{self, Chart, Scale, Series};
+use texopt::run::{simulate, Outcome};
+
+#[derive(serde::Serialize, serde::Deserialize, Clone)]
+struct Run {
+    case: String,
+    numerics: Numerics,
+    outcome: Outcome,
+}
+
+const RUNS: &str = "results/speed/runs.jsonl";
+
+fn run(args: &[String]) -> Result<(), String> {
+    let name = &args[0];
+    let (a, b) = args[1].split_once('x').ok_or("mesh must be N1xN2")?;
+    let mut num = Numerics {
+        n1: a.parse().map_err(|_| "bad N1")?,
+        n2: b.parse().map_err(|_| "bad N2")?,
+        dt: args[2].parse().map_err(|_| "bad dt")?,
+        ..Numerics::default()
+    };
+    if let Some(t) = args.get(3) {
+        num.periodic_tol = t.parse().map_err(|_| "bad periodic tolerance")?;
+    }
+    if let Some(m) = args.get(4) {
+        num.solver = match m.as_str() {
+            "direct" => Method::Direct,
+            "multigrid" => Method::Multigrid,
+            _ => return Err(format!("solver must be direct or multigrid, got {m}")),
+        };
+    }
+    let all = cases();
+    let c = all
+        .iter()
+        .find(|c| c.name == name)
+        .ok_or(format!("no case {name}"))?;
+    num.validate(&c.case).map_err(|e| e.to_string())?;
+    let out = simulate(&c.case, &num, false)
+        .map_err(|e| e.to_string())?
+        .outcome;
+    println!(
+        "{name} {}x{} dt {:e} tol {:e} {}: f {:.6} C_min {:.5} {:.2} s",
+        num.n1,
+        num.n2,
+        num.dt,
+        num.periodic_tol,
+        num.solver.name(),
+        out.f_mean,
+        out.c_min,
+        out.wall_time_s
+    );
+    fs::create_dir_all("results/speed").map_err(|e| e.to_string())?;
+    let mut f = fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(RUNS)
+        .map_err(|e| e.to_string())?;
+    let line = serde_json::to_string(&Run {
+        case: name.clone(),
+        numerics: num,
+        outcome: out,
+    })
+    .unwrap();
+    writeln!(f, "{line}").map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+fn setting(n: &Numerics) -> String {
+    format!(
+        "{}x{} dt={:.1e} ptol={:.0e} {}",
+        n.n1,
+        n.n2,
+        n.dt,
+        n.periodic_tol,
+        n.solver.name()
+    )
+}
+
+fn report() -> Result<(), String> {
+    let text = fs::read_to_string(RUNS).map_err(|e| format!("{RUNS}: {e}"))?;
+    let mut runs: Vec<Run> = text
+        .lines()
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| serde_json::from_str(l).map_err(|e| e.to_string()))
+        .collect::<Result<_, _>>()?;
+    // The convergence study runs Case I on the tier meshes; its finest run is Case I's
+    // reference here too (same case, same solver).
+    if let Ok(dir) = fs::read_dir("results/convergence") {
+        for e in dir.flatten() {
+            let name = e.file_name().to_string_lossy().to_string();
+            if name.starts_with("run_") && name.ends_with(".json") {
+                let v: serde_json::Value = fs::read_to_string(e.path())
+                    .ok()
+                    .and_then(|t| serde_json::from_str(&t).ok())
+                    .ok_or(format!("unreadable {name}"))?;
+                let num: Numerics =
+                    serde_json::from_value(v["numerics"].clone()).map_err(|e| e.to_string())?;
+                let already = runs.iter().any(|r| r.case == "case-I" && r.numerics == num);
+                if !already {
+                    runs.push(Run {
+                        case: "case-I".into(),
+                        numerics: num,
+                        outcome: serde_json::from_value(v["outcome"].clone())
+                            .map_err(|e| e.to_string())?,
+                    });
+                }
+            }
+        }
+    }
+    let mut csv = String::from("case,setting,n1,n2,dt,periodic_tol,solver,f_mean,c_min,err_f,err_c,wall_s,steps,periods,pareto\n");
+    let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh`. Error: relative to the finest run of the same case (first row of each table). Wall time: one core of the 2-core machine, from the start to the detected periodic regime. ★ = Pareto-optimal (no other setting is both faster and more accurate).\n");
+    let mut series_data = Vec::new();
+    for (ci, case) in ["case-I", "case-III"].iter().enumerate() {
+        let mut rs: Vec<&Run> = runs.iter().filter(|r| r.case == *case).collect();
+        if rs.is_empty() {
+            continue;
+        }
+        rs.sort_by(|a, b| {
+            (b.numerics.n1, a.numerics.dt, a.numerics.periodic_tol)
+                .partial_cmp(&(a.numerics.n1, b.numerics.dt, b.numerics.periodic_tol))
+                .unwrap()
+        });
+        let reference = rs[0];
+        let (fr, cr) = (reference.outcome.f_mean, reference.outcome.c_min);
+        let pts: Vec<(f64, f64, f64, &Run)> = rs[1..]
+            .iter()
+            .map(|r| {
+                (
+                    r.outcome.wall_time_s,
+                    ((r.outcome.f_mean - fr) / fr).abs().max(1e-7),
+                    ((r.outcome.c_min - cr) / cr).abs(),
+                    *r,
+                )
+            })
+            .collect();
+        let pareto = |i: usize| {
+            !pts.iter().enumerate().any(|(j, q)| {
+                j != i && q.0 <= pts[i].0 && q.1 <= pts[i].1 && (q.0 < pts[i].0 || q.1 < pts[i].1)
+            })
+        };
+        md += &format!(
+            "\n## {case} (reference {}: f̄ = {:.6}, C_min = {:.5} µm, {:.0} s)\n\n| setting | f̄ | err f̄ | err C_min | wall (s) | steps | periods | |\n|---|---|---|---|---|---|---|---|\n",
+            setting(&reference.numerics), fr, cr, reference.outcome.wall_time_s
+        );
+        let (mut all_pts, mut front) = (Vec::new(), Vec::new());
+        let mut order: Vec<usize> = (0..pts.len()).collect();
+        order.sort_by(|&a, &b| pts[a].0.total_cmp(&pts[b].0));
+        for i in order {
+            let (w, ef, ec, r) = pts[i];
+            let p = pareto(i);
+            md += &format!(
+                "| {} | {:.6} | {:.3} % | {:.3} % | {:.2} | {} | {} | {} |\n",
+                setting(&r.numerics),
+                r.outcome.f_mean,
+                100.0 * ef,
+                100.0 * ec,
+                w,
+                r.outcome.steps,
+                r.outcome.periods,
+                if p { "★" } else { "" }
+            );
+            csv += &format!(
+                "{case},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+                setting(&r.numerics),
+                r.numerics.n1,
+                r.numerics.n2,
+                r.numerics.dt,
+                r.numerics.periodic_tol,
+                r.numerics.solver.name(),
+                r.outcome.f_mean,
+                r.outcome.c_min,
+                ef,
+                ec,
+                w,
+                r.outcome.steps,
+                r.outcome.periods,
+                p
+            );
+            all_pts.push((w, 100.0 * ef));
+            if p {
+                front.push((w, 100.0 * ef));
+            }
+        }
+        series_data.push((format!("{case}: all settings"), all_pts, true, 2 * ci));
+        series_data.push((format!("{case}: Pareto front"), front, false, 2 * ci + 1));
+    }
+    let series: Vec<Series> = series_data
+        .iter()
+        .map(|(n, p, m, c)| Series {
+            name: n.clone(),
+            points: p,
+            markers: *m,
+            colour: *c,
+        })
+        .collect();
+    plot::xy(
+        Path::new("results/speed.png"),
+        &Chart {
+            title: "Error of mean friction against wall time (one core)",
+            x_label: "wall time to periodic regime (s)",
+            y_label: "|error of f̄| (%)",
+            x_scale: Scale::Log,
+            y_scale: Scale::Log,
+        },
+        &series,
+    )?;
+    fs::write("results/speed.csv", csv).map_err(|e| e.to_string())?;
+    fs::write("results/speed.md", &md).map_err(|e| e.to_string())?;
+    print!("{md}");
+    Ok(())
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let r = match args.first().map(String::as_str) {
+        Some("run") if (4..=6).contains(&args.len()) => run(&args[1..]),
+        Some("report") => report(),
+        _ => Err(
+            "usage: speed run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid] | speed report"
+                .into(),
+        ),
+    };
+    if let Err(e) = r {
+        eprintln!("error: {e}");
+        std::process::exit(2);
+    }
+}

@@ -1,0 +1,91 @@
+//! The benchmark: a fixed set of cases run to their periodic regime at a named fidelity,
+//! timed, with the numbers a speed-up is judged by (issue targets in the README).
+
+use serde::{Deserialize, Serialize};
+
+use crate::case::{CaseSpec, Fidelity, Numerics, Texture};
+use crate::run::{simulate, Outcome, SolveError};
+
+/// One benchmark case.
+pub struct BenchCase {
+    pub name: &'static str,
+    pub case: CaseSpec,
+}
+
+/// The fixed set: the paper's Case I and Case III, the slow conformal transient (R = 51.2 with
+/// Case I's pocket) and an untextured ring.
+pub fn cases() -> Vec<BenchCase> {
+    vec![
+        BenchCase {
+            name: "case-I",
+            case: CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0)),
+        },
+        BenchCase {
+            name: "case-III",
+            case: CaseSpec::paper(3.2).with_texture(Texture::circular(0.03, 0.06, 10.0)),
+        },
+        BenchCase {
+            name: "conformal-R51.2",
+            case: CaseSpec::paper(51.2).with_texture(Texture::circular(0.01, 0.06, 5.0)),
+        },
+        BenchCase {
+            name: "untextured-R0.8",
+            case: CaseSpec::paper(0.8),
+        },
+    ]
+}
+
+/// What one benchmark case measured.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct BenchRow {
+    pub name: String,
+    pub label: String,
+    pub fidelity: String,
+    pub wall_time_s: f64,
+    pub steps: usize,
+    pub periods: usize,
+    pub iterations_per_step: f64,
+    pub ms_per_step: f64,
+    pub outcome: Outcome,
+}
+
+impl BenchRow {
+    /// The one-line summary.
+    pub fn line(&self) -> String {
+        let o = &self.outcome;
+        format!(
+            "{:16} {:6} {:8.2} s  {:6} steps {:4} periods  {:5.2} it/step  {:7.3} ms/step  f̄ {:.5}  C_min {:.4} µm{}",
+            self.name,
+            self.fidelity,
+            self.wall_time_s,
+            self.steps,
+            self.periods,
+            self.iterations_per_step,
+            self.ms_per_step,
+            o.f_mean,
+            o.c_min,
+            if o.converged { "" } else { "  (NOT periodic)" }
+        )
+    }
+}
+
+/// Runs one case at the given numerics.
+pub fn run_case(c: &BenchCase, fidelity: Fidelity, num: &Numerics) -> Result<BenchRow, SolveError> {
+    let res = simulate(&c.case, num, false)?;
+    let o = res.outcome;
+    Ok(BenchRow {
+        name: c.name.to_string(),
+        label: c.case.label(),
+        fidelity: fidelity.name().to_string(),
+        wall_time_s: o.wall_time_s,
+        steps: o.steps,
+        periods: o.periods,
+        iterations_per_step: o.iterations_per_step,
+        ms_per_step: if o.steps > 0 {
+            1e3 * o.wall_time_s / o.steps as f64
+        } else {
+            0.0
+        },
+        outcome: o,
+    })
+}

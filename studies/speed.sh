@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Speed against accuracy for Case I and Case III (results/speed.{md,csv,png}).
+# Settings: meshes with dt refined together (the fidelity tiers), time steps at fixed mesh,
+# half the cells across (N2), periodic tolerances, and the solver variants.
+# The references are the 1024×64, dt = 2e-4 runs (Case I from studies/convergence.sh).
+# Run one case per core: about 20 minutes on the 2-core machine.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cargo build --release --example speed
+bin=target/release/examples/speed
+settings=(
+  "128x8 1.6e-3" "256x16 8e-4" "512x32 4e-4"
+  "256x16 1.6e-3" "256x16 4e-4" "512x32 8e-4"
+  "256x8 8e-4" "512x16 4e-4"
+  "128x8 1.6e-3 1e-4" "256x16 8e-4 1e-4" "512x32 4e-4 1e-4" "256x16 8e-4 1e-6"
+  "256x16 8e-4 1e-5 multigrid" "512x32 4e-4 1e-5 multigrid"
+)
+sweep() {
+  for s in "${settings[@]}"; do
+    # shellcheck disable=SC2086
+    $bin run "$1" $s
+  done
+}
+$bin run case-III 1024x64 2e-4
+sweep case-I &
+sweep case-III
+wait
+$bin report
