@@ -600,10 +600,10 @@ impl FilmSolver {
                 let mut y1 = std::mem::take(&mut self.rhs1);
                 y1.clear();
                 y1.resize(rhs1.len(), 0.0);
-                // Inexact Newton while the active set moves; once an iteration changed nothing
-                // or the set keeps flickering, solve accurately (an inexact iterate can flip
-                // nodes where p ≈ 0 and θ ≈ 1 back and forth).
-                let (rel, max_cycles) = if last_changes == 0 || iterations > 4 {
+                // Inexact Newton (each solve cuts the residual by tol.inner); if the set keeps
+                // flickering, solve accurately (an inexact iterate can flip nodes where p ≈ 0
+                // and θ ≈ 1 back and forth).
+                let (rel, max_cycles) = if iterations > 8 {
                     (self.tol.residual, 4 * self.tol.cycles)
                 } else {
                     (self.tol.inner, self.tol.cycles)
@@ -645,8 +645,15 @@ impl FilmSolver {
                         || iterations > 2
                     {
                         let mut y2 = std::mem::take(&mut self.y2);
-                        y2.clear();
-                        y2.resize(self.rhs2.len(), 0.0);
+                        // Multigrid: start from the last sensitivity on the same range (the
+                        // solver falls back to zero when that guess is worse).
+                        let warm = self.method == Method::Multigrid
+                            && y2.len() == self.rhs2.len()
+                            && y2_range == Some((lo, hi));
+                        if !warm {
+                            y2.clear();
+                            y2.resize(self.rhs2.len(), 0.0);
+                        }
                         let rhs2 = std::mem::take(&mut self.rhs2);
                         cycles +=
                             self.solve_linear(&mut y2, &rhs2, self.tol.cycles, self.tol.inner);

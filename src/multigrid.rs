@@ -330,7 +330,14 @@ impl LineMultigrid {
         let dot = |a: &[f64], c: &[f64]| a.iter().zip(c).map(|(u, v)| u * v).sum::<f64>();
         let mut r = vec![0.0; n];
         self.levels[0].a.residual(x, b, &mut r);
-        let r0 = dot(&r, &r).sqrt();
+        let mut r0 = dot(&r, &r).sqrt();
+        let b0 = dot(b, b).sqrt();
+        if r0 > b0 {
+            // The guess is worse than none.
+            x.iter_mut().for_each(|v| *v = 0.0);
+            r.copy_from_slice(b);
+            r0 = b0;
+        }
         let mut used = 0;
         let mut beta = r0;
         while used < max_it && beta > rel * r0 && beta > 0.0 {
