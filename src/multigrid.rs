@@ -53,31 +53,36 @@ impl Stencil5 {
         self.len() == 0
     }
 
-    /// (A x)_k.
-    #[inline]
-    pub fn row_times(&self, x: &[f64], k: usize) -> f64 {
-        let n2 = self.n2;
-        let mut y = self.c[k] * x[k];
-        if k >= n2 {
-            y += self.w[k] * x[k - n2];
+    /// y = A x (row by row, without index arithmetic in the inner loop).
+    pub fn apply(&self, x: &[f64], y: &mut [f64]) {
+        let (m1, n2) = (self.m1, self.n2);
+        for i in 0..m1 {
+            let row = i * n2;
+            for j in 0..n2 {
+                let k = row + j;
+                let mut v = self.c[k] * x[k];
+                if i > 0 {
+                    v += self.w[k] * x[k - n2];
+                }
+                if i + 1 < m1 {
+                    v += self.e[k] * x[k + n2];
+                }
+                if j > 0 {
+                    v += self.s[k] * x[k - 1];
+                }
+                if j + 1 < n2 {
+                    v += self.n[k] * x[k + 1];
+                }
+                y[k] = v;
+            }
         }
-        if k + n2 < x.len() {
-            y += self.e[k] * x[k + n2];
-        }
-        let j = k % n2;
-        if j > 0 {
-            y += self.s[k] * x[k - 1];
-        }
-        if j + 1 < n2 {
-            y += self.n[k] * x[k + 1];
-        }
-        y
     }
 
     /// r = b − A x.
     pub fn residual(&self, x: &[f64], b: &[f64], r: &mut [f64]) {
-        for k in 0..self.len() {
-            r[k] = b[k] - self.row_times(x, k);
+        self.apply(x, r);
+        for (rk, bk) in r.iter_mut().zip(b) {
+            *rk = bk - *rk;
         }
     }
 
@@ -359,8 +364,8 @@ impl LineMultigrid {
                 self.cycle(0);
                 z.copy_from_slice(&self.levels[0].x);
                 used += 1;
-                let a = &self.levels[0].a;
-                let mut w: Vec<f64> = (0..n).map(|q| a.row_times(&z, q)).collect();
+                let mut w = vec![0.0; n];
+                self.levels[0].a.apply(&z, &mut w);
                 for (i, vi) in v.iter().enumerate() {
                     h[i][k] = dot(&w, vi);
                     for (wq, vq) in w.iter_mut().zip(vi) {
