@@ -121,6 +121,19 @@ fn bad_inputs_are_refused_with_exit_2_and_a_message_naming_the_parameter() {
             ]),
             "does not exist",
         ),
+        (with_tex(&["--fidelity", "coarse"]), "--fidelity"),
+        (with_tex(&["--solver", "jacobi"]), "--solver"),
+        (with_tex(&["--start", "cold"]), "--start"),
+        (with_tex(&["--solve-tol", "0"]), "--solve-tol"),
+        (with_tex(&["--cycles", "0"]), "cycles"),
+        (
+            to(&["bench", "--case", "case-IV", "--out", s]),
+            "no such benchmark case",
+        ),
+        (
+            to(&["bench", "--out", "/nonexistent-dir/bench.json"]),
+            "does not exist",
+        ),
     ];
     for (args, needle) in &cases {
         let a: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -148,6 +161,64 @@ fn to(a: &[&str]) -> Vec<String> {
 
 fn a2<'a>(a: &'a [&'a str]) -> Vec<&'a str> {
     a.to_vec()
+}
+
+#[test]
+fn fidelity_tiers_set_mesh_and_step_unless_overridden() {
+    let (code, out, err) = texopt(&["simulate", "--R", "0.8", "--fidelity", "draft", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(v["inputs"]["mesh"], "128x8");
+    assert_eq!(v["inputs"]["numerics"]["dt"], 1.6e-3);
+    let (code, out, err) = texopt(&[
+        "simulate",
+        "--R",
+        "0.8",
+        "--fidelity",
+        "draft",
+        "--mesh",
+        "64x4",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(v["inputs"]["mesh"], "64x4");
+    assert_eq!(v["inputs"]["numerics"]["dt"], 1.6e-3);
+}
+
+#[test]
+fn bench_writes_one_row_per_case_with_timings() {
+    let path = scratch("bench.json");
+    let p = path.to_str().unwrap();
+    let (code, out, err) = texopt(&[
+        "bench",
+        "--fidelity",
+        "draft",
+        "--case",
+        "untextured-R0.8",
+        "--case",
+        "case-III",
+        "--out",
+        p,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().count(), 2, "{out}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let cases = v["cases"].as_array().unwrap();
+    assert_eq!(cases.len(), 2);
+    let c3 = cases.iter().find(|c| c["name"] == "case-III").unwrap();
+    for key in [
+        "wall_time_s",
+        "steps",
+        "periods",
+        "iterations_per_step",
+        "ms_per_step",
+    ] {
+        assert!(c3[key].as_f64().unwrap() > 0.0, "{key}: {}", c3[key]);
+    }
+    assert!(c3["outcome"]["converged"].as_bool().unwrap());
+    assert_eq!(v["fidelity"], "draft");
 }
 
 #[test]
