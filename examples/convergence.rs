@@ -153,7 +153,7 @@ fn report() -> Result<(), String> {
     for (n1, n2, _, _) in runs.iter().rev().take(3) {
         let p = dir().join(format!("boundary_{n1}x{n2}.csv"));
         let text = fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
-        let pts: Vec<(f64, f64)> = text
+        let raw: Vec<(f64, f64)> = text
             .lines()
             .skip(1)
             .filter_map(|l| {
@@ -161,6 +161,11 @@ fn report() -> Result<(), String> {
                 Some((a.parse().ok()?, b.parse().ok()?))
             })
             .collect();
+        // Time since the start of the recorded periods: every run's period ends fall at the
+        // same texture phase, so the meshes line up.
+        let per = case().texture.map_or(1.0, |t| t.per / case().u);
+        let t0 = raw.first().map_or(0.0, |p| (p.0 / per).floor() * per);
+        let pts: Vec<(f64, f64)> = raw.iter().map(|p| (p.0 - t0, p.1)).collect();
         data.push((format!("{n1}×{n2}"), pts));
     }
     let series: Vec<Series> = data
@@ -177,7 +182,7 @@ fn report() -> Result<(), String> {
         Path::new("results/convergence_fig4.png"),
         &Chart {
             title: "Cavitation (rupture) boundary on the pocket-centre line, Case I",
-            x_label: "t (L/U)",
+            x_label: "t − t₀ (L/U) over the last three texture periods",
             y_label: "x1 of rupture boundary (cm)",
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
