@@ -6,14 +6,15 @@
 //!
 //! CASE is case-I or case-III (the benchmark cases). Each run appends one JSON line to
 //! results/speed/runs.jsonl (the Case I runs of results/convergence/ are read too); the
-//! report takes as reference the finest run of each case
-//! (largest mesh, then smallest dt, then tightest tolerance) and writes results/speed.csv,
+//! report takes as reference the finest run of each case (most cells, then smallest dt, then
+//! tightest tolerance)
+//! and writes results/speed.csv,
 //! results/speed.md and results/speed.png with the Pareto-optimal settings marked.
 use std::fs;
 use std::io::Write;
 use std::path::Path;
 use texopt::bench::cases;
-use texopt::case::Numerics;
+use texopt::case::{Fidelity, Numerics};
 use texopt::film::Method;
 use texopt::plot::{self, Chart, Scale, Series};
 use texopt::run::{simulate, Outcome};
@@ -82,6 +83,17 @@ fn run(args: &[String]) -> Result<(), String> {
     Ok(())
 }
 
+fn tier_name(n: &Numerics) -> Option<&'static str> {
+    Fidelity::ALL
+        .iter()
+        .find(|f| {
+            let t = f.numerics();
+            (t.n1, t.n2, t.dt, t.periodic_tol, t.solver)
+                == (n.n1, n.n2, n.dt, n.periodic_tol, n.solver)
+        })
+        .map(|f| f.name())
+}
+
 fn setting(n: &Numerics) -> String {
     format!(
         "{}x{} dt={:.1e} ptol={:.0e} {}",
@@ -125,17 +137,26 @@ fn report() -> Result<(), String> {
         }
     }
     let mut csv = String::from("case,setting,n1,n2,dt,periodic_tol,solver,f_mean,c_min,err_f,err_c,wall_s,steps,periods,pareto\n");
-    let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh`. Error: relative to the finest run of the same case (first row of each table). Wall time: one core of the 2-core machine, from the start to the detected periodic regime. ★ = Pareto-optimal (no other setting is both faster and more accurate).\n");
+    let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh`. Error: relative to the finest run of the same case (first row of each table). Wall time: one core of the 2-core machine, from the start to the detected periodic regime. ★ = Pareto-optimal in f̄ error and time (no other setting is both faster and more accurate); tier names mark the fidelity tiers.\n");
     let mut series_data = Vec::new();
     for (ci, case) in ["case-I", "case-III"].iter().enumerate() {
         let mut rs: Vec<&Run> = runs.iter().filter(|r| r.case == *case).collect();
         if rs.is_empty() {
             continue;
         }
+        // Finest first: most cells, then smallest dt, then tightest periodic tolerance.
         rs.sort_by(|a, b| {
-            (b.numerics.n1, a.numerics.dt, a.numerics.periodic_tol)
-                .partial_cmp(&(a.numerics.n1, b.numerics.dt, b.numerics.periodic_tol))
-                .unwrap()
+            let key = |r: &Run| {
+                (
+                    r.numerics.n1 * r.numerics.n2,
+                    r.numerics.dt,
+                    r.numerics.periodic_tol,
+                )
+            };
+            let (ka, kb) = (key(a), key(b));
+            kb.0.cmp(&ka.0)
+                .then(ka.1.total_cmp(&kb.1))
+                .then(ka.2.total_cmp(&kb.2))
         });
         let reference = rs[0];
         let (fr, cr) = (reference.outcome.f_mean, reference.outcome.c_min);
@@ -174,7 +195,12 @@ fn report() -> Result<(), String> {
                 w,
                 r.outcome.steps,
                 r.outcome.periods,
-                if p { "★" } else { "" }
+                match (p, tier_name(&r.numerics)) {
+                    (true, Some(t)) => format!("★ {t}"),
+                    (false, Some(t)) => t.to_string(),
+                    (true, None) => "★".to_string(),
+                    (false, None) => String::new(),
+                }
             );
             csv += &format!(
                 "{case},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
@@ -198,6 +224,20 @@ fn report() -> Result<(), String> {
                 front.push((w, 100.0 * ef));
             }
         }
+        // The fidelity tiers, as run with default tolerances and solver.
+        let tiers: Vec<(f64, f64)> = pts
+            .iter()
+            .filter(|p| {
+                Fidelity::ALL.iter().any(|f| {
+                    let t = f.numerics();
+                    let n = &p.3.numerics;
+                    (t.n1, t.n2, t.dt, t.periodic_tol, t.solver)
+                        == (n.n1, n.n2, n.dt, n.periodic_tol, n.solver)
+                })
+            })
+            .map(|p| (p.0, 100.0 * p.1))
+            .collect();
+        series_data.push((format!("{case}: fidelity tiers"), tiers, true, 5));
         series_data.push((format!("{case}: all settings"), all_pts, true, 2 * ci));
         series_data.push((format!("{case}: Pareto front"), front, false, 2 * ci + 1));
     }

@@ -169,19 +169,20 @@ fn yes() -> bool {
     true
 }
 
-/// Named fidelity tiers the rest of the product asks for. Each fixes the mesh and time
-/// step (dt refined with dx, as in the paper's §3.3); their measured error and cost are in
-/// results/speed.md and the README.
+/// Named fidelity tiers the rest of the product asks for, chosen from the Pareto front of the
+/// speed-against-accuracy study (results/speed.md; errors against 1024×64, dt = 2e-4, for
+/// Case I and Case III): the cell count along the sliding direction and the time step carry
+/// almost all of the error, the cells across (N2) little, so the fast tiers are anisotropic.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Fidelity {
-    /// 128×8, dt = 1.6e-3: screening.
+    /// 256×8, dt = 8e-4: screening (errors ≈ 1–2 %, ≈ 1.5 s a case).
     Draft,
-    /// 256×16, dt = 8e-4: studies and optimisation.
+    /// 512×8, dt = 4e-4: studies and optimisation (errors < 1 %, ≈ 6–8 s a case).
     Fast,
-    /// 512×32, dt = 4e-4: the paper's fidelity.
+    /// 512×32, dt = 4e-4: the paper's fidelity (model.md §3), for reproducing it.
     Paper,
-    /// 1024×64, dt = 2e-4: checks.
+    /// 1024×16, dt = 2e-4: checks.
     Fine,
 }
 
@@ -202,23 +203,18 @@ impl Fidelity {
         }
     }
 
-    /// Refinement level relative to draft (0..=3): mesh ×2ˡ in each direction, dt / 2ˡ.
-    fn level(self) -> u32 {
-        match self {
-            Fidelity::Draft => 0,
-            Fidelity::Fast => 1,
-            Fidelity::Paper => 2,
-            Fidelity::Fine => 3,
-        }
-    }
-
     /// The numerics of this tier (other settings at their defaults).
     pub fn numerics(self) -> Numerics {
-        let f = 1usize << self.level();
+        let (n1, n2, dt) = match self {
+            Fidelity::Draft => (256, 8, 8e-4),
+            Fidelity::Fast => (512, 8, 4e-4),
+            Fidelity::Paper => (512, 32, 4e-4),
+            Fidelity::Fine => (1024, 16, 2e-4),
+        };
         Numerics {
-            n1: 128 * f,
-            n2: 8 * f,
-            dt: 1.6e-3 / f as f64,
+            n1,
+            n2,
+            dt,
             ..Numerics::default()
         }
     }

@@ -75,8 +75,8 @@ pub struct SimulateArgs {
         default_value_t = 0.0
     )]
     pub phase: f64,
-    /// Fidelity tier: draft (128x8, dt 1.6e-3), fast (256x16, 8e-4), paper (512x32, 4e-4) or
-    /// fine (1024x64, 2e-4). --mesh and --dt override its parts.
+    /// Fidelity tier: draft (256x8, dt 8e-4), fast (512x8, 4e-4), paper (512x32, 4e-4) or
+    /// fine (1024x16, 2e-4). --mesh and --dt override its parts.
     #[arg(long, value_enum, default_value_t = FidelityArg::Paper)]
     pub fidelity: FidelityArg,
     /// Mesh N1xN2: cells along x1 over 0.2 cm and along x2 over half a texture cell

@@ -168,8 +168,8 @@ fn fidelity_tiers_set_mesh_and_step_unless_overridden() {
     let (code, out, err) = texopt(&["simulate", "--R", "0.8", "--fidelity", "draft", "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
-    assert_eq!(v["inputs"]["mesh"], "128x8");
-    assert_eq!(v["inputs"]["numerics"]["dt"], 1.6e-3);
+    assert_eq!(v["inputs"]["mesh"], "256x8");
+    assert_eq!(v["inputs"]["numerics"]["dt"], 8e-4);
     let (code, out, err) = texopt(&[
         "simulate",
         "--R",
@@ -183,7 +183,7 @@ fn fidelity_tiers_set_mesh_and_step_unless_overridden() {
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
     assert_eq!(v["inputs"]["mesh"], "64x4");
-    assert_eq!(v["inputs"]["numerics"]["dt"], 1.6e-3);
+    assert_eq!(v["inputs"]["numerics"]["dt"], 8e-4);
 }
 
 #[test]

@@ -98,12 +98,13 @@ fn periodic_outcome_does_not_depend_on_the_start() {
 }
 
 #[test]
-fn fidelity_tiers_refine_mesh_and_step_together() {
+fn fidelity_tiers_refine_along_the_sliding_direction_and_in_time() {
     let n: Vec<Numerics> = Fidelity::ALL.iter().map(|f| f.numerics()).collect();
     for w in n.windows(2) {
-        assert_eq!(w[1].n1, 2 * w[0].n1);
-        assert_eq!(w[1].n2, 2 * w[0].n2);
-        assert!((w[1].dt * 2.0 - w[0].dt).abs() < 1e-15);
+        // Each tier resolves the sliding direction and time at least as finely as the one
+        // before (the error carriers of results/speed.md).
+        assert!(w[1].n1 >= w[0].n1 && w[1].dt <= w[0].dt);
+        assert!(w[1].n1 > w[0].n1 || w[1].n2 > w[0].n2 || w[1].dt < w[0].dt);
     }
     // The paper's fidelity is a tier (model.md §3: 512×32, dt = 4e-4).
     let p = Fidelity::Paper.numerics();
