@@ -586,11 +586,12 @@ impl FilmSolver {
                 let m1 = hi - lo + 1;
                 // Residual F = balance(·) at the current iterate and the Newton matrix ∂F/∂x.
                 let fmax = self.assemble(step, state, lo, hi, adv, at);
-                let f_tol = self.tol.residual;
+                // Multigrid: converged when the last update settled the set and Z and the
+                // residual is at tolerance (the direct path decides after its exact solve).
                 if self.method == Method::Multigrid
                     && last_changes == 0
                     && last_dz <= self.tol.z_abs
-                    && fmax <= f_tol
+                    && fmax <= self.tol.residual
                 {
                     break;
                 }
@@ -613,37 +614,43 @@ impl FilmSolver {
                 self.rhs1 = rhs1;
 
                 if let Some(link) = step.ring {
-                    // ∂F/∂Z: the same stencil with conductances ∂c/∂Z and φ' = ∂h/∂Z on the
-                    // pressurised set (φ = h there), without the old-time term.
-                    face_conductance_derivatives(g, &self.h, ring, &mut self.dcx, &mut self.dcy);
-                    self.dphi.clear();
-                    self.dphi.extend((0..g.nodes()).map(|k| {
-                        if state.pressurised[k] && ring[k / n2] {
-                            1.0
-                        } else {
-                            0.0
-                        }
-                    }));
-                    let dfaces = Faces {
-                        cx: &self.dcx,
-                        cy: &self.dcy,
-                    };
-                    self.rhs2.clear();
-                    for i in lo..=hi {
-                        for j in 0..n2 {
-                            self.rhs2.push(balance(
-                                g, &dfaces, adv, at, &state.p, &self.dphi, None, i, j,
-                            ));
-                        }
-                    }
-                    // The sensitivity only sets the rate of the Z iteration, not its limit:
-                    // the multigrid path refines the previous one by a single cycle.
-                    // The multigrid path keeps the sensitivity of the step's first iteration
-                    // while the range holds: it sets only the rate of the Z iteration.
-                    if self.method != Method::Multigrid
+                    // Sensitivity y2 = (∂F/∂x)⁻¹ ∂F/∂Z. It sets only the rate of the Z
+                    // iteration, not its limit, so the multigrid path keeps the one of the
+                    // step's first iteration while the range holds, then refreshes it from
+                    // the last one (warm start).
+                    let refresh = self.method != Method::Multigrid
                         || y2_range != Some((lo, hi))
-                        || iterations > 2
-                    {
+                        || iterations > 2;
+                    if refresh {
+                        // ∂F/∂Z: the same stencil with conductances ∂c/∂Z and φ' = ∂h/∂Z on
+                        // the pressurised set (φ = h there), without the old-time term.
+                        face_conductance_derivatives(
+                            g,
+                            &self.h,
+                            ring,
+                            &mut self.dcx,
+                            &mut self.dcy,
+                        );
+                        self.dphi.clear();
+                        self.dphi.extend((0..g.nodes()).map(|k| {
+                            if state.pressurised[k] && ring[k / n2] {
+                                1.0
+                            } else {
+                                0.0
+                            }
+                        }));
+                        let dfaces = Faces {
+                            cx: &self.dcx,
+                            cy: &self.dcy,
+                        };
+                        self.rhs2.clear();
+                        for i in lo..=hi {
+                            for j in 0..n2 {
+                                self.rhs2.push(balance(
+                                    g, &dfaces, adv, at, &state.p, &self.dphi, None, i, j,
+                                ));
+                            }
+                        }
                         let mut y2 = std::mem::take(&mut self.y2);
                         // Multigrid: start from the last sensitivity on the same range (the
                         // solver falls back to zero when that guess is worse).
