@@ -173,7 +173,7 @@ fn yes() -> bool {
 /// speed-against-accuracy study (results/speed.md; errors against 1024×64, dt = 2e-4, for
 /// Case I and Case III): the cell count along the sliding direction and the time step carry
 /// almost all of the error, the cells across (N2) little, so the fast tiers are anisotropic.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Fidelity {
     /// 256×8, dt = 8e-4: screening (errors ≈ 1–2 %, ≈ 1.5 s a case).
@@ -221,7 +221,7 @@ impl Fidelity {
 }
 
 /// Where a transient run starts (the periodic regime it reaches does not depend on it).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Start {
     /// The paper's initial state (model.md §4): Z = z0, Z' = v0, flooded upstream gap.

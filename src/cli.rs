@@ -31,14 +31,14 @@ pub enum Command {
 #[derive(Args, Debug)]
 pub struct BenchArgs {
     /// Fidelity tier of every case.
-    #[arg(long, value_enum, default_value_t = FidelityArg::Paper)]
-    pub fidelity: FidelityArg,
+    #[arg(long, value_enum, default_value_t = Fidelity::Paper)]
+    pub fidelity: Fidelity,
     /// Only the named cases (repeatable): case-I, case-III, conformal-R51.2, untextured-R0.8.
     #[arg(long = "case", value_name = "NAME")]
     pub cases: Vec<String>,
     /// Film linear solver.
-    #[arg(long, value_enum, default_value_t = SolverArg::Direct)]
-    pub solver: SolverArg,
+    #[arg(long, value_enum, default_value_t = Method::Direct)]
+    pub solver: Method,
     /// Where to write the results (JSON).
     #[arg(long, value_name = "FILE", default_value = "results/bench.json")]
     pub out: PathBuf,
@@ -77,8 +77,8 @@ pub struct SimulateArgs {
     pub phase: f64,
     /// Fidelity tier: draft (256x8, dt 8e-4), fast (512x8, 4e-4), paper (512x32, 4e-4) or
     /// fine (1024x16, 2e-4). --mesh and --dt override its parts.
-    #[arg(long, value_enum, default_value_t = FidelityArg::Paper)]
-    pub fidelity: FidelityArg,
+    #[arg(long, value_enum, default_value_t = Fidelity::Paper)]
+    pub fidelity: Fidelity,
     /// Mesh N1xN2: cells along x1 over 0.2 cm and along x2 over half a texture cell
     /// [default: from --fidelity].
     #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
@@ -121,8 +121,8 @@ pub struct SimulateArgs {
     )]
     pub t_max: f64,
     /// Film linear solver: direct (band LU, default) or multigrid (experimental).
-    #[arg(long, value_enum, default_value_t = SolverArg::Direct)]
-    pub solver: SolverArg,
+    #[arg(long, value_enum, default_value_t = Method::Direct)]
+    pub solver: Method,
     /// Film solve tolerance (multigrid): largest nodal mass residual relative to the Couette
     /// flux through the thinnest film under the ring.
     #[arg(
@@ -137,8 +137,8 @@ pub struct SimulateArgs {
     pub cycles: usize,
     /// Initial state of the transient: equilibrium (untextured force balance, default) or
     /// paper (Z = 2.5 µm at rest, model.md §4). The periodic answer does not depend on it.
-    #[arg(long, value_enum, default_value_t = StartArg::Equilibrium)]
-    pub start: StartArg,
+    #[arg(long, value_enum, default_value_t = Start::Equilibrium)]
+    pub start: Start,
     /// Do not jump the state along a dominant slow mode (simulate every period of the approach).
     #[arg(long = "no-extrapolate")]
     pub no_extrapolate: bool,
@@ -154,58 +154,6 @@ pub struct SimulateArgs {
     /// Write the time series (t, Z, W_h, f and its three terms per step) as CSV to FILE.
     #[arg(long, value_name = "FILE")]
     pub series: Option<PathBuf>,
-}
-
-/// The `--fidelity` values.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum FidelityArg {
-    Draft,
-    Fast,
-    Paper,
-    Fine,
-}
-
-impl From<FidelityArg> for Fidelity {
-    fn from(f: FidelityArg) -> Fidelity {
-        match f {
-            FidelityArg::Draft => Fidelity::Draft,
-            FidelityArg::Fast => Fidelity::Fast,
-            FidelityArg::Paper => Fidelity::Paper,
-            FidelityArg::Fine => Fidelity::Fine,
-        }
-    }
-}
-
-/// The `--start` values.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum StartArg {
-    Equilibrium,
-    Paper,
-}
-
-impl From<StartArg> for Start {
-    fn from(s: StartArg) -> Start {
-        match s {
-            StartArg::Equilibrium => Start::Equilibrium,
-            StartArg::Paper => Start::Paper,
-        }
-    }
-}
-
-/// The `--solver` values.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum SolverArg {
-    Multigrid,
-    Direct,
-}
-
-impl From<SolverArg> for Method {
-    fn from(s: SolverArg) -> Method {
-        match s {
-            SolverArg::Multigrid => Method::Multigrid,
-            SolverArg::Direct => Method::Direct,
-        }
-    }
 }
 
 fn parse_radius(s: &str) -> Result<f64, String> {
@@ -267,9 +215,9 @@ fn bench_cmd(a: &BenchArgs) -> Result<i32, CmdError> {
             dir.display()
         )));
     }
-    let fidelity = Fidelity::from(a.fidelity);
+    let fidelity = a.fidelity;
     let num = Numerics {
-        solver: a.solver.into(),
+        solver: a.solver,
         ..fidelity.numerics()
     };
     let mut rows = Vec::new();
@@ -354,17 +302,17 @@ pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputErr
             phase: a.phase,
         });
     }
-    let tier = Fidelity::from(a.fidelity).numerics();
+    let tier = a.fidelity.numerics();
     let num = Numerics {
         n1: a.mesh.map_or(tier.n1, |m| m.0),
         n2: a.mesh.map_or(tier.n2, |m| m.1),
         dt: a.dt.unwrap_or(tier.dt),
         periodic_tol: a.periodic_tol,
         t_max: a.t_max,
-        solver: a.solver.into(),
+        solver: a.solver,
         solve_tol: a.solve_tol,
         cycles: a.cycles,
-        start: a.start.into(),
+        start: a.start,
         extrapolate: !a.no_extrapolate,
         ..Numerics::default()
     };

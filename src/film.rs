@@ -157,7 +157,17 @@ impl FilmState {
 
 /// How the linear systems of the complementarity iteration are solved. Both use the same
 /// matrix, assembled from the one stencil; they differ only in how it is inverted.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Method {
     /// Exact band LU of the Newton system in every iteration (the default: at the paper's
@@ -169,6 +179,7 @@ pub enum Method {
     /// linearly with the mesh (the band LU's with N1·N2³), but on the flooded gap e the active
     /// set can flicker under inexact solves; it is not yet robust (results/speed.md).
     Multigrid,
+    #[value(skip)]
     /// Test reference, the simplest sound solver: the band LU of the whole domain in every
     /// iteration (no restriction to the pressurised range, no upwind sweeps).
     Reference,
