@@ -174,7 +174,7 @@ fn report() -> Result<(), String> {
         .map(|(i, (name, pts))| Series {
             name: name.clone(),
             points: pts,
-            markers: false,
+            style: texopt::plot::Style::Line,
             colour: i,
         })
         .collect();

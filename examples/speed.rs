@@ -246,7 +246,11 @@ fn report() -> Result<(), String> {
         .map(|(n, p, m, c)| Series {
             name: n.clone(),
             points: p,
-            markers: *m,
+            style: if *m {
+                plot::Style::Markers
+            } else {
+                plot::Style::Line
+            },
             colour: *c,
         })
         .collect();

@@ -26,6 +26,59 @@ pub enum Command {
     Simulate(SimulateArgs),
     /// Time the fixed benchmark cases (Case I, Case III, R = 51.2, untextured) and write JSON.
     Bench(BenchArgs),
+    /// Run every case of a study file (TOML, see studies/) through the evaluation cache, in
+    /// parallel, and write its report (CSV, figures, tables) under its report directory.
+    Study(StudyArgs),
+    /// Inspect or manage the evaluation cache.
+    Cache(CacheArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct StudyArgs {
+    /// The study file (TOML), e.g. studies/paper.toml.
+    pub file: PathBuf,
+    /// Worker threads [default: all cores].
+    #[arg(long, value_name = "N")]
+    pub jobs: Option<usize>,
+    /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
+    #[arg(long, value_name = "FILE")]
+    pub cache: Option<PathBuf>,
+    /// Simulate again the cases the cache holds as failed.
+    #[arg(long)]
+    pub retry_failed: bool,
+    /// Only expand the study and print what it would run (no simulation, nothing written).
+    #[arg(long)]
+    pub dry_run: bool,
+    /// Do not write the report (CSV, figures, tables).
+    #[arg(long)]
+    pub no_report: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct CacheArgs {
+    #[command(subcommand)]
+    pub action: CacheAction,
+    /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
+    #[arg(long, value_name = "FILE", global = true)]
+    pub cache: Option<PathBuf>,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum CacheAction {
+    /// Counts of stored evaluations, compute time they hold, file size, integrity.
+    Stats,
+    /// Every entry as one JSON object per line (inputs, outcomes or failure, metadata).
+    Export {
+        /// Write to this file instead of stdout.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+    },
+    /// Delete stored evaluations.
+    Clear {
+        /// Only the failures (so that they are retried).
+        #[arg(long)]
+        failed: bool,
+    },
 }
 
 #[derive(Args, Debug)]
@@ -178,6 +231,8 @@ pub fn main_with(cli: Cli) -> i32 {
     let result = match cli.command {
         Command::Simulate(a) => simulate_cmd(&a),
         Command::Bench(a) => bench_cmd(&a),
+        Command::Study(a) => study_cmd(&a),
+        Command::Cache(a) => cache_cmd(&a),
     };
     match result {
         Ok(code) => code,
@@ -257,6 +312,134 @@ fn bench_cmd(a: &BenchArgs) -> Result<i32, CmdError> {
     .map_err(|e| CmdError::Other(format!("could not write --out {}: {e}", a.out.display())))?;
     eprintln!("wrote {}", a.out.display());
     Ok(if failed > 0 { 1 } else { 0 })
+}
+
+/// Set by Ctrl-C: a running study starts no new case; a second Ctrl-C exits at once (the
+/// cache keeps every finished case).
+static STOP: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+fn install_ctrl_c() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let _ = ctrlc::set_handler(|| {
+            if STOP.swap(true, std::sync::atomic::Ordering::SeqCst) {
+                eprintln!("\nstopped; finished cases are in the cache");
+                std::process::exit(130);
+            }
+            eprintln!(
+                "\nstopping: no new case starts; the cases running finish and are stored (Ctrl-C again to quit now)"
+            );
+        });
+    });
+}
+
+fn open_cache(flag: Option<&std::path::Path>) -> Result<crate::cache::Cache, CmdError> {
+    let path = crate::cache::path_from(flag);
+    crate::cache::Cache::open(&path).map_err(|e| match e {
+        crate::cache::CacheError::Foreign { .. } => CmdError::Input(e.to_string()),
+        other => CmdError::Other(other.to_string()),
+    })
+}
+
+fn study_cmd(a: &StudyArgs) -> Result<i32, CmdError> {
+    let study = crate::study::load(&a.file).map_err(|e| CmdError::Input(e.to_string()))?;
+    if a.jobs == Some(0) {
+        return Err(CmdError::Input(
+            "--jobs 0: need at least one worker thread".into(),
+        ));
+    }
+    let jobs = a
+        .jobs
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    eprintln!(
+        "study {}: {} cases at fidelity {} ({} invalid combinations skipped)",
+        study.name,
+        study.jobs.len(),
+        study.fidelity.name(),
+        study.skipped_total()
+    );
+    for (rule, n) in &study.skipped {
+        eprintln!("  skipped {n} × {rule}");
+    }
+    if a.dry_run {
+        for j in &study.jobs {
+            println!(
+                "{}  [{}x{}, dt {}]",
+                j.case.label(),
+                j.numerics.n1,
+                j.numerics.n2,
+                j.numerics.dt
+            );
+        }
+        return Ok(0);
+    }
+    let cache = open_cache(a.cache.as_deref())?;
+    eprintln!("cache {}", cache.path().display());
+    install_ctrl_c();
+    let cache = std::sync::Mutex::new(cache);
+    let opt = crate::sweep::Options {
+        jobs,
+        retry_failed: a.retry_failed,
+        progress: true,
+    };
+    let (sum, results) = crate::sweep::run(&study.jobs, &cache, &opt, &STOP)
+        .map_err(|e| CmdError::Other(e.to_string()))?;
+    let note = format!(
+        "{} cases: {} from the cache, {} computed in {} simulations, {} failed, {} not run; {:.1} s wall time with {jobs} worker threads",
+        sum.cases, sum.cached, sum.computed, sum.simulations, sum.failed, sum.not_run, sum.wall_time_s
+    );
+    println!("{note}");
+    if sum.stopped {
+        println!("stopped before the end: run the same command again to compute the rest");
+        return Ok(130);
+    }
+    if !a.no_report {
+        let w = crate::report::write(&study, &results, &note).map_err(CmdError::Other)?;
+        for l in &w.headline {
+            println!("  {l}");
+        }
+        for f in &w.files {
+            eprintln!("wrote {}", f.display());
+        }
+    }
+    Ok(if sum.failed > 0 { 1 } else { 0 })
+}
+
+fn cache_cmd(a: &CacheArgs) -> Result<i32, CmdError> {
+    let cache = open_cache(a.cache.as_deref())?;
+    let other = |e: crate::cache::CacheError| CmdError::Other(e.to_string());
+    match &a.action {
+        CacheAction::Stats => {
+            let s = cache.stats().map_err(other)?;
+            let ok = cache.integrity_check().map_err(other)?;
+            println!("cache {}", cache.path().display());
+            println!(
+                "  {} evaluations done, {} failed; {:.1} s of compute stored; {} bytes; integrity: {ok}",
+                s.done, s.failed, s.compute_seconds, s.file_bytes
+            );
+        }
+        CacheAction::Export { out } => {
+            let n = match out {
+                Some(p) => {
+                    let mut f = std::fs::File::create(p).map_err(|e| {
+                        CmdError::Input(format!("--out {}: cannot create it: {e}", p.display()))
+                    })?;
+                    cache.export(&mut f).map_err(other)?
+                }
+                None => cache.export(&mut std::io::stdout().lock()).map_err(other)?,
+            };
+            eprintln!("exported {n} evaluations");
+        }
+        CacheAction::Clear { failed } => {
+            let n = cache.clear(*failed).map_err(other)?;
+            println!(
+                "deleted {n} {}evaluations from {}",
+                if *failed { "failed " } else { "" },
+                cache.path().display()
+            );
+        }
+    }
+    Ok(0)
 }
 
 enum CmdError {
@@ -367,7 +550,9 @@ fn simulate_cmd(a: &SimulateArgs) -> Result<i32, CmdError> {
     if show && transient {
         eprintln!();
     }
-    let RunResult { outcome, series } = result.map_err(|e| CmdError::Other(e.to_string()))?;
+    let RunResult {
+        outcome, series, ..
+    } = result.map_err(|e| CmdError::Other(e.to_string()))?;
 
     if let (Some(path), Some(rows)) = (&a.series, &series) {
         write_series(path, rows).map_err(|e| {

@@ -14,6 +14,7 @@
 
 pub mod banded;
 pub mod bench;
+pub mod cache;
 pub mod case;
 pub mod cli;
 pub mod dynamics;
@@ -22,7 +23,10 @@ pub mod friction;
 pub mod geometry;
 pub mod multigrid;
 pub mod plot;
+pub mod report;
 pub mod run;
 pub mod scene;
 pub mod steady;
+pub mod study;
+pub mod sweep;
 pub mod units;

@@ -8,10 +8,23 @@ use std::path::Path;
 pub struct Series<'a> {
     pub name: String,
     pub points: &'a [(f64, f64)],
-    /// Draw points (true) or a line (false).
-    pub markers: bool,
+    pub style: Style,
     /// Index into the palette.
     pub colour: usize,
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Style {
+    /// Points only.
+    Markers,
+    /// A line.
+    Line,
+    /// A thin grey line with small crosses at the points: one of many members of a family
+    /// (legend entry only when named).
+    Faint,
+    /// A thick line with triangles at the points: the reference.
+    Thick,
 }
 
 /// Axis scaling.
@@ -77,18 +90,51 @@ pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
                     .iter()
                     .copied()
                     .filter(|p| p.0.is_finite() && p.1.is_finite());
-                if s.markers {
-                    ctx.draw_series(pts.map(|p| Circle::new(p, 4, c.filled())))
-                        .map_err(|e| err(&e))?
-                        .label(s.name.clone())
-                        .legend(move |(x, y)| Circle::new((x + 10, y), 4, c.filled()));
-                } else {
-                    ctx.draw_series(LineSeries::new(pts, c.stroke_width(2)))
-                        .map_err(|e| err(&e))?
-                        .label(s.name.clone())
-                        .legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-                        });
+                let named = !s.name.is_empty();
+                match s.style {
+                    Style::Markers => {
+                        let a = ctx
+                            .draw_series(pts.map(|p| Circle::new(p, 4, c.filled())))
+                            .map_err(|e| err(&e))?;
+                        if named {
+                            a.label(s.name.clone())
+                                .legend(move |(x, y)| Circle::new((x + 10, y), 4, c.filled()));
+                        }
+                    }
+                    Style::Line | Style::Thick => {
+                        let w = if s.style == Style::Thick { 4 } else { 2 };
+                        let pts: Vec<_> = pts.collect();
+                        let a = ctx
+                            .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(w)))
+                            .map_err(|e| err(&e))?;
+                        if named {
+                            a.label(s.name.clone()).legend(move |(x, y)| {
+                                PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(w))
+                            });
+                        }
+                        if s.style == Style::Thick {
+                            ctx.draw_series(
+                                pts.iter().map(|&p| TriangleMarker::new(p, 6, c.filled())),
+                            )
+                            .map_err(|e| err(&e))?;
+                        }
+                    }
+                    Style::Faint => {
+                        let grey = RGBColor(150, 150, 150);
+                        let pts: Vec<_> = pts.collect();
+                        let a = ctx
+                            .draw_series(LineSeries::new(pts.iter().copied(), grey.stroke_width(1)))
+                            .map_err(|e| err(&e))?;
+                        if named {
+                            a.label(s.name.clone()).legend(move |(x, y)| {
+                                PathElement::new(vec![(x, y), (x + 20, y)], grey.stroke_width(1))
+                            });
+                        }
+                        ctx.draw_series(
+                            pts.iter().map(|&p| Cross::new(p, 3, grey.stroke_width(1))),
+                        )
+                        .map_err(|e| err(&e))?;
+                    }
                 }
             }
             ctx.configure_series_labels()

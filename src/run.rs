@@ -67,6 +67,21 @@ pub struct SeriesRow {
 pub struct RunResult {
     pub outcome: Outcome,
     pub series: Option<Vec<SeriesRow>>,
+    /// The outcomes for further shear thresholds θ_s asked for (same film and ring).
+    pub extra: Vec<(f64, Outcome)>,
+}
+
+impl Outcome {
+    /// This outcome with other friction terms (another θ_s of the same run).
+    pub fn with_friction(&self, f: &Friction) -> Outcome {
+        Outcome {
+            f_mean: f.total(),
+            f_couette: f.couette,
+            f_poiseuille: f.poiseuille,
+            f_pressure: f.pressure,
+            ..self.clone()
+        }
+    }
 }
 
 /// Why a run failed: always names the case and where.
@@ -103,6 +118,10 @@ pub struct Transient {
     pub solver: FilmSolver,
     pub last: SolveStats,
     pub friction: Friction,
+    /// Further shear thresholds θ_s whose friction is reported alongside (model.md §5: θ_s
+    /// enters only the Couette term, so one run serves them all) and their current friction.
+    pub extra_theta_s: Vec<f64>,
+    pub extra_friction: Vec<Friction>,
     total_iterations: usize,
     max_residual: f64,
 }
@@ -192,6 +211,8 @@ impl Transient {
             solver: FilmSolver::with_method(num.film_tolerance(), num.solver),
             last: SolveStats::default(),
             friction: Friction::default(),
+            extra_theta_s: Vec::new(),
+            extra_friction: Vec::new(),
             scene,
             total_iterations: 0,
             max_residual: 0.0,
@@ -259,6 +280,24 @@ impl Transient {
             &self.state,
             &self.friction_model(),
         );
+        self.extra_friction = self
+            .extra_theta_s
+            .iter()
+            .map(|&theta_s| {
+                let model = FrictionModel {
+                    theta_s,
+                    ..self.friction_model()
+                };
+                friction(
+                    &self.scene.grid,
+                    &self.scene.gap,
+                    z,
+                    &self.scene.hl,
+                    &self.state,
+                    &model,
+                )
+            })
+            .collect();
         Ok(())
     }
 
@@ -305,7 +344,8 @@ impl Transient {
         let start = Instant::now();
         let mut series = record_series.then(Vec::new);
         let mut history: Vec<PeriodMeans> = Vec::new();
-        let n = self.steps_per_period;
+        let wp = self.window_periods();
+        let n = self.steps_per_period * wp;
         let mut snaps: Vec<PeriodEnd> = Vec::new();
         let (mut jumps, mut since_jump) = (0, 0);
         let (converged, periodic_error) = loop {
@@ -314,7 +354,7 @@ impl Transient {
                 self.step()?;
                 on_step(self);
                 let row = self.row();
-                acc.add(&row, &self.friction);
+                acc.add(&row, &self.friction, &self.extra_friction);
                 if let Some(s) = series.as_mut() {
                     s.push(row);
                 }
@@ -329,8 +369,7 @@ impl Transient {
                     // One dominant, monotone slow mode (ratios steady over three periods):
                     // jump the state along it to its limit. Only the start of the remaining
                     // run changes; the periodic test then runs on fresh periods.
-                    if snaps.len() == 3 {
-                        self.jump_along(&snaps[1], &snaps[2], r / (1.0 - r));
+                    if snaps.len() == 3 && self.jump_along(&snaps[1], &snaps[2], r / (1.0 - r)) {
                         jumps += 1;
                         since_jump = history.len();
                         snaps.clear();
@@ -346,10 +385,10 @@ impl Transient {
                 f64::INFINITY
             });
             observe(&Progress {
-                period: history.len(),
+                period: history.len() * wp,
                 t: self.t,
-                f_mean: acc.friction.total() / n as f64,
-                z_mean: acc.z_mean / n as f64,
+                f_mean: history[history.len() - 1].friction.total(),
+                z_mean: history[history.len() - 1].z_mean,
                 periodic_error: err,
             });
             if history.len() - since_jump >= num.min_periods.max(4) && err <= num.periodic_tol {
@@ -359,7 +398,7 @@ impl Transient {
                 break (false, err);
             }
         };
-        let last = history.last().expect("at least one period");
+        let last = history.last().expect("at least one period").clone();
         let c_min = self.scene.contact.clearance_um(last.z_min);
         let outcome = Outcome {
             f_mean: last.friction.total(),
@@ -370,7 +409,7 @@ impl Transient {
             z_min: last.z_min,
             z_max: last.z_max,
             c_min,
-            periods: history.len(),
+            periods: history.len() * wp,
             steps: self.steps,
             converged,
             periodic_error,
@@ -381,7 +420,17 @@ impl Transient {
             max_residual: self.max_residual,
             wall_time_s: start.elapsed().as_secs_f64(),
         };
-        Ok(RunResult { outcome, series })
+        let extra = self
+            .extra_theta_s
+            .iter()
+            .zip(&last.extra)
+            .map(|(&theta_s, f)| (theta_s, outcome.with_friction(f)))
+            .collect();
+        Ok(RunResult {
+            outcome,
+            series,
+            extra,
+        })
     }
 }
 
@@ -397,9 +446,10 @@ pub struct Progress {
 }
 
 /// Means over one texture period.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 struct PeriodMeans {
     friction: Friction,
+    extra: Vec<Friction>,
     z_mean: f64,
     z_min: f64,
     z_max: f64,
@@ -409,13 +459,18 @@ impl PeriodMeans {
     fn empty() -> Self {
         PeriodMeans {
             friction: Friction::default(),
+            extra: Vec::new(),
             z_mean: 0.0,
             z_min: f64::INFINITY,
             z_max: f64::NEG_INFINITY,
         }
     }
-    fn add(&mut self, row: &SeriesRow, f: &Friction) {
+    fn add(&mut self, row: &SeriesRow, f: &Friction, extra: &[Friction]) {
         self.friction.add(f);
+        self.extra.resize(extra.len(), Friction::default());
+        for (a, e) in self.extra.iter_mut().zip(extra) {
+            a.add(e);
+        }
         self.z_mean += row.z;
         self.z_min = self.z_min.min(row.z);
         self.z_max = self.z_max.max(row.z);
@@ -424,6 +479,9 @@ impl PeriodMeans {
     /// of the periodic signal over the period.
     fn finish(mut self, n: usize) -> Self {
         self.friction = self.friction.scaled(1.0 / n as f64);
+        for e in &mut self.extra {
+            *e = e.scaled(1.0 / n as f64);
+        }
         self.z_mean /= n as f64;
         self
     }
@@ -433,6 +491,9 @@ impl PeriodMeans {
 /// limits: the cycle-to-cycle change d_k, extended by its geometric tail d_k/(1 − r) when the
 /// changes shrink monotonically at ratio r = d_k/d_{k−1} ∈ (0, 1) (a slow creep, model.md §6);
 /// infinite while fewer than three periods exist or while the changes grow.
+/// Shortest averaging window (ms = L/U): as long as the pseudo-period of an untextured run.
+const MIN_WINDOW: f64 = UNTEXTURED_PERIOD;
+
 /// Most state extrapolations per run.
 const MAX_JUMPS: usize = 3;
 
@@ -452,17 +513,32 @@ impl PeriodEnd {
 }
 
 impl Transient {
-    /// Moves the state to b + c·(b − a) (a, b: consecutive period ends; c = r/(1 − r) is the
-    /// geometric tail of a mode decaying by r per period), keeping θ in [0, 1]. The film
+    /// Texture periods per averaging window: the fewest whole periods spanning at least
+    /// `MIN_WINDOW`. Why: for short periods (per = 0.005 is 13 steps) the cycle-to-cycle
+    /// change of a slow creep is tiny against its tail (ratio ≈ 0.993 a period at R = 102.4),
+    /// so neither the periodicity estimate nor the slow-mode jump could read it period by
+    /// period. Means over whole periods are the same in the periodic regime.
+    pub fn window_periods(&self) -> usize {
+        let period = self.dt * self.steps_per_period as f64;
+        ((MIN_WINDOW / period) - 1e-9).ceil().max(1.0) as usize
+    }
+
+    /// Moves the state to b + c·(b − a) (a, b: consecutive window ends; c = r/(1 − r) is the
+    /// geometric tail of a mode decaying by r per window), keeping θ in [0, 1]. The film
     /// content and the ring move together, as the slow mode couples them (the oil held in
-    /// the contact and the clearance it carries).
-    fn jump_along(&mut self, a: &PeriodEnd, b: &PeriodEnd, c: f64) {
+    /// the contact and the clearance it carries). Refused (false, state unchanged) when the
+    /// jump would take the ring to less than half its clearance: then the mode is not the
+    /// clean creep the extrapolation assumes.
+    fn jump_along(&mut self, a: &PeriodEnd, b: &PeriodEnd, c: f64) -> bool {
         let g = &self.scene.grid;
         let z = b.ring.z + c * (b.ring.z - a.ring.z);
+        if !(z.is_finite() && z >= 0.5 * b.ring.z && z <= 2.0 * b.ring.z) {
+            return false;
+        }
         for k in 0..g.nodes() {
             let h = self.scene.gap.h(g, k, z);
             let phi = b.phi[k] + c * (b.phi[k] - a.phi[k]);
-            self.state.phi[k] = phi.clamp(0.0, h);
+            self.state.phi[k] = phi.max(0.0).min(h);
             if self.state.pressurised[k] {
                 self.state.phi[k] = h;
             }
@@ -472,6 +548,7 @@ impl Transient {
             v: b.ring.v + c * (b.ring.v - a.ring.v),
             a: b.ring.a + c * (b.ring.a - a.ring.a),
         };
+        true
     }
 }
 
@@ -525,9 +602,36 @@ pub fn simulate(
     num: &Numerics,
     record_series: bool,
 ) -> Result<RunResult, SolveError> {
+    simulate_theta_s(case, num, record_series, &[])
+}
+
+/// As `simulate`, also reporting the outcomes for the shear thresholds `extra_theta_s`
+/// (`RunResult::extra`): θ_s changes only the Couette friction term (model.md §5), so the
+/// film and the ring are simulated once.
+pub fn simulate_theta_s(
+    case: &CaseSpec,
+    num: &Numerics,
+    record_series: bool,
+    extra_theta_s: &[f64],
+) -> Result<RunResult, SolveError> {
     match case.texture {
-        None => steady_outcome(case, num.n1),
-        Some(_) => Transient::new(case, num).run_to_periodic(num, record_series),
+        None => {
+            let mut r = steady_outcome(case, num.n1)?;
+            for &theta_s in extra_theta_s {
+                let other = CaseSpec {
+                    theta_s,
+                    ..case.clone()
+                };
+                r.extra
+                    .push((theta_s, steady_outcome(&other, num.n1)?.outcome));
+            }
+            Ok(r)
+        }
+        Some(_) => {
+            let mut t = Transient::new(case, num);
+            t.extra_theta_s = extra_theta_s.to_vec();
+            t.run_to_periodic(num, record_series)
+        }
     }
 }
 
@@ -562,5 +666,6 @@ pub fn steady_outcome(case: &CaseSpec, n1: usize) -> Result<RunResult, SolveErro
     Ok(RunResult {
         outcome,
         series: None,
+        extra: Vec::new(),
     })
 }
