@@ -203,6 +203,17 @@ impl Fidelity {
         }
     }
 
+    /// The measured relative error of f̄ at this tier: the larger of Case I and Case III
+    /// against 1024×64, dt = 2e-4 (results/speed.md). Differences below it are not resolved.
+    pub fn f_error(self) -> f64 {
+        match self {
+            Fidelity::Draft => 0.015,
+            Fidelity::Fast => 0.0083,
+            Fidelity::Paper => 0.0044,
+            Fidelity::Fine => 0.0018,
+        }
+    }
+
     /// The numerics of this tier (other settings at their defaults). The screening tiers
     /// stop at a periodic tolerance of 1e-4 (the speed study: it moves f̄ by < 1e-5 relative
     /// on Case I, far under their mesh error, and saves ≈ 30 % of the periods).
@@ -227,14 +238,21 @@ impl Fidelity {
     /// l2 = 0.0025 in width 0.06 needs N2 = 24), so every texture is resolved alike.
     pub fn numerics_for(self, case: &CaseSpec) -> Numerics {
         let mut num = self.numerics();
+        num.resolve_pockets(case);
+        num
+    }
+}
+
+impl Numerics {
+    /// Raises N2 where the pocket would span fewer than `POCKET_CELLS` cells across.
+    pub fn resolve_pockets(&mut self, case: &CaseSpec) {
         if let Some(t) = &case.texture {
             let half = 0.5 * t.width;
             let need = (POCKET_CELLS * half / (2.0 * t.l2) - 1e-9).ceil();
-            if need.is_finite() && need > num.n2 as f64 {
-                num.n2 = need as usize;
+            if need.is_finite() && need > self.n2 as f64 {
+                self.n2 = need as usize;
             }
         }
-        num
     }
 }
 

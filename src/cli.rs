@@ -31,6 +31,89 @@ pub enum Command {
     Study(StudyArgs),
     /// Inspect or manage the evaluation cache.
     Cache(CacheArgs),
+    /// Find the pocket textures that lower friction and keep the film thick for one ring:
+    /// particle-swarm searches through the cache, friction/clearance Pareto front, report.
+    Optimise(OptimiseArgs),
+}
+
+/// Units as in `simulate`: lengths in cm, depth in µm; ranges are LO..HI.
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct OptimiseArgs {
+    /// Ring face radius R in cm ("inf" for a flat ring).
+    #[arg(long = "R", value_name = "CM", value_parser = parse_radius)]
+    pub r: f64,
+    /// Range of the pocket semiaxis along sliding (cm).
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range, default_value = "0.0025..0.03")]
+    pub l1: (f64, f64),
+    /// Range of the pocket semiaxis across sliding (cm).
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range, default_value = "0.0025..0.03")]
+    pub l2: (f64, f64),
+    /// Range of the texture period along sliding (cm).
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range, default_value = "0.005..0.06")]
+    pub per: (f64, f64),
+    /// Make the period across sliding a free variable in this range (cm) [default: width = per].
+    #[arg(long = "free-width", value_name = "LO..HI", value_parser = parse_range)]
+    pub width: Option<(f64, f64)>,
+    /// Range of the pocket depth (µm).
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range, default_value = "2..30")]
+    pub depth: (f64, f64),
+    /// Least wall thickness between neighbouring pockets (µm): per − 2·l1 and width − 2·l2.
+    #[arg(long = "w-min", value_name = "UM", default_value_t = 10.0)]
+    pub w_min_um: f64,
+    /// Largest textured area fraction π·l1·l2/(per·width).
+    #[arg(long, value_name = "FRACTION")]
+    pub max_area: Option<f64>,
+    /// Largest depth-to-diameter ratio of a pocket.
+    #[arg(long, value_name = "RATIO")]
+    pub max_depth_ratio: Option<f64>,
+    /// Lift the thin-film rule 10⁴·l ≥ 5·depth.
+    #[arg(long)]
+    pub allow_thick_pockets: bool,
+    /// Fidelity of the reported designs (each is evaluated at it).
+    #[arg(long, value_enum, default_value_t = Fidelity::Fast)]
+    pub fidelity: Fidelity,
+    /// Fidelity of the searches (screening).
+    #[arg(long, value_enum, default_value_t = Fidelity::Draft)]
+    pub search_fidelity: Fidelity,
+    /// Override the mesh of both fidelities (N2 is still raised to resolve small pockets).
+    #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
+    pub mesh: Option<(usize, usize)>,
+    /// Override the time step of both fidelities (ms).
+    #[arg(long, value_name = "DT")]
+    pub dt: Option<f64>,
+    /// Particles per swarm.
+    #[arg(long, default_value_t = 8)]
+    pub particles: usize,
+    /// Swarm iterations per search (each evaluates every particle).
+    #[arg(long, default_value_t = 5)]
+    pub iterations: u64,
+    /// Weights on friction of the balanced searches (comma-separated, each in (0, 1)).
+    #[arg(long, value_delimiter = ',', default_value = "0.5")]
+    pub balanced: Vec<f64>,
+    /// Random seed of the swarms (the same seed repeats the same designs, all from the cache).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Worker threads [default: all cores].
+    #[arg(long, value_name = "N")]
+    pub jobs: Option<usize>,
+    /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
+    #[arg(long, value_name = "FILE")]
+    pub cache: Option<PathBuf>,
+    /// Directory of the report files (optimise_R<R>.json/.csv/_front.png/_z_t.png/_f_t.png).
+    #[arg(long, value_name = "DIR", default_value = "results")]
+    pub out: PathBuf,
+    /// Print the report as JSON on stdout instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn parse_range(s: &str) -> Result<(f64, f64), String> {
+    let err = || format!("expected a range LO..HI of numbers, e.g. 0.0025..0.03, got {s:?}");
+    let (a, b) = s.split_once("..").ok_or_else(err)?;
+    let lo = a.trim().parse::<f64>().map_err(|_| err())?;
+    let hi = b.trim().parse::<f64>().map_err(|_| err())?;
+    Ok((lo, hi))
 }
 
 #[derive(Args, Debug)]
@@ -233,6 +316,7 @@ pub fn main_with(cli: Cli) -> i32 {
         Command::Bench(a) => bench_cmd(&a),
         Command::Study(a) => study_cmd(&a),
         Command::Cache(a) => cache_cmd(&a),
+        Command::Optimise(a) => optimise_cmd(&a),
     };
     match result {
         Ok(code) => code,
@@ -403,6 +487,106 @@ fn study_cmd(a: &StudyArgs) -> Result<i32, CmdError> {
         }
     }
     Ok(if sum.failed > 0 { 1 } else { 0 })
+}
+
+fn optimise_cmd(a: &OptimiseArgs) -> Result<i32, CmdError> {
+    use crate::optimise::{Bounds, Constraints, Space, SwarmSettings};
+    let base = CaseSpec::paper(a.r);
+    base.validate(false)?;
+    let space = Space {
+        bounds: Bounds {
+            l1: a.l1,
+            l2: a.l2,
+            per: a.per,
+            width: a.width,
+            depth: a.depth,
+        },
+        cons: Constraints {
+            w_min: a.w_min_um * 1e-4,
+            max_area: a.max_area,
+            max_depth_ratio: a.max_depth_ratio,
+            allow_thick: a.allow_thick_pockets,
+        },
+    };
+    space.validate()?;
+    if a.particles < 2 || a.iterations == 0 {
+        return Err(CmdError::Input(
+            "--particles must be ≥ 2 and --iterations ≥ 1".into(),
+        ));
+    }
+    if let Some(w) = a.balanced.iter().find(|w| !(**w > 0.0 && **w < 1.0)) {
+        return Err(CmdError::Input(format!(
+            "--balanced {w}: each weight must lie strictly between 0 and 1"
+        )));
+    }
+    if a.jobs == Some(0) {
+        return Err(CmdError::Input(
+            "--jobs 0: need at least one worker thread".into(),
+        ));
+    }
+    if let Some(dt) = a.dt {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(CmdError::Input(format!(
+                "--dt {dt}: must be a finite number > 0"
+            )));
+        }
+    }
+    if let Some((n1, n2)) = a.mesh {
+        if n1 < 16 || n2 < 1 {
+            return Err(CmdError::Input(format!(
+                "--mesh {n1}x{n2}: needs at least 16 cells along x1 and 1 along x2"
+            )));
+        }
+    }
+    if !a.out.as_os_str().is_empty() && a.out.exists() && !a.out.is_dir() {
+        return Err(CmdError::Input(format!(
+            "--out {}: exists and is not a directory",
+            a.out.display()
+        )));
+    }
+    let overrides = crate::study::NumericsOverride {
+        n1: a.mesh.map(|m| m.0),
+        n2: a.mesh.map(|m| m.1),
+        dt: a.dt,
+        ..Default::default()
+    };
+    let cache = open_cache(a.cache.as_deref())?;
+    install_ctrl_c();
+    let cache = std::sync::Mutex::new(cache);
+    let settings = crate::optimise_report::Settings {
+        base,
+        space,
+        search_fidelity: a.search_fidelity,
+        report_fidelity: a.fidelity,
+        overrides,
+        swarm: SwarmSettings {
+            particles: a.particles,
+            iterations: a.iterations,
+            seed: a.seed,
+        },
+        balanced: a.balanced.clone(),
+        jobs: a
+            .jobs
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
+        progress: true,
+        out_dir: Some(a.out.clone()),
+    };
+    let report =
+        crate::optimise_report::optimise(&settings, &cache, &STOP).map_err(CmdError::Other)?;
+    if a.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&report).unwrap_or_default()
+        );
+    } else {
+        print!("{}", crate::optimise_report::table(&report));
+        eprintln!(
+            "wrote {}/optimise_R{}.json, .csv, _front.png, _z_t.png, _f_t.png",
+            a.out.display(),
+            report.r
+        );
+    }
+    Ok(0)
 }
 
 fn cache_cmd(a: &CacheArgs) -> Result<i32, CmdError> {

@@ -22,6 +22,8 @@ pub mod film;
 pub mod friction;
 pub mod geometry;
 pub mod multigrid;
+pub mod optimise;
+pub mod optimise_report;
 pub mod plot;
 pub mod report;
 pub mod run;

@@ -1,0 +1,189 @@
+//! The optimiser's contract (issue: `texopt optimise`), on a coarse mesh (64×4, dt 1.6e-3) so
+//! that the suite stays fast: the searches run at the same numerics as the reported designs.
+//! Pockets are bounded below by 0.005 cm so that 64 cells resolve them.
+
+use std::sync::atomic::AtomicBool;
+use std::sync::Mutex;
+
+use texopt::cache::Cache;
+use texopt::case::{CaseSpec, Fidelity};
+use texopt::optimise::{pareto, Bounds, Constraints, Space, SwarmSettings};
+use texopt::optimise_report::{optimise, Report, Settings};
+use texopt::study::NumericsOverride;
+
+fn cache(name: &str) -> Mutex<Cache> {
+    let p = std::env::temp_dir().join(format!("texopt-opt-{}-{name}.sqlite", std::process::id()));
+    for ext in ["", "-wal", "-shm"] {
+        let _ = std::fs::remove_file(format!("{}{ext}", p.display()));
+    }
+    Mutex::new(Cache::open(&p).unwrap())
+}
+
+fn settings(r: f64, w_min_um: f64) -> Settings {
+    Settings {
+        base: CaseSpec::paper(r),
+        space: Space {
+            bounds: Bounds {
+                l1: (0.005, 0.03),
+                l2: (0.005, 0.03),
+                ..Bounds::default()
+            },
+            cons: Constraints {
+                w_min: w_min_um * 1e-4,
+                ..Constraints::default()
+            },
+        },
+        search_fidelity: Fidelity::Fast,
+        report_fidelity: Fidelity::Fast,
+        overrides: NumericsOverride {
+            n1: Some(64),
+            n2: Some(4),
+            dt: Some(1.6e-3),
+            ..NumericsOverride::default()
+        },
+        swarm: SwarmSettings {
+            particles: 8,
+            iterations: 3,
+            seed: 1,
+        },
+        balanced: vec![0.5],
+        jobs: 2,
+        progress: false,
+        out_dir: None,
+    }
+}
+
+fn run(s: &Settings, c: &Mutex<Cache>) -> Report {
+    optimise(s, c, &AtomicBool::new(false)).unwrap()
+}
+
+/// Contracts every report must keep.
+fn check_contracts(r: &Report) {
+    for e in &r.evaluated {
+        let v = r.space.violations(&e.texture);
+        assert!(
+            v.is_empty(),
+            "evaluated an infeasible design {:?}: {v:?}",
+            e.texture
+        );
+    }
+    let pts: Vec<(f64, f64)> = r.front.iter().map(|x| (x.f_mean, x.c_min)).collect();
+    assert_eq!(pareto(&pts).len(), pts.len(), "the front is non-dominated");
+    let has = |x: &texopt::optimise_report::Row| {
+        r.front
+            .iter()
+            .any(|f| f.texture == x.texture && f.f_mean == x.f_mean)
+    };
+    assert!(has(&r.best_friction) && has(&r.best_clearance));
+}
+
+#[test]
+fn large_ring_optimum_is_a_close_packed_array_and_reruns_are_free() {
+    let c = cache("large");
+    let s = settings(5.0, 0.0);
+    let r = run(&s, &c);
+    check_contracts(&r);
+    let t = r
+        .best_friction
+        .texture
+        .clone()
+        .expect("a texture beats the plain liner");
+    assert!(2.0 * t.l1 / t.per >= 0.9, "{t:?}");
+    assert!(t.per >= 0.05, "{t:?}");
+    assert!((5.0..=20.0).contains(&t.depth), "{t:?}");
+    assert!(r.texture_beats_plain, "{}", r.verdict);
+    assert!(r.best_friction.f_change_pct < -100.0 * r.fidelity_error);
+    let again = run(&s, &c);
+    assert_eq!(
+        again.simulations, 0,
+        "a second identical run simulates nothing"
+    );
+    assert_eq!(again.best_friction.texture, r.best_friction.texture);
+}
+
+#[test]
+fn with_a_least_wall_the_optimum_sits_on_the_wall_constraint() {
+    let c = cache("wall");
+    let w_min_um = 100.0;
+    let r = run(&settings(5.0, w_min_um), &c);
+    check_contracts(&r);
+    let t = r.best_friction.texture.clone().unwrap();
+    let wall = (t.per - 2.0 * t.l1).min(t.width - 2.0 * t.l2);
+    assert!(wall >= w_min_um * 1e-4 * (1.0 - 1e-9), "{t:?}");
+    assert!(
+        wall <= w_min_um * 1e-4 * 1.05,
+        "wall {wall} cm not on the constraint: {t:?}"
+    );
+}
+
+#[test]
+fn small_ring_plain_liner_is_best() {
+    let c = cache("small");
+    let r = run(&settings(0.4, 10.0), &c);
+    check_contracts(&r);
+    assert!(!r.texture_beats_plain, "{}", r.verdict);
+    assert!(r.verdict.contains("plain liner is best"), "{}", r.verdict);
+}
+
+#[test]
+fn bad_optimiser_inputs_are_refused_with_exit_2_and_nothing_written() {
+    let dir = std::env::temp_dir().join(format!("texopt-opt-bad-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = dir.join("out");
+    let cache = dir.join("c.sqlite");
+    let cases: [(&[&str], &str); 12] = [
+        (&["--l1", "0.03..0.01"], "--l1"),
+        (&["--depth", "0..5"], "--depth"),
+        (
+            &["--per", "0.005..0.006", "--w-min", "20"],
+            "no feasible texture",
+        ),
+        (&["--l1", "abc"], "expected a range LO..HI"),
+        (&["--balanced", "1.5"], "strictly between 0 and 1"),
+        (&["--particles", "1"], "--particles"),
+        (&["--max-area", "0.9"], "--max-area"),
+        (&["--jobs", "0"], "--jobs 0"),
+        (&["--w-min", "-5"], "--w-min"),
+        (&["--max-depth-ratio", "0"], "--max-depth-ratio"),
+        (&["--mesh", "8x2"], "--mesh"),
+        (&["--dt", "-1"], "--dt"),
+    ];
+    for (extra, want) in cases {
+        let mut args = vec![
+            "optimise",
+            "--R",
+            "5",
+            "--out",
+            out.to_str().unwrap(),
+            "--cache",
+            cache.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_texopt"))
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {err}");
+        assert!(
+            err.contains(want),
+            "{extra:?}: {err:?} should contain {want:?}"
+        );
+        assert!(
+            !out.exists() && !cache.exists(),
+            "{extra:?}: nothing may be written"
+        );
+    }
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_texopt"))
+        .args([
+            "optimise",
+            "--R",
+            "0.01",
+            "--cache",
+            cache.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!cache.exists());
+}
