@@ -313,3 +313,37 @@ fn sigkill_loses_no_finished_case_and_the_cache_stays_intact() {
     );
     assert!(out.contains(&want), "{out} should say {want}");
 }
+
+#[test]
+fn one_and_two_threads_give_bit_identical_outcomes() {
+    let dir = scratch("threads");
+    let study = small_study(&dir, "[0.8, 6.4]", "");
+    let mut csvs = Vec::new();
+    for jobs in ["1", "2"] {
+        let cache = dir.join(format!("c{jobs}.sqlite"));
+        let (code, _, err) = texopt(&[
+            "study",
+            study.to_str().unwrap(),
+            "--cache",
+            cache.to_str().unwrap(),
+            "--jobs",
+            jobs,
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let c = Cache::open(&cache).unwrap();
+        let s = texopt::study::load(&study).unwrap();
+        let outs: Vec<String> = s
+            .jobs
+            .iter()
+            .map(|j| match c.get(&Key::of(&j.case, &j.numerics)).unwrap() {
+                Some(Entry::Done(mut o)) => {
+                    o.wall_time_s = 0.0;
+                    format!("{:?}", serde_json::to_string(&o).unwrap())
+                }
+                other => panic!("{other:?}"),
+            })
+            .collect();
+        csvs.push(outs);
+    }
+    assert_eq!(csvs[0], csvs[1]);
+}
