@@ -5,7 +5,7 @@ use clap::{Args, Parser, Subcommand};
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 
-use crate::case::{CaseSpec, Fidelity, InputError, Numerics, Start, Texture};
+use crate::case::{CaseSpec, Coupling, Fidelity, InputError, Numerics, Start, Texture};
 use crate::film::Method;
 use crate::run::{simulate, Outcome, Progress, RunResult, SeriesRow, Transient};
 
@@ -135,6 +135,10 @@ pub struct StudyArgs {
     /// Do not write the report (CSV, figures, tables).
     #[arg(long)]
     pub no_report: bool,
+    /// Simulate nothing: report what the cache already holds (e.g. while the study runs
+    /// elsewhere); missing cases appear as "not run".
+    #[arg(long)]
+    pub cached_only: bool,
 }
 
 #[derive(Args, Debug)]
@@ -239,6 +243,9 @@ pub struct SimulateArgs {
         default_value_t = 20.0
     )]
     pub d_oil: f64,
+    /// Ring mass per unit width (units of 2.4e7 kg/m; the paper's compression ring: 2e-9).
+    #[arg(long, value_name = "M", default_value_t = 2.0e-9)]
+    pub mass: f64,
     /// Relative tolerance of the periodic-regime test (estimated distance of the period-mean
     /// friction and Z from their periodic limits).
     #[arg(
@@ -278,6 +285,10 @@ pub struct SimulateArgs {
     /// Do not jump the state along a dominant slow mode (simulate every period of the approach).
     #[arg(long = "no-extrapolate")]
     pub no_extrapolate: bool,
+    /// Ring coupling: implicit (Newmark inside the film iteration, default) or explicit
+    /// (for stability studies: it fails at the paper's dt, model.md §4).
+    #[arg(long, value_enum, default_value_t = Coupling::Implicit)]
+    pub coupling: Coupling,
     /// Accept pockets that break thin-film validity (10⁴·l < 5·depth).
     #[arg(long = "allow-thick-pockets")]
     pub allow_thick_pockets: bool,
@@ -466,14 +477,16 @@ fn study_cmd(a: &StudyArgs) -> Result<i32, CmdError> {
         retry_failed: a.retry_failed,
         progress: true,
     };
-    let (sum, results) = crate::sweep::run(&study.jobs, &cache, &opt, &STOP)
+    let stop_now = std::sync::atomic::AtomicBool::new(true);
+    let stop = if a.cached_only { &stop_now } else { &STOP };
+    let (sum, results) = crate::sweep::run(&study.jobs, &cache, &opt, stop)
         .map_err(|e| CmdError::Other(e.to_string()))?;
     let note = format!(
         "{} cases: {} from the cache, {} computed in {} simulations, {} failed, {} not run; {:.1} s wall time with {jobs} worker threads",
         sum.cases, sum.cached, sum.computed, sum.simulations, sum.failed, sum.not_run, sum.wall_time_s
     );
     println!("{note}");
-    if sum.stopped {
+    if sum.stopped && !a.cached_only {
         println!("stopped before the end: run the same command again to compute the rest");
         return Ok(130);
     }
@@ -642,6 +655,7 @@ pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputErr
     let mut case = CaseSpec::paper(a.r);
     case.theta_s = a.theta_s;
     case.d_oil = a.d_oil;
+    case.mass = a.mass;
     let depth = a.depth.unwrap_or(0.0);
     if !depth.is_finite() || depth < 0.0 {
         return Err(InputError {
@@ -681,6 +695,7 @@ pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputErr
         cycles: a.cycles,
         start: a.start,
         extrapolate: !a.no_extrapolate,
+        coupling: a.coupling,
         ..Numerics::default()
     };
     case.validate(a.allow_thick_pockets)?;

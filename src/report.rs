@@ -424,6 +424,7 @@ fn headline(rows: &[&Row], theta_s: f64) -> Vec<String> {
     let mut out = Vec::new();
     let best = |ratio: &dyn Fn(&Row) -> Option<f64>, lower: bool| {
         rows.iter()
+            .filter(|r| r.job.case.texture.is_some())
             .filter_map(|r| Some((ratio(r)?, *r)))
             .filter(|(x, _)| x.is_finite())
             .min_by(|a, b| {
@@ -436,8 +437,13 @@ fn headline(rows: &[&Row], theta_s: f64) -> Vec<String> {
     };
     if let Some((x, r)) = best(&|r: &Row| r.f_ratio(), true) {
         out.push(format!(
-            "largest friction reduction against the untextured liner: {:.1} % ({}, f = {:.5} vs {:.5})",
-            100.0 * (1.0 - x),
+            "{}: {:.1} % ({}, f = {:.5} vs {:.5})",
+            if x < 1.0 {
+                "largest friction reduction against the untextured liner"
+            } else {
+                "no texture lowers friction; the least increase"
+            },
+            100.0 * (1.0 - x).abs(),
             r.job.case.label(),
             r.out.map_or(f64::NAN, |o| o.f_mean),
             r.plain.map_or(f64::NAN, |o| o.f_mean)
@@ -445,8 +451,13 @@ fn headline(rows: &[&Row], theta_s: f64) -> Vec<String> {
     }
     if let Some((x, r)) = best(&|r: &Row| r.c_ratio(), false) {
         out.push(format!(
-            "largest minimum-clearance increase: {:.1} % ({}, C_min = {:.4} vs {:.4} µm)",
-            100.0 * (x - 1.0),
+            "{}: {:.1} % ({}, C_min = {:.4} vs {:.4} µm)",
+            if x > 1.0 {
+                "largest minimum-clearance increase against the untextured liner"
+            } else {
+                "no texture raises the minimum clearance; the least decrease"
+            },
+            100.0 * (x - 1.0).abs(),
             r.job.case.label(),
             r.out.map_or(f64::NAN, |o| o.c_min),
             r.plain.map_or(f64::NAN, |o| o.c_min)

@@ -1,0 +1,260 @@
+//! Stability map: where each numerical method stops working. One-factor lines around two
+//! base cases — Case I's pocket (l1 = l2 = 0.01, per = 0.06, depth 5) on a strongly curved
+//! ring (R = 0.8) and on a conformal one (R = 51.2) — over dt, ring mass, depth, R, inlet film
+//! d_oil and θ_s, for the implicit ring coupling (texopt's) and the explicit one (contrast).
+//! Each run goes to the periodic regime (draft mesh 256×8, periodic_tol 1e-4, t_max 3) and
+//! records how it ended, the Newton iterations per step, the largest film residual and the
+//! largest per-step mass defect.
+//!
+//!     cargo run --release --example stability            # runs, writes results/stability/runs.csv
+//!     cargo run --release --example stability -- report  # results/stability.md, stability.png
+
+use std::fmt::Write as _;
+use std::path::Path;
+use texopt::case::{CaseSpec, Coupling, Numerics, Texture};
+use texopt::plot::{self, Chart, Scale, Series, Style};
+use texopt::run::Transient;
+
+const CSV: &str = "results/stability/runs.csv";
+
+struct Run {
+    line: &'static str,
+    value: f64,
+    r: f64,
+    coupling: Coupling,
+    case: CaseSpec,
+    num: Numerics,
+}
+
+fn base(r: f64) -> (CaseSpec, Numerics) {
+    let case = CaseSpec::paper(r).with_texture(Texture::circular(0.01, 0.06, 5.0));
+    let num = Numerics {
+        n1: 256,
+        n2: 8,
+        dt: 8e-4,
+        periodic_tol: 1e-4,
+        t_max: 3.0,
+        ..Numerics::default()
+    };
+    (case, num)
+}
+
+fn runs() -> Vec<Run> {
+    let mut v = Vec::new();
+    for r in [0.8, 51.2] {
+        for coupling in [Coupling::Implicit, Coupling::Explicit] {
+            let mk = |line, value: f64, f: &dyn Fn(&mut CaseSpec, &mut Numerics)| {
+                let (mut case, mut num) = base(r);
+                num.coupling = coupling;
+                f(&mut case, &mut num);
+                Run {
+                    line,
+                    value,
+                    r,
+                    coupling,
+                    case,
+                    num,
+                }
+            };
+            for dt in [1e-4, 2e-4, 4e-4, 8e-4, 1.6e-3, 3.2e-3, 4e-3] {
+                v.push(mk("dt", dt, &|_, n| n.dt = dt));
+            }
+            for m in [2e-10, 6e-10, 2e-9, 2e-8, 2e-7] {
+                v.push(mk("mass", m, &|c, _| c.mass = m));
+            }
+            if coupling == Coupling::Implicit {
+                // Deep pockets on the widest lattice (l = 0.03 allows 60 µm thin-film valid).
+                for d in [2.0, 5.0, 10.0, 20.0, 30.0, 60.0, 100.0] {
+                    v.push(mk("depth", d, &|c, _| {
+                        c.texture = Some(Texture::circular(0.03, 0.06, d))
+                    }));
+                }
+                for d_oil in [1.0, 2.0, 5.0, 10.0, 20.0, 50.0] {
+                    v.push(mk("d_oil", d_oil, &|c, _| c.d_oil = d_oil));
+                }
+                for th in [0.05, 0.5, 0.95] {
+                    v.push(mk("theta_s", th, &|c, _| c.theta_s = th));
+                }
+            }
+        }
+    }
+    for rr in [
+        0.2,
+        0.4,
+        1.6,
+        3.2,
+        6.4,
+        12.8,
+        25.6,
+        102.4,
+        1e3,
+        f64::INFINITY,
+    ] {
+        let (mut case, num) = base(0.8);
+        case.r = rr;
+        v.push(Run {
+            line: "R",
+            value: rr,
+            r: rr,
+            coupling: Coupling::Implicit,
+            case,
+            num,
+        });
+    }
+    v
+}
+
+fn main() {
+    if std::env::args().nth(1).as_deref() == Some("report") {
+        report();
+        return;
+    }
+    std::fs::create_dir_all("results/stability").unwrap();
+    let mut out = String::from(
+        "line,value,R,coupling,status,reason,t_end,steps,iterations_per_step,max_residual,max_mass_defect,f_mean,z_mean,c_min,wall_s\n",
+    );
+    let all = runs();
+    for (i, run) in all.iter().enumerate() {
+        let t0 = std::time::Instant::now();
+        let mut sim = Transient::new(&run.case, &run.num);
+        let mut defect: f64 = 0.0;
+        let res = sim.run_with(&run.num, false, &mut |_| {}, &mut |s| {
+            defect = defect.max(s.mass_defect());
+        });
+        let wall = t0.elapsed().as_secs_f64();
+        let (status, reason, o) = match &res {
+            Ok(r) if r.outcome.converged => ("periodic", String::new(), Some(&r.outcome)),
+            Ok(r) => (
+                "no periodic regime",
+                format!(
+                    "estimated distance {:.1e} at t_max",
+                    r.outcome.periodic_error
+                ),
+                Some(&r.outcome),
+            ),
+            Err(e) => {
+                let s = e.to_string();
+                let kind = if s.contains("reached the liner") {
+                    "contact (Z ≤ 0)"
+                } else if s.contains("unstable")
+                    || s.contains("not finite")
+                    || s.contains("non-finite")
+                {
+                    "non-finite / unstable"
+                } else if s.contains("film solve failed") {
+                    "film solve failed"
+                } else {
+                    "error"
+                };
+                (kind, s.replace(',', ";"), None)
+            }
+        };
+        let g = |f: &dyn Fn(&texopt::run::Outcome) -> f64| {
+            o.map_or(String::new(), |o| format!("{}", f(o)))
+        };
+        let _ = writeln!(
+            out,
+            "{},{},{},{:?},{status},{reason},{},{},{},{},{defect:e},{},{},{},{wall:.2}",
+            run.line,
+            run.value,
+            run.r,
+            run.coupling,
+            sim.t,
+            sim.steps,
+            g(&|o| o.iterations_per_step),
+            g(&|o| o.max_residual),
+            g(&|o| o.f_mean),
+            g(&|o| o.z_mean),
+            g(&|o| o.c_min),
+        );
+        eprintln!(
+            "[{}/{}] {} = {} R = {} {:?}: {status} ({wall:.1} s)",
+            i + 1,
+            all.len(),
+            run.line,
+            run.value,
+            run.r,
+            run.coupling
+        );
+        std::fs::write(CSV, &out).unwrap();
+    }
+}
+
+fn report() {
+    let text = std::fs::read_to_string(CSV).expect("run the study first");
+    let rows: Vec<Vec<String>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    let mut md = String::from("# Stability map\n\nWhere each numerical method stops working (`cargo run --release --example stability`, then `-- report`). Base cases: Case I's pocket (l1 = l2 = 0.01, per = 0.06, depth 5) on R = 0.8 and R = 51.2; one factor varied at a time; draft mesh 256×8, periodic tolerance 1e-4, t_max = 3 ms. \"mass defect\" is the largest per-step relative mass-balance error of the run (round-off for a converged conservative solve).\n\n");
+    for line in ["dt", "mass", "depth", "d_oil", "theta_s", "R"] {
+        let _ = writeln!(md, "## {line}\n\n| {line} | R | coupling | status | it/step | max residual | max mass defect | f̄ | C_min | wall s |\n|---|---|---|---|---|---|---|---|---|---|");
+        for r in rows.iter().filter(|r| r[0] == line) {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {}{} | {} | {} | {} | {} | {} | {} |",
+                r[1],
+                r[2],
+                r[3].to_lowercase(),
+                r[4],
+                if r[5].is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({})", r[5].chars().take(90).collect::<String>())
+                },
+                r[8],
+                r[9],
+                r[10],
+                r[11],
+                r[13],
+                r[14]
+            );
+        }
+        md.push('\n');
+    }
+    std::fs::write("results/stability.md", md).unwrap();
+    // Plot: Newton iterations per step against dt, by R and coupling; failures at 0.
+    let mut data: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    for r in ["0.8", "51.2"] {
+        for c in ["Implicit", "Explicit"] {
+            let pts = rows
+                .iter()
+                .filter(|x| x[0] == "dt" && x[2] == r && x[3] == c)
+                .map(|x| {
+                    (
+                        x[1].parse().unwrap_or(f64::NAN),
+                        x[8].parse().unwrap_or(0.0),
+                    )
+                })
+                .collect();
+            data.push((
+                format!("R = {r}, {} coupling (0: failed)", c.to_lowercase()),
+                pts,
+            ));
+        }
+    }
+    let series: Vec<Series> = data
+        .iter()
+        .enumerate()
+        .map(|(i, (n, p))| Series {
+            name: n.clone(),
+            points: p,
+            style: Style::Line,
+            colour: i,
+        })
+        .collect();
+    plot::xy(
+        Path::new("results/stability.png"),
+        &Chart {
+            title: "Film iterations per step against the time step",
+            x_label: "dt (ms)",
+            y_label: "Newton iterations per step",
+            x_scale: Scale::Log,
+            y_scale: Scale::Linear,
+        },
+        &series,
+    )
+    .unwrap();
+    eprintln!("wrote results/stability.md and results/stability.png");
+}
