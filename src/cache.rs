@@ -38,7 +38,7 @@ pub fn path_from(flag: Option<&Path>) -> PathBuf {
 
 #[derive(Debug, thiserror::Error)]
 pub enum CacheError {
-    #[error("cache {path}: not a texopt cache ({why}); it was left untouched — choose another file with --cache")]
+    #[error("cache {path}: {why}; it was left untouched — move it away or choose another file with --cache")]
     Foreign { path: String, why: String },
     #[error("cache {path}: {source}")]
     Sqlite {
@@ -118,7 +118,7 @@ impl Cache {
             if n > 0 && (n < 16 || &head != b"SQLite format 3\0") {
                 return Err(CacheError::Foreign {
                     path: shown,
-                    why: "not an SQLite database".into(),
+                    why: "not a texopt cache (not an SQLite database)".into(),
                 });
             }
         } else if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -138,16 +138,39 @@ impl Cache {
         .map_err(sql)?;
         conn.busy_timeout(std::time::Duration::from_secs(120))
             .map_err(sql)?;
+        let damaged = |e: rusqlite::Error| match e.sqlite_error_code() {
+            Some(rusqlite::ErrorCode::DatabaseCorrupt | rusqlite::ErrorCode::NotADatabase) => {
+                CacheError::Foreign {
+                    path: shown.clone(),
+                    why: format!("the cache file is damaged ({e})"),
+                }
+            }
+            _ => sql(e),
+        };
         let app: i32 = conn
             .query_row("PRAGMA application_id", [], |r| r.get(0))
-            .map_err(sql)?;
+            .map_err(damaged)?;
+        // A damaged file is reported before anything is written to it.
+        let check: String = conn
+            .query_row("PRAGMA quick_check", [], |r| r.get(0))
+            .map_err(damaged)?;
+        if check != "ok" {
+            let first = check.lines().find(|l| !l.starts_with("***")).unwrap_or("");
+            return Err(CacheError::Foreign {
+                path: shown,
+                why: format!(
+                    "the cache file is damaged (SQLite quick_check: {first}; {} problems)",
+                    check.lines().count()
+                ),
+            });
+        }
         let tables: i64 = conn
             .query_row("SELECT count(*) FROM sqlite_master", [], |r| r.get(0))
             .map_err(sql)?;
         if app != APPLICATION_ID && tables > 0 {
             return Err(CacheError::Foreign {
                 path: shown,
-                why: "an SQLite database of another application".into(),
+                why: "not a texopt cache (an SQLite database of another application)".into(),
             });
         }
         if app == APPLICATION_ID {
@@ -158,7 +181,7 @@ impl Cache {
                 return Err(CacheError::Foreign {
                     path: shown,
                     why: format!(
-                        "schema version {v}, this texopt reads {SCHEMA}; export it with the texopt that wrote it"
+                        "a texopt cache of schema version {v}; this texopt reads {SCHEMA} (export it with the texopt that wrote it)"
                     ),
                 });
             }

@@ -347,3 +347,34 @@ fn one_and_two_threads_give_bit_identical_outcomes() {
     }
     assert_eq!(csvs[0], csvs[1]);
 }
+
+#[test]
+fn a_damaged_cache_is_reported_and_left_untouched() {
+    let dir = scratch("damaged");
+    let cache = dir.join("c.sqlite");
+    drop(Cache::open(&cache).unwrap()); // a valid, empty cache (closed: WAL checkpointed)
+    let mut bytes = std::fs::read(&cache).unwrap();
+    assert!(bytes.len() >= 8192);
+    for (i, b) in bytes[4096..8192].iter_mut().enumerate() {
+        *b = (i * 7 % 251) as u8; // garble the table's root page, keep the header
+    }
+    std::fs::write(&cache, &bytes).unwrap();
+    let study = small_study(&dir, "[0.8]", "");
+    let (code, _, err) = texopt(&[
+        "study",
+        study.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("damaged") && err.trim().lines().count() == 1,
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read(&cache).unwrap(),
+        bytes,
+        "the damaged file is left as it was"
+    );
+    assert!(!dir.join("out").exists());
+}
