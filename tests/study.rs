@@ -367,10 +367,8 @@ fn a_damaged_cache_is_reported_and_left_untouched() {
         cache.to_str().unwrap(),
     ]);
     assert_eq!(code, 2, "{err}");
-    assert!(
-        err.contains("damaged") && err.trim().lines().count() == 1,
-        "{err}"
-    );
+    let errors: Vec<&str> = err.lines().filter(|l| l.starts_with("error:")).collect();
+    assert!(errors.len() == 1 && errors[0].contains("damaged"), "{err}");
     assert_eq!(
         std::fs::read(&cache).unwrap(),
         bytes,
