@@ -354,6 +354,8 @@ pub struct Evaluator<'a> {
     pub log: Mutex<Vec<Evaluation>>,
     /// Simulations run (not answered by the cache).
     pub simulations: Mutex<usize>,
+    /// Print a line per batch on stderr.
+    pub progress: bool,
 }
 
 impl Evaluator<'_> {
@@ -379,7 +381,21 @@ impl Evaluator<'_> {
         }
         let (sum, results) =
             sweep::run(&jobs, self.cache, &self.options, self.stop).map_err(|e| e.to_string())?;
-        *self.simulations.lock().expect("lock") += sum.simulations;
+        let total_sims = {
+            let mut n = self.simulations.lock().expect("lock");
+            *n += sum.simulations;
+            *n
+        };
+        if self.progress {
+            eprintln!(
+                "  {} designs at {}: {} from the cache, {} simulated ({:.1} s); {total_sims} simulations so far",
+                designs.len(),
+                self.fidelity.name(),
+                sum.cached,
+                sum.simulations,
+                sum.wall_time_s
+            );
+        }
         if sum.stopped {
             return Err("stopped (Ctrl-C); finished evaluations are in the cache".into());
         }

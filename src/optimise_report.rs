@@ -141,6 +141,7 @@ pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result
         stop,
         log: Mutex::new(Vec::new()),
         simulations: Mutex::new(0),
+        progress: s.progress,
     };
     let ev_s = evaluator(s.search_fidelity);
     let ev_r = evaluator(s.report_fidelity);
@@ -392,6 +393,40 @@ pub fn table(r: &Report) -> String {
     s
 }
 
+/// The time series of the last texture period of a case, kept in `path` with the case's
+/// cache key so that a warm rerun does not simulate it again.
+fn last_period(
+    path: &Path,
+    case: &CaseSpec,
+    num: &crate::case::Numerics,
+    period: f64,
+) -> Result<Vec<SeriesRow>, String> {
+    #[derive(Serialize, serde::Deserialize)]
+    struct Kept {
+        key: String,
+        rows: Vec<SeriesRow>,
+    }
+    let key = crate::cache::Key::of(case, num).hash;
+    if let Ok(text) = std::fs::read_to_string(path) {
+        if let Ok(k) = serde_json::from_str::<Kept>(&text) {
+            if k.key == key {
+                return Ok(k.rows);
+            }
+        }
+    }
+    let res = simulate(case, num, true).map_err(|e| e.to_string())?;
+    let rows: Vec<SeriesRow> = res.series.unwrap_or_default();
+    let t_end = rows.last().map_or(0.0, |x| x.t);
+    let rows: Vec<SeriesRow> = rows
+        .into_iter()
+        .filter(|x| x.t > t_end - period - 1e-12)
+        .collect();
+    let kept = Kept { key, rows };
+    std::fs::write(path, serde_json::to_string(&kept).unwrap_or_default())
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    Ok(kept.rows)
+}
+
 fn stem(dir: &Path, r: f64) -> PathBuf {
     dir.join(format!("optimise_R{r}"))
 }
@@ -517,14 +552,14 @@ fn write(dir: &Path, r: &Report, s: &Settings) -> Result<(), String> {
             ..s.base.clone()
         };
         let num = crate::study::numerics_for(&case, s.report_fidelity, &s.overrides);
-        let res = simulate(&case, &num, true).map_err(|e| e.to_string())?;
-        let rows: Vec<SeriesRow> = res.series.unwrap_or_default();
         let period = t.per / case.u;
-        let t_end = rows.last().map_or(0.0, |x| x.t);
-        let last: Vec<&SeriesRow> = rows
-            .iter()
-            .filter(|x| x.t > t_end - period - 1e-12)
-            .collect();
+        let kept = last_period(
+            &PathBuf::from(format!("{}_series.json", stem.display())),
+            &case,
+            &num,
+            period,
+        )?;
+        let last: Vec<&SeriesRow> = kept.iter().collect();
         let t0 = last.first().map_or(0.0, |x| x.t);
         let z: Vec<(f64, f64)> = last.iter().map(|x| ((x.t - t0) / period, x.z)).collect();
         let f: Vec<(f64, f64)> = last.iter().map(|x| ((x.t - t0) / period, x.f)).collect();

@@ -60,6 +60,25 @@ fn range(v: impl Iterator<Item = f64>, scale: Scale) -> (f64, f64) {
     }
 }
 
+/// A tick label with at most 4 significant digits (log axes otherwise print round-off).
+fn tick(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let a = v.abs();
+    if (1e-3..1e5).contains(&a) {
+        let digits = (3 - a.log10().floor() as i32).max(0) as usize;
+        let s = format!("{v:.digits$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
 /// Writes an x–y chart of the series to `path` (PNG, 900×600).
 pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
     let err = |e: &dyn std::fmt::Display| format!("plot {}: {e}", path.display());
@@ -81,6 +100,8 @@ pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
             ctx.configure_mesh()
                 .x_desc(chart.x_label)
                 .y_desc(chart.y_label)
+                .x_label_formatter(&|v| tick(*v))
+                .y_label_formatter(&|v| tick(*v))
                 .draw()
                 .map_err(|e| err(&e))?;
             for s in series {
