@@ -115,8 +115,8 @@ fn row(space: &Space, label: &str, t: Option<&Texture>, o: &Outcome, plain: &Out
 
 /// Compass refinement after each swarm: first step, last step and most polls (cube units).
 const REFINE_STEP: f64 = 0.25;
-const REFINE_MIN_STEP: f64 = 1.0 / 32.0;
-const REFINE_ITERS: u64 = 12;
+const REFINE_MIN_STEP: f64 = 1.0 / 16.0;
+const REFINE_ITERS: u64 = 8;
 
 /// Most front points confirmed at the reported fidelity.
 const MAX_CONFIRM: usize = 10;
