@@ -227,6 +227,9 @@ impl Default for Tolerance {
     }
 }
 
+/// Largest excursion of θ outside [0, 1] taken for round-off.
+const THETA_ROUND_OFF: f64 = 1e-9;
+
 /// Why a film solve failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FilmError {
@@ -245,6 +248,8 @@ pub enum FilmError {
     },
     #[error("the gap closed (h = {h:.3e} µm at x1 = {x1:.5} cm, x2 = {x2:.5} cm): solid contact is outside the lubrication model")]
     GapClosed { h: f64, x1: f64, x2: f64 },
+    #[error("saturation θ = {theta:.6e} outside [0, 1] beyond round-off at x1 = {x1:.5} cm, x2 = {x2:.5} cm")]
+    SaturationOutOfRange { theta: f64, x1: f64, x2: f64 },
     #[error("singular film matrix at unknown {row} (pivot {pivot:e})")]
     Singular { row: usize, pivot: f64 },
 }
@@ -808,6 +813,18 @@ impl FilmSolver {
         }
         for j in 0..n2 {
             state.phi[g.idx(n1, j)] = state.phi[g.idx(n1 - 1, j)];
+        }
+        // Guard: θ = φ/h must stay in [0, 1] up to round-off (a wrong number that looks
+        // right is worse than an error).
+        if let Some(k) = interior.clone().find(|&k| {
+            let theta = state.phi[k] / step.gap.h(g, k, *z);
+            !(-THETA_ROUND_OFF..=1.0 + THETA_ROUND_OFF).contains(&theta)
+        }) {
+            return Err(FilmError::SaturationOutOfRange {
+                theta: state.phi[k] / step.gap.h(g, k, *z),
+                x1: g.x(k / n2),
+                x2: g.y(k % n2),
+            });
         }
         let residual = self.max_relative_residual(step, state, *z);
         Ok(SolveStats {
