@@ -188,26 +188,57 @@ fn report() {
         .map(|l| l.split(',').map(str::to_string).collect())
         .collect();
     let mut md = String::from("# Stability map\n\nWhere each numerical method stops working (`cargo run --release --example stability`, then `-- report`). Base cases: Case I's pocket (l1 = l2 = 0.01, per = 0.06, depth 5) on R = 0.8 and R = 51.2; one factor varied at a time; draft mesh 256×8, periodic tolerance 1e-4, t_max = 3 ms. \"mass defect\" is the largest per-step relative mass-balance error of the run (round-off for a converged conservative solve).\n\n");
+    let num = |x: &str, p: usize| {
+        x.parse::<f64>()
+            .map_or(x.to_string(), |v| format!("{v:.p$e}"))
+    };
+    let fixed = |x: &str, p: usize| {
+        x.parse::<f64>()
+            .map_or(x.to_string(), |v| format!("{v:.p$}"))
+    };
+    // Headline: every run that did not reach the periodic regime.
+    md.push_str("## Where runs fail\n\n");
+    for r in rows.iter().filter(|r| r[4] != "periodic") {
+        let _ = writeln!(
+            md,
+            "- {} = {} (R = {}, {} coupling): {}",
+            r[0],
+            r[1],
+            r[2],
+            r[3].to_lowercase(),
+            r[4]
+        );
+    }
+    let worst_defect = rows
+        .iter()
+        .filter_map(|r| r[10].parse::<f64>().ok())
+        .fold(0.0, f64::max);
+    let worst_res = rows
+        .iter()
+        .filter_map(|r| r[9].parse::<f64>().ok())
+        .fold(0.0, f64::max);
+    let _ = writeln!(md, "\nOver all {} runs: largest per-step mass defect {worst_defect:.1e} (round-off), largest film residual {worst_res:.1e}; the film solve never failed to converge.\n", rows.len());
     for line in ["dt", "mass", "depth", "d_oil", "theta_s", "R"] {
-        let _ = writeln!(md, "## {line}\n\n| {line} | R | coupling | status | it/step | max residual | max mass defect | f̄ | C_min | wall s |\n|---|---|---|---|---|---|---|---|---|---|");
+        let _ = writeln!(md, "## {line}\n\n| {line} | R | coupling | status | it/step | max residual | max mass defect | f̄ | C_min (µm) | wall s |\n|---|---|---|---|---|---|---|---|---|---|");
         for r in rows.iter().filter(|r| r[0] == line) {
+            let reason = if r[5].is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", r[5].chars().take(90).collect::<String>())
+            };
             let _ = writeln!(
                 md,
                 "| {} | {} | {} | {}{} | {} | {} | {} | {} | {} | {} |",
-                r[1],
+                r[1].parse::<f64>().map_or(r[1].clone(), |v| format!("{v}")),
                 r[2],
                 r[3].to_lowercase(),
                 r[4],
-                if r[5].is_empty() {
-                    String::new()
-                } else {
-                    format!(" ({})", r[5].chars().take(90).collect::<String>())
-                },
-                r[8],
-                r[9],
-                r[10],
-                r[11],
-                r[13],
+                reason,
+                fixed(&r[8], 2),
+                num(&r[9], 1),
+                num(&r[10], 1),
+                fixed(&r[11], 5),
+                fixed(&r[13], 4),
                 r[14]
             );
         }

@@ -376,3 +376,52 @@ fn a_damaged_cache_is_reported_and_left_untouched() {
     );
     assert!(!dir.join("out").exists());
 }
+
+#[test]
+fn failed_cases_are_stored_as_failures_and_not_retried_unless_asked() {
+    let dir = scratch("failed");
+    let cache = dir.join("c.sqlite");
+    // Deep close-packed pockets under a curved ring: the ring reaches the plateau (contact).
+    let text = format!(
+        "[study]\nname = \"deep\"\n[parameters]\nR = 0.8\nl1 = 0.03\nper = 0.06\ndepth = [10, 30]\n[numerics]\nn1 = 64\nn2 = 4\ndt = 1.6e-3\nperiodic_tol = 1e-3\n[report]\ndir = \"{}\"\n",
+        dir.join("out").display()
+    );
+    let study = dir.join("deep.toml");
+    std::fs::write(&study, text).unwrap();
+    let args = [
+        "study",
+        study.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+    ];
+    let (code, out, err) = texopt(&args);
+    assert_eq!(code, 1, "a failed case makes the exit code 1: {out}{err}");
+    assert!(
+        out.contains("2 computed in 2 simulations, 1 failed"),
+        "{out}"
+    );
+    let csv = std::fs::read_to_string(dir.join("out/deep.csv")).unwrap();
+    let failed: Vec<&str> = csv.lines().filter(|l| l.contains(",failed,")).collect();
+    assert_eq!(failed.len(), 1);
+    assert!(failed[0].contains("reached the liner"), "{}", failed[0]);
+    let c = Cache::open(&cache).unwrap();
+    let s = c.stats().unwrap();
+    assert_eq!(
+        (s.done, s.failed),
+        (1, 1),
+        "the failure is stored as a failure"
+    );
+    drop(c);
+    let (_, out, _) = texopt(&args);
+    assert!(
+        out.contains("2 from the cache, 0 computed"),
+        "not retried: {out}"
+    );
+    let mut retry = args.to_vec();
+    retry.push("--retry-failed");
+    let (_, out, _) = texopt(&retry);
+    assert!(
+        out.contains("1 from the cache, 1 computed"),
+        "retried on request: {out}"
+    );
+}
