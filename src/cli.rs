@@ -36,31 +36,37 @@ pub enum Command {
     Optimise(OptimiseArgs),
 }
 
-/// Units as in `simulate`: lengths in cm, depth in µm; ranges are LO..HI.
+/// Units as in `simulate`: lengths in cm, depth in µm; ranges are LO..HI. Settings come from
+/// the flags, else from `--config FILE`, else from the defaults shown.
 #[derive(Args, Debug)]
 #[command(allow_negative_numbers = true)]
 pub struct OptimiseArgs {
     /// Ring face radius R in cm ("inf" for a flat ring).
     #[arg(long = "R", value_name = "CM", value_parser = parse_radius)]
     pub r: f64,
-    /// Range of the pocket semiaxis along sliding (cm).
-    #[arg(long, value_name = "LO..HI", value_parser = parse_range, default_value = "0.0025..0.03")]
-    pub l1: (f64, f64),
-    /// Range of the pocket semiaxis across sliding (cm).
-    #[arg(long, value_name = "LO..HI", value_parser = parse_range, default_value = "0.0025..0.03")]
-    pub l2: (f64, f64),
-    /// Range of the texture period along sliding (cm).
-    #[arg(long, value_name = "LO..HI", value_parser = parse_range, default_value = "0.005..0.06")]
-    pub per: (f64, f64),
+    /// TOML file with any of the settings below (keys as the flags, with '_' for '-';
+    /// ranges as [LO, HI]); flags given on the command line win.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Range of the pocket semiaxis along sliding (cm) [default: 0.0025..0.03].
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range)]
+    pub l1: Option<(f64, f64)>,
+    /// Range of the pocket semiaxis across sliding (cm) [default: 0.0025..0.03].
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range)]
+    pub l2: Option<(f64, f64)>,
+    /// Range of the texture period along sliding (cm) [default: 0.005..0.06].
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range)]
+    pub per: Option<(f64, f64)>,
     /// Make the period across sliding a free variable in this range (cm) [default: width = per].
     #[arg(long = "free-width", value_name = "LO..HI", value_parser = parse_range)]
-    pub width: Option<(f64, f64)>,
-    /// Range of the pocket depth (µm).
-    #[arg(long, value_name = "LO..HI", value_parser = parse_range, default_value = "2..30")]
-    pub depth: (f64, f64),
-    /// Least wall thickness between neighbouring pockets (µm): per − 2·l1 and width − 2·l2.
-    #[arg(long = "w-min", value_name = "UM", default_value_t = 10.0)]
-    pub w_min_um: f64,
+    pub free_width: Option<(f64, f64)>,
+    /// Range of the pocket depth (µm) [default: 2..30].
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range)]
+    pub depth: Option<(f64, f64)>,
+    /// Least wall thickness between neighbouring pockets (µm): per − 2·l1 and width − 2·l2
+    /// [default: 10].
+    #[arg(long = "w-min", value_name = "UM")]
+    pub w_min: Option<f64>,
     /// Largest textured area fraction π·l1·l2/(per·width).
     #[arg(long, value_name = "FRACTION")]
     pub max_area: Option<f64>,
@@ -70,42 +76,67 @@ pub struct OptimiseArgs {
     /// Lift the thin-film rule 10⁴·l ≥ 5·depth.
     #[arg(long)]
     pub allow_thick_pockets: bool,
-    /// Fidelity of the reported designs (each is evaluated at it).
-    #[arg(long, value_enum, default_value_t = Fidelity::Fast)]
-    pub fidelity: Fidelity,
-    /// Fidelity of the searches (screening).
-    #[arg(long, value_enum, default_value_t = Fidelity::Draft)]
-    pub search_fidelity: Fidelity,
+    /// Fidelity of the reported designs (each is evaluated at it) [default: fast].
+    #[arg(long, value_enum)]
+    pub fidelity: Option<Fidelity>,
+    /// Fidelity of the searches (screening) [default: draft].
+    #[arg(long, value_enum)]
+    pub search_fidelity: Option<Fidelity>,
     /// Override the mesh of both fidelities (N2 is still raised to resolve small pockets).
     #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
     pub mesh: Option<(usize, usize)>,
     /// Override the time step of both fidelities (ms).
     #[arg(long, value_name = "DT")]
     pub dt: Option<f64>,
-    /// Particles per swarm.
-    #[arg(long, default_value_t = 8)]
-    pub particles: usize,
-    /// Swarm iterations per search (each evaluates every particle).
-    #[arg(long, default_value_t = 5)]
-    pub iterations: u64,
-    /// Weights on friction of the balanced searches (comma-separated, each in (0, 1)).
-    #[arg(long, value_delimiter = ',', default_value = "0.5")]
-    pub balanced: Vec<f64>,
-    /// Random seed of the swarms (the same seed repeats the same designs, all from the cache).
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
+    /// Particles per swarm [default: 8].
+    #[arg(long)]
+    pub particles: Option<usize>,
+    /// Swarm iterations per search (each evaluates every particle) [default: 3].
+    #[arg(long)]
+    pub iterations: Option<u64>,
+    /// Weights on friction of the balanced searches (comma-separated, each in (0, 1))
+    /// [default: 0.5].
+    #[arg(long, value_delimiter = ',')]
+    pub balanced: Option<Vec<f64>>,
+    /// Random seed of the swarms (the same seed repeats the same designs, all from the
+    /// cache) [default: 1].
+    #[arg(long)]
+    pub seed: Option<u64>,
     /// Worker threads [default: all cores].
     #[arg(long, value_name = "N")]
     pub jobs: Option<usize>,
     /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
     #[arg(long, value_name = "FILE")]
     pub cache: Option<PathBuf>,
-    /// Directory of the report files (optimise_R<R>.json/.csv/_front.png/_z_t.png/_f_t.png).
-    #[arg(long, value_name = "DIR", default_value = "results")]
-    pub out: PathBuf,
+    /// Directory of the report files (optimise_R<R>.json/.csv/_front.png/_z_t.png/_f_t.png)
+    /// [default: results].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
     /// Print the report as JSON on stdout instead of the table.
     #[arg(long)]
     pub json: bool,
+}
+
+/// The settings of `optimise` a `--config` file may hold (same names as the flags).
+#[derive(serde::Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields)]
+struct OptimiseFile {
+    l1: Option<(f64, f64)>,
+    l2: Option<(f64, f64)>,
+    per: Option<(f64, f64)>,
+    free_width: Option<(f64, f64)>,
+    depth: Option<(f64, f64)>,
+    w_min: Option<f64>,
+    max_area: Option<f64>,
+    max_depth_ratio: Option<f64>,
+    allow_thick_pockets: Option<bool>,
+    fidelity: Option<Fidelity>,
+    search_fidelity: Option<Fidelity>,
+    particles: Option<usize>,
+    iterations: Option<u64>,
+    balanced: Option<Vec<f64>>,
+    seed: Option<u64>,
+    out: Option<PathBuf>,
 }
 
 fn parse_range(s: &str) -> Result<(f64, f64), String> {
@@ -506,28 +537,67 @@ fn optimise_cmd(a: &OptimiseArgs) -> Result<i32, CmdError> {
     use crate::optimise::{Bounds, Constraints, Space, SwarmSettings};
     let base = CaseSpec::paper(a.r);
     base.validate(false)?;
+    let file: OptimiseFile = match &a.config {
+        None => OptimiseFile::default(),
+        Some(p) => {
+            let text = std::fs::read_to_string(p).map_err(|e| {
+                CmdError::Input(format!("--config {}: cannot read it: {e}", p.display()))
+            })?;
+            toml::from_str(&text).map_err(|e| {
+                CmdError::Input(format!(
+                    "--config {}: {}",
+                    p.display(),
+                    e.to_string()
+                        .lines()
+                        .map(str::trim)
+                        .filter(|l| !l.is_empty())
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                ))
+            })?
+        }
+    };
+    let d = Bounds::default();
     let space = Space {
         bounds: Bounds {
-            l1: a.l1,
-            l2: a.l2,
-            per: a.per,
-            width: a.width,
-            depth: a.depth,
+            l1: a.l1.or(file.l1).unwrap_or(d.l1),
+            l2: a.l2.or(file.l2).unwrap_or(d.l2),
+            per: a.per.or(file.per).unwrap_or(d.per),
+            width: a.free_width.or(file.free_width),
+            depth: a.depth.or(file.depth).unwrap_or(d.depth),
         },
         cons: Constraints {
-            w_min: a.w_min_um * 1e-4,
-            max_area: a.max_area,
-            max_depth_ratio: a.max_depth_ratio,
-            allow_thick: a.allow_thick_pockets,
+            w_min: a.w_min.or(file.w_min).unwrap_or(10.0) * 1e-4,
+            max_area: a.max_area.or(file.max_area),
+            max_depth_ratio: a.max_depth_ratio.or(file.max_depth_ratio),
+            allow_thick: a.allow_thick_pockets || file.allow_thick_pockets.unwrap_or(false),
         },
     };
+    let particles = a.particles.or(file.particles).unwrap_or(8);
+    let iterations = a.iterations.or(file.iterations).unwrap_or(3);
+    let balanced = a
+        .balanced
+        .clone()
+        .or(file.balanced)
+        .unwrap_or_else(|| vec![0.5]);
+    let seed = a.seed.or(file.seed).unwrap_or(1);
+    let fidelity = a.fidelity.or(file.fidelity).unwrap_or(Fidelity::Fast);
+    let search_fidelity = a
+        .search_fidelity
+        .or(file.search_fidelity)
+        .unwrap_or(Fidelity::Draft);
+    let out_dir = a
+        .out
+        .clone()
+        .or(file.out)
+        .unwrap_or_else(|| PathBuf::from("results"));
     space.validate()?;
-    if a.particles < 2 || a.iterations == 0 {
+    if particles < 2 || iterations == 0 {
         return Err(CmdError::Input(
             "--particles must be ≥ 2 and --iterations ≥ 1".into(),
         ));
     }
-    if let Some(w) = a.balanced.iter().find(|w| !(**w > 0.0 && **w < 1.0)) {
+    if let Some(w) = balanced.iter().find(|w| !(**w > 0.0 && **w < 1.0)) {
         return Err(CmdError::Input(format!(
             "--balanced {w}: each weight must lie strictly between 0 and 1"
         )));
@@ -551,10 +621,10 @@ fn optimise_cmd(a: &OptimiseArgs) -> Result<i32, CmdError> {
             )));
         }
     }
-    if !a.out.as_os_str().is_empty() && a.out.exists() && !a.out.is_dir() {
+    if out_dir.exists() && !out_dir.is_dir() {
         return Err(CmdError::Input(format!(
             "--out {}: exists and is not a directory",
-            a.out.display()
+            out_dir.display()
         )));
     }
     let overrides = crate::study::NumericsOverride {
@@ -569,20 +639,20 @@ fn optimise_cmd(a: &OptimiseArgs) -> Result<i32, CmdError> {
     let settings = crate::optimise_report::Settings {
         base,
         space,
-        search_fidelity: a.search_fidelity,
-        report_fidelity: a.fidelity,
+        search_fidelity,
+        report_fidelity: fidelity,
         overrides,
         swarm: SwarmSettings {
-            particles: a.particles,
-            iterations: a.iterations,
-            seed: a.seed,
+            particles,
+            iterations,
+            seed,
         },
-        balanced: a.balanced.clone(),
+        balanced,
         jobs: a
             .jobs
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
         progress: true,
-        out_dir: Some(a.out.clone()),
+        out_dir: Some(out_dir.clone()),
     };
     let report =
         crate::optimise_report::optimise(&settings, &cache, &STOP).map_err(CmdError::Other)?;
@@ -595,7 +665,7 @@ fn optimise_cmd(a: &OptimiseArgs) -> Result<i32, CmdError> {
         print!("{}", crate::optimise_report::table(&report));
         eprintln!(
             "wrote {}/optimise_R{}.json, .csv, _front.png, _z_t.png, _f_t.png",
-            a.out.display(),
+            out_dir.display(),
             report.r
         );
     }

@@ -131,7 +131,16 @@ fn bad_optimiser_inputs_are_refused_with_exit_2_and_nothing_written() {
     let _ = std::fs::remove_dir_all(&dir);
     let out = dir.join("out");
     let cache = dir.join("c.sqlite");
-    let cases: [(&[&str], &str); 12] = [
+    let bad_config = dir.join("bad.toml");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(&bad_config, "l1 = [0.005, 0.03]\ncolour = 3\n").unwrap();
+    let missing = dir.join("missing.toml");
+    let cases: [(&[&str], &str); 14] = [
+        (
+            &["--config", bad_config.to_str().unwrap()],
+            "unknown field `colour`",
+        ),
+        (&["--config", missing.to_str().unwrap()], "cannot read it"),
         (&["--l1", "0.03..0.01"], "--l1"),
         (&["--depth", "0..5"], "--depth"),
         (
