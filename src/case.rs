@@ -237,6 +237,16 @@ impl Fidelity {
         }
     }
 
+    /// The measured relative error of C_min at this tier (as `f_error`).
+    pub fn c_error(self) -> f64 {
+        match self {
+            Fidelity::Draft => 0.018,
+            Fidelity::Fast => 0.0076,
+            Fidelity::Paper => 0.0062,
+            Fidelity::Fine => 0.0005,
+        }
+    }
+
     /// The numerics of this tier (other settings at their defaults). The screening tiers
     /// stop at a periodic tolerance of 1e-4 (the speed study: it moves f̄ by < 1e-5 relative
     /// on Case I, far under their mesh error, and saves ≈ 30 % of the periods).

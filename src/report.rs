@@ -134,7 +134,7 @@ pub fn write(study: &Study, results: &[CaseResult], wall_note: &str) -> Result<W
         files.push(p);
     }
     let mut md = String::new();
-    let headline = headline(&main, main_theta);
+    let headline = headline(&main, main_theta, study.fidelity);
     let _ = writeln!(md, "# Study `{name}`: summary\n");
     if !study.description.is_empty() {
         let _ = writeln!(md, "{}\n", study.description);
@@ -420,7 +420,7 @@ fn fig11(path: &Path, rows: &[Row], thetas: &[f64]) -> Result<(), String> {
 
 /// The largest friction reduction and clearance gain against the plain liner, and the R
 /// below which no texture beats it.
-fn headline(rows: &[&Row], theta_s: f64) -> Vec<String> {
+fn headline(rows: &[&Row], theta_s: f64, fidelity: crate::case::Fidelity) -> Vec<String> {
     let mut out = Vec::new();
     let best = |ratio: &dyn Fn(&Row) -> Option<f64>, lower: bool| {
         rows.iter()
@@ -466,25 +466,46 @@ fn headline(rows: &[&Row], theta_s: f64) -> Vec<String> {
     let mut radii: Vec<f64> = rows.iter().map(|r| r.job.case.r).collect();
     radii.sort_by(f64::total_cmp);
     radii.dedup();
-    for (what, better) in [
-        (
-            "friction",
-            &(|r: &Row| r.f_ratio().is_some_and(|x| x < 1.0)) as &dyn Fn(&Row) -> bool,
-        ),
-        ("clearance", &|r: &Row| r.c_ratio().is_some_and(|x| x > 1.0)),
+    // "Beats" means by more than the fidelity's measured error; smaller gains are reported
+    // but not counted (they are not resolved).
+    type Gain<'a> = &'a dyn Fn(&Row) -> Option<f64>;
+    let f_gain: Gain = &|r: &Row| r.f_ratio().map(|x| 1.0 - x);
+    let c_gain: Gain = &|r: &Row| r.c_ratio().map(|x| x - 1.0);
+    for (what, gain, err) in [
+        ("friction", f_gain, fidelity.f_error()),
+        ("clearance", c_gain, fidelity.c_error()),
     ] {
+        let textured = || rows.iter().filter(|r| r.job.case.texture.is_some());
         let first = radii
             .iter()
-            .find(|&&rr| rows.iter().any(|r| r.job.case.r == rr && better(r)));
-        out.push(match first {
-            Some(&rr) if rr == radii[0] => format!(
-                "{what}: some texture beats the untextured liner already at the smallest R = {rr}"
+            .copied()
+            .find(|&rr| textured().any(|r| r.job.case.r == rr && gain(r).is_some_and(|g| g > err)));
+        let best_below = textured()
+            .filter(|r| first.is_none_or(|f| r.job.case.r < f))
+            .filter_map(|r| Some((gain(r)?, r)))
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+        let margin = format!(
+            "by more than the {} tier's error ({:.2} %)",
+            fidelity.name(),
+            100.0 * err
+        );
+        let mut line = match first {
+            Some(rr) if rr == radii[0] => format!(
+                "{what}: some texture beats the untextured liner {margin} already at the smallest R = {rr}"
             ),
-            Some(&rr) => format!(
-                "{what}: no texture beats the untextured liner below R = {rr} (first R with a better texture)"
+            Some(rr) => format!(
+                "{what}: no texture beats the untextured liner {margin} below R = {rr} (the first R where one does)"
             ),
-            None => format!("{what}: no texture beats the untextured liner at any R"),
-        });
+            None => format!("{what}: no texture beats the untextured liner {margin} at any R"),
+        };
+        if let (Some((g, r)), true) = (best_below, first != Some(radii[0])) {
+            line += &format!(
+                "; below it the largest gain is {:+.2} % ({})",
+                100.0 * g,
+                r.job.case.label()
+            );
+        }
+        out.push(line);
     }
     out.push(format!(
         "(friction per eq. 11 with θs = {theta_s}; the paper prints f/10)"
