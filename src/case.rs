@@ -271,17 +271,27 @@ impl Fidelity {
     /// l2 = 0.0025 in width 0.06 needs N2 = 24), so every texture is resolved alike.
     pub fn numerics_for(self, case: &CaseSpec) -> Numerics {
         let mut num = self.numerics();
-        num.resolve_pockets(case);
+        num.resolve_pockets(case, self.pocket_cells());
         num
+    }
+
+    /// Fewest cells across a pocket (along x2) the tier accepts before raising N2: 4, and 2
+    /// for the screening tier `draft` (small pockets in wide cells would otherwise cost it
+    /// N2 ≈ 24 and a band LU 20× dearer).
+    pub fn pocket_cells(self) -> f64 {
+        match self {
+            Fidelity::Draft => 2.0,
+            _ => POCKET_CELLS,
+        }
     }
 }
 
 impl Numerics {
-    /// Raises N2 where the pocket would span fewer than `POCKET_CELLS` cells across.
-    pub fn resolve_pockets(&mut self, case: &CaseSpec) {
+    /// Raises N2 where the pocket would span fewer than `cells` cells across.
+    pub fn resolve_pockets(&mut self, case: &CaseSpec, cells: f64) {
         if let Some(t) = &case.texture {
             let half = 0.5 * t.width;
-            let need = (POCKET_CELLS * half / (2.0 * t.l2) - 1e-9).ceil();
+            let need = (cells * half / (2.0 * t.l2) - 1e-9).ceil();
             if need.is_finite() && need > self.n2 as f64 {
                 self.n2 = need as usize;
             }
@@ -289,7 +299,7 @@ impl Numerics {
     }
 }
 
-/// Fewest cells across a pocket (along x2) a tier accepts before raising N2.
+/// Fewest cells across a pocket (along x2) the tiers above `draft` accept before raising N2.
 pub const POCKET_CELLS: f64 = 4.0;
 
 /// Where a transient run starts (the periodic regime it reaches does not depend on it).

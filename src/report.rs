@@ -139,7 +139,17 @@ pub fn write(study: &Study, results: &[CaseResult], wall_note: &str) -> Result<W
     if !study.description.is_empty() {
         let _ = writeln!(md, "{}\n", study.description);
     }
-    let _ = writeln!(md, "{wall_note}\n");
+    let _ = writeln!(md, "This run: {wall_note}\n");
+    let compute: f64 = rows
+        .iter()
+        .filter_map(|r| r.out)
+        .map(|o| o.wall_time_s)
+        .sum();
+    let _ = writeln!(
+        md,
+        "Compute behind these results: {:.0} s of single-core simulation (sum of the cases' wall times; cases that differ only in θs share one simulation and count it each).\n",
+        compute
+    );
     let _ = writeln!(
         md,
         "Cases: {} simulated or cached ({} failed); {} combinations skipped as invalid:",
@@ -500,7 +510,12 @@ fn headline(rows: &[&Row], theta_s: f64, fidelity: crate::case::Fidelity) -> Vec
         };
         if let (Some((g, r)), true) = (best_below, first != Some(radii[0])) {
             line += &format!(
-                "; below it the largest gain is {:+.2} % ({})",
+                "; {} the largest gain is {:+.2} % ({})",
+                if first.is_some() {
+                    "below it"
+                } else {
+                    "at best"
+                },
                 100.0 * g,
                 r.job.case.label()
             );

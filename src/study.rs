@@ -330,7 +330,7 @@ pub fn parse(text: &str, file: &str) -> Result<Study, StudyError> {
 }
 
 /// The tier's numerics for the case with the study's overrides; N2 is then raised where a
-/// pocket would span fewer than 4 cells across (`Numerics::resolve_pockets`).
+/// pocket would span fewer cells across than the tier asks (`Fidelity::pocket_cells`).
 pub fn numerics_for(case: &CaseSpec, fidelity: Fidelity, o: &NumericsOverride) -> Numerics {
     let mut n = fidelity.numerics();
     if let Some(v) = o.n1 {
@@ -351,7 +351,7 @@ pub fn numerics_for(case: &CaseSpec, fidelity: Fidelity, o: &NumericsOverride) -
     if let Some(v) = o.solver {
         n.solver = v;
     }
-    n.resolve_pockets(case);
+    n.resolve_pockets(case, fidelity.pocket_cells());
     n
 }
 

@@ -32,7 +32,7 @@ proptest! {
         // A coarse mesh that still resolves the pocket (≥ 2 cells along, 4 across).
         let n1 = (0.2 / l1.min(0.05)).ceil().max(48.0) as usize;
         let mut num = Numerics { n1, n2: 2, dt: 2e-3, t_max: 0.3, periodic_tol: 1e-3, ..Numerics::default() };
-        num.resolve_pockets(&case);
+        num.resolve_pockets(&case, texopt::case::POCKET_CELLS);
         if let Err(e) = case.validate(true) {
             // Refused with a typed InputError before any simulation (a ring radius below
             // half the ring width).
