@@ -117,15 +117,20 @@ impl Space {
         let l1_min = b.l1.0.max(floor);
         let l2_min = b.l2.0.max(floor);
         let per_lo = b.per.0.max(2.0 * l1_min + c.w_min);
+        // Least cell area the smallest pockets need under an area-fraction limit.
+        let min_cell = c
+            .max_area
+            .map_or(0.0, |a| std::f64::consts::PI * l1_min * l2_min / a);
         let (per, width) = match b.width {
             None => {
-                let lo = per_lo.max(2.0 * l2_min + c.w_min);
+                let lo = per_lo.max(2.0 * l2_min + c.w_min).max(min_cell.sqrt());
                 let p = lerp((lo, b.per.1), u[0]);
                 (p, p)
             }
             Some(w) => {
-                let wlo = w.0.max(2.0 * l2_min + c.w_min);
-                (lerp((per_lo, b.per.1), u[0]), lerp((wlo, w.1), u[4]))
+                let p = lerp((per_lo.max(min_cell / w.1), b.per.1), u[0]);
+                let wlo = w.0.max(2.0 * l2_min + c.w_min).max(min_cell / p);
+                (p, lerp((wlo, w.1), u[4]))
             }
         };
         let area_cap = |other: f64| {
@@ -206,7 +211,7 @@ impl Space {
         if w1 <= c.w_min + ACTIVE * t.per {
             a.push("wall x1");
         }
-        if self.bounds.width.is_some() && w2 <= c.w_min + ACTIVE * t.width {
+        if w2 <= c.w_min + ACTIVE * t.width {
             a.push("wall x2");
         }
         if !c.allow_thick && 5.0 * t.depth >= 1e4 * t.l1.min(t.l2) * (1.0 - ACTIVE) {

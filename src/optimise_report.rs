@@ -338,8 +338,18 @@ pub fn table(r: &Report) -> String {
     );
     let _ = writeln!(
         s,
-        "{:15} {:>8} {:>8} {:>6} {:>6} {:>8} {:>8} {:>8} {:>7} {:>7} {:>7}  active",
-        "design", "l1 cm", "l2 cm", "per", "depth", "f̄", "Δf̄ %", "C_min", "ΔC %", "area", "wall µm"
+        "{:15} {:>8} {:>8} {:>6} {:>6} {:>8} {:>8} {:>8} {:>7} {:>7} {:>11}  active",
+        "design",
+        "l1 cm",
+        "l2 cm",
+        "per",
+        "depth",
+        "f̄",
+        "Δf̄ %",
+        "C_min",
+        "ΔC %",
+        "area",
+        "walls µm"
     );
     let mut rows: Vec<&Row> = vec![&r.best_friction, &r.best_clearance];
     rows.extend(r.front.iter().filter(|x| x.label == "balanced"));
@@ -365,7 +375,7 @@ pub fn table(r: &Report) -> String {
         };
         let _ = writeln!(
             s,
-            "{:15} {:>8} {:>8} {:>6} {:>6} {:>8.5} {:>+8.2} {:>8.4} {:>+7.2} {:>7.3} {:>7}  {}",
+            "{:15} {:>8} {:>8} {:>6} {:>6} {:>8.5} {:>+8.2} {:>8.4} {:>+7.2} {:>7.3} {:>11}  {}",
             label,
             l1,
             l2,
@@ -377,7 +387,7 @@ pub fn table(r: &Report) -> String {
             x.c_min_change_pct,
             x.area_fraction,
             if x.wall_x1_cm.is_finite() {
-                format!("{:.1}", x.wall_x1_cm * 1e4)
+                format!("{:.1}/{:.1}", x.wall_x1_cm * 1e4, x.wall_x2_cm * 1e4)
             } else {
                 "-".to_string()
             },
