@@ -21,6 +21,16 @@ fn texopt(args: &[&str]) -> (i32, String, String) {
     )
 }
 
+/// `texopt study FILE --cache CACHE`.
+fn run_study(study: &Path, cache: &Path) -> (i32, String, String) {
+    texopt(&[
+        "study",
+        study.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+    ])
+}
+
 fn scratch(test: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("texopt-study-{}-{test}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -114,12 +124,7 @@ fn bad_study_files_are_refused_with_exit_2_and_nothing_written() {
     for (i, (text, want)) in cases.iter().enumerate() {
         let f = dir.join(format!("bad{i}.toml"));
         std::fs::write(&f, text).unwrap();
-        let (code, out, err) = texopt(&[
-            "study",
-            f.to_str().unwrap(),
-            "--cache",
-            cache.to_str().unwrap(),
-        ]);
+        let (code, out, err) = run_study(&f, &cache);
         assert_eq!(code, 2, "case {i} ({want}): exit {code}, stderr {err}");
         assert!(
             err.contains(want),
@@ -137,12 +142,7 @@ fn bad_study_files_are_refused_with_exit_2_and_nothing_written() {
     let foreign = dir.join("notes.txt");
     std::fs::write(&foreign, "my notes, not a database").unwrap();
     let study = small_study(&dir, "[0.8]", "");
-    let (code, _, err) = texopt(&[
-        "study",
-        study.to_str().unwrap(),
-        "--cache",
-        foreign.to_str().unwrap(),
-    ]);
+    let (code, _, err) = run_study(&study, &foreign);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("not a texopt cache"), "{err}");
     assert_eq!(
@@ -199,12 +199,7 @@ fn theta_s_variants_share_one_simulation() {
     let dir = scratch("theta");
     let cache = dir.join("c.sqlite");
     let study = small_study(&dir, "[0.8, 3.2]", "theta_s = [0.5, 0.95]");
-    let (code, out, err) = texopt(&[
-        "study",
-        study.to_str().unwrap(),
-        "--cache",
-        cache.to_str().unwrap(),
-    ]);
+    let (code, out, err) = run_study(&study, &cache);
     assert_eq!(code, 0, "{err}");
     // 2 R × 2 θ_s × (4 textures + plain) = 20 cases, 10 simulations.
     assert!(out.contains("20 computed in 10 simulations"), "{out}");
@@ -299,12 +294,7 @@ fn sigkill_loses_no_finished_case_and_the_cache_stays_intact() {
         assert!(done.len() < total, "killed before the end");
         done_before = done;
     }
-    let (code, out, err) = texopt(&[
-        "study",
-        study.to_str().unwrap(),
-        "--cache",
-        cache.to_str().unwrap(),
-    ]);
+    let (code, out, err) = run_study(&study, &cache);
     assert_eq!(code, 0, "{err}");
     let want = format!(
         "{total} cases: {} from the cache, {} computed",
@@ -360,12 +350,7 @@ fn a_damaged_cache_is_reported_and_left_untouched() {
     }
     std::fs::write(&cache, &bytes).unwrap();
     let study = small_study(&dir, "[0.8]", "");
-    let (code, _, err) = texopt(&[
-        "study",
-        study.to_str().unwrap(),
-        "--cache",
-        cache.to_str().unwrap(),
-    ]);
+    let (code, _, err) = run_study(&study, &cache);
     assert_eq!(code, 2, "{err}");
     let errors: Vec<&str> = err.lines().filter(|l| l.starts_with("error:")).collect();
     assert!(errors.len() == 1 && errors[0].contains("damaged"), "{err}");
