@@ -6,16 +6,22 @@
 //! records how it ended, the Newton iterations per step, the largest film residual and the
 //! largest per-step mass defect.
 //!
-//!     cargo run --release --example stability            # runs, writes results/stability/runs.csv
-//!     cargo run --release --example stability -- report  # results/stability.md, stability.png
+//! The contrasts (methods that fail on purpose): plain Gauss–Seidel against the direct solver
+//! over meshes, and the non-mass-conserving Reynolds cut-off against Elrod–Adams.
+//!
+//!     cargo run --release --example stability              # runs, writes results/stability/runs.csv
+//!     cargo run --release --example stability -- contrasts # results/stability/contrasts.csv
+//!     cargo run --release --example stability -- report    # results/stability.md, stability.png
 
 use std::fmt::Write as _;
 use std::path::Path;
 use texopt::case::{CaseSpec, Coupling, Numerics, Texture};
+use texopt::film::{Cavitation, Method};
 use texopt::plot::{self, Chart, Scale, Series, Style};
 use texopt::run::Transient;
 
 const CSV: &str = "results/stability/runs.csv";
+const CONTRASTS: &str = "results/stability/contrasts.csv";
 
 struct Run {
     line: &'static str,
@@ -105,9 +111,10 @@ fn runs() -> Vec<Run> {
 }
 
 fn main() {
-    if std::env::args().nth(1).as_deref() == Some("report") {
-        report();
-        return;
+    match std::env::args().nth(1).as_deref() {
+        Some("report") => return report(),
+        Some("contrasts") => return contrasts(),
+        _ => {}
     }
     std::fs::create_dir_all("results/stability").unwrap();
     let mut out = String::from(
@@ -180,6 +187,232 @@ fn main() {
     }
 }
 
+/// One contrast run: `steps` time steps (0: to the periodic regime) of `case` with `num`,
+/// the mass guard off when `measure_mass` (to see how far a non-conserving model drifts).
+/// Returns (status, f̄ or last f, C_min or last Z, max mass defect, iterations/step, wall s).
+fn contrast_run(
+    case: &CaseSpec,
+    num: &Numerics,
+    steps: usize,
+    measure_mass: bool,
+) -> (String, f64, f64, f64, f64, f64) {
+    let t0 = std::time::Instant::now();
+    let mut sim = Transient::new(case, num);
+    if measure_mass {
+        sim.mass_tolerance = f64::INFINITY;
+    }
+    let mut its = 0usize;
+    let res = if steps == 0 {
+        sim.run_to_periodic(num, false)
+            .map(|r| (r.outcome.f_mean, r.outcome.c_min))
+    } else {
+        (0..steps)
+            .try_for_each(|_| {
+                sim.step()?;
+                its += sim.last.iterations;
+                Ok(())
+            })
+            .map(|()| (sim.friction.total(), sim.ring_state.z))
+    };
+    let wall = t0.elapsed().as_secs_f64();
+    let per_step = if steps == 0 {
+        0.0
+    } else {
+        its as f64 / sim.steps.max(1) as f64
+    };
+    match res {
+        Ok((f, c)) => ("ok".into(), f, c, sim.max_mass_defect, per_step, wall),
+        Err(e) => (
+            e.to_string().replace(',', ";"),
+            f64::NAN,
+            f64::NAN,
+            sim.max_mass_defect,
+            per_step,
+            wall,
+        ),
+    }
+}
+
+/// The contrasts' section of results/stability.md.
+fn contrast_report(md: &mut String) {
+    let Ok(text) = std::fs::read_to_string(CONTRASTS) else {
+        return;
+    };
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    let status = |s: &str| {
+        if s == "ok" {
+            "ok".to_string()
+        } else {
+            // The error's cause, after the case label and time.
+            let cause = s.split(": ").skip(2).collect::<Vec<_>>().join(": ");
+            format!("**error**: {}", cause.split(';').next().unwrap_or(""))
+        }
+    };
+    let val = |s: &str, p: usize| {
+        s.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .map_or("–".to_string(), |v| format!("{v:.p$}"))
+    };
+    md.push_str("## Contrasts: methods that fail on purpose\n\n`cargo run --release --example stability -- contrasts` (results/stability/contrasts.csv). Tests: tests/contrasts.rs.\n\n");
+    md.push_str("### Plain Gauss–Seidel (no acceleration) against the direct solver\n\nCase I (R = 0.8, l = 0.01, per = 0.06, depth 5), the first 10 steps at dt = 4e-4 from the equilibrium start; iterations are Newton iterations (direct) or sweeps (Gauss–Seidel, budget 20 000 per film solve, ring by secant iteration around it).\n\n| mesh | method | status | f after 10 steps | Z (µm) | iterations/step | wall s |\n|---|---|---|---|---|---|---|\n");
+    for r in rows.iter().filter(|r| r[0] == "gauss-seidel") {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} |",
+            r[2],
+            r[4],
+            status(r[5]),
+            val(r[6], 7),
+            val(r[7], 6),
+            if r[5] == "ok" {
+                val(r[9], 1)
+            } else {
+                "–".into()
+            },
+            r[10]
+        );
+    }
+    md.push_str("\n### Reynolds cut-off (not mass-conserving) against Elrod–Adams\n\nTo the periodic regime at 256×8, dt = 8e-4. The run's mass guard (relative defect per step ≤ 1e-6) refuses the cut-off; with the guard off, its answer against the mass-conserving one:\n\n| R | model | status | f̄ | C_min (µm) | Δf̄, ΔC_min against Elrod–Adams | largest mass defect per step | wall s |\n|---|---|---|---|---|---|---|---|\n");
+    let cut: Vec<_> = rows.iter().filter(|r| r[0] == "reynolds-cutoff").collect();
+    for r in &cut {
+        let reference = cut
+            .iter()
+            .find(|x| x[1] == r[1] && x[4] == "elrod-adams")
+            .map(|x| {
+                (
+                    x[6].parse::<f64>().unwrap_or(f64::NAN),
+                    x[7].parse::<f64>().unwrap_or(f64::NAN),
+                )
+            });
+        let rel = |v: &str, reference: f64| {
+            let d = (v.parse::<f64>().unwrap_or(f64::NAN) - reference) / reference;
+            if d.is_finite() {
+                format!("{:+.1} %", 100.0 * d)
+            } else {
+                "–".into()
+            }
+        };
+        let delta = match reference {
+            Some((f, c)) if r[4] != "elrod-adams" && r[5] == "ok" => {
+                format!("{}, {}", rel(r[6], f), rel(r[7], c))
+            }
+            _ => "–".into(),
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {delta} | {} | {} |",
+            r[1],
+            r[4],
+            status(r[5]),
+            val(r[6], 5),
+            val(r[7], 4),
+            r[8].parse::<f64>()
+                .map_or("–".into(), |v| format!("{v:.1e}")),
+            r[10]
+        );
+    }
+    md.push('\n');
+}
+
+/// The methods that fail on purpose, against texopt's.
+fn contrasts() {
+    std::fs::create_dir_all("results/stability").unwrap();
+    let mut out = String::from(
+        "contrast,R,mesh,steps,method,status,f,c_or_z,max_mass_defect,iterations_per_step,wall_s\n",
+    );
+    let mut push = |contrast: &str,
+                    r: f64,
+                    num: &Numerics,
+                    steps: usize,
+                    method: &str,
+                    res: (String, f64, f64, f64, f64, f64)| {
+        let line = format!(
+            "{contrast},{r},{}x{},{steps},{method},{},{},{},{:e},{},{:.3}\n",
+            num.n1, num.n2, res.0, res.1, res.2, res.3, res.4, res.5
+        );
+        eprint!("{line}");
+        out.push_str(&line);
+        std::fs::write(CONTRASTS, &out).unwrap();
+    };
+    // 1. Plain Gauss–Seidel: sweeps per step grow as N², so at fine meshes it exhausts its
+    //    sweep budget (an error) where the direct solver takes a few iterations.
+    let (case, _) = base(0.8);
+    for (n1, n2) in [(32, 2), (64, 4), (128, 8), (256, 16), (512, 32)] {
+        let num = Numerics {
+            n1,
+            n2,
+            dt: 4e-4,
+            periodic_tol: 1e-4,
+            t_max: 3.0,
+            ..Numerics::default()
+        };
+        let steps = 10;
+        push(
+            "gauss-seidel",
+            0.8,
+            &num,
+            steps,
+            "direct",
+            contrast_run(&case, &num, steps, false),
+        );
+        let gs = Numerics {
+            solver: Method::GaussSeidel,
+            ..num.clone()
+        };
+        push(
+            "gauss-seidel",
+            0.8,
+            &gs,
+            steps,
+            "gauss-seidel",
+            contrast_run(&case, &gs, steps, false),
+        );
+    }
+    // 2. Reynolds cut-off against Elrod–Adams on textured cases, to the periodic regime: the
+    //    guard refuses it; with the guard off, how far its answer is.
+    for (r, tex) in [
+        (0.8, Texture::circular(0.01, 0.06, 5.0)),
+        (3.2, Texture::circular(0.03, 0.06, 10.0)),
+        (51.2, Texture::circular(0.01, 0.06, 5.0)),
+    ] {
+        let case = CaseSpec::paper(r).with_texture(tex);
+        let (_, num) = base(r);
+        push(
+            "reynolds-cutoff",
+            r,
+            &num,
+            0,
+            "elrod-adams",
+            contrast_run(&case, &num, 0, false),
+        );
+        let cut = Numerics {
+            cavitation: Cavitation::ReynoldsCutoff,
+            ..num.clone()
+        };
+        push(
+            "reynolds-cutoff",
+            r,
+            &cut,
+            0,
+            "reynolds-cutoff (guarded)",
+            contrast_run(&case, &cut, 0, false),
+        );
+        push(
+            "reynolds-cutoff",
+            r,
+            &cut,
+            0,
+            "reynolds-cutoff (guard off)",
+            contrast_run(&case, &cut, 0, true),
+        );
+    }
+}
+
 fn report() {
     let text = std::fs::read_to_string(CSV).expect("run the study first");
     let rows: Vec<Vec<String>> = text
@@ -244,6 +477,7 @@ fn report() {
         }
         md.push('\n');
     }
+    contrast_report(&mut md);
     std::fs::write("results/stability.md", md).unwrap();
     // Plot: Newton iterations per step against dt, by R and coupling; failures at 0.
     let mut data: Vec<(String, Vec<(f64, f64)>)> = Vec::new();

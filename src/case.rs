@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::film::{Method, Tolerance};
+use crate::film::{Cavitation, Method, Tolerance};
 use std::sync::Arc;
 
 use crate::geometry::{CircularArc, Contact, HalfEllipsoid, Liner};
@@ -167,6 +167,10 @@ pub struct Numerics {
     /// Not serialised when implicit, so cache keys of ordinary runs do not carry it.
     #[serde(default, skip_serializing_if = "Coupling::is_implicit")]
     pub coupling: Coupling,
+    /// Cavitation model (Elrod–Adams unless studying failure). Not serialised when
+    /// Elrod–Adams, so cache keys of ordinary runs do not carry it.
+    #[serde(default, skip_serializing_if = "Cavitation::is_elrod_adams")]
+    pub cavitation: Cavitation,
 }
 
 /// Coupling of the ring dynamics to the film (model.md §4).
@@ -349,6 +353,7 @@ impl Default for Numerics {
             start: Start::default(),
             extrapolate: true,
             coupling: Coupling::Implicit,
+            cavitation: Cavitation::ElrodAdams,
         }
     }
 }

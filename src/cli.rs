@@ -6,7 +6,7 @@ use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 
 use crate::case::{CaseSpec, Coupling, Fidelity, InputError, Numerics, Start, Texture};
-use crate::film::Method;
+use crate::film::{Cavitation, Method};
 use crate::run::{simulate, Outcome, Progress, RunResult, SeriesRow, Transient};
 
 #[derive(Parser, Debug)]
@@ -294,7 +294,7 @@ pub struct SimulateArgs {
         default_value_t = 30.0
     )]
     pub t_max: f64,
-    /// Film linear solver: direct (band LU, default) or multigrid (experimental).
+    /// Film solver: direct (band LU, default), multigrid (experimental) or gauss-seidel (contrast only: plain sweeps, fail on fine meshes).
     #[arg(long, value_enum, default_value_t = Method::Direct)]
     pub solver: Method,
     /// Film solve tolerance (multigrid): largest nodal mass residual relative to the Couette
@@ -320,6 +320,10 @@ pub struct SimulateArgs {
     /// (for stability studies: it fails at the paper's dt, model.md §4).
     #[arg(long, value_enum, default_value_t = Coupling::Implicit)]
     pub coupling: Coupling,
+    /// Cavitation model: elrod-adams (mass-conserving, default) or reynolds-cutoff (for
+    /// contrast only: it does not conserve mass, which the run detects and reports).
+    #[arg(long, value_enum, default_value_t = Cavitation::ElrodAdams)]
+    pub cavitation: Cavitation,
     /// Accept pockets that break thin-film validity (10⁴·l < 5·depth).
     #[arg(long = "allow-thick-pockets")]
     pub allow_thick_pockets: bool,
@@ -766,6 +770,7 @@ pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputErr
         start: a.start,
         extrapolate: !a.no_extrapolate,
         coupling: a.coupling,
+        cavitation: a.cavitation,
         ..Numerics::default()
     };
     case.validate(a.allow_thick_pockets)?;

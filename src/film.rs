@@ -183,6 +183,12 @@ pub enum Method {
     /// Test reference, the simplest sound solver: the band LU of the whole domain in every
     /// iteration (no restriction to the pressurised range, no upwind sweeps).
     Reference,
+    /// Contrast only (stability study, issue 6): plain projected Gauss–Seidel on the p–θ
+    /// unknowns, no acceleration, the ring by a secant iteration around it. Its error decays
+    /// by 1 − O(1/N²) per sweep, so it stops within `Tolerance::sweeps` only on coarse
+    /// meshes; beyond that it fails with an error, never a number.
+    #[serde(rename = "gauss-seidel")]
+    GaussSeidel,
 }
 
 impl Method {
@@ -191,7 +197,37 @@ impl Method {
             Method::Multigrid => "multigrid",
             Method::Reference => "reference",
             Method::Direct => "direct",
+            Method::GaussSeidel => "gauss-seidel",
         }
+    }
+}
+
+/// The cavitation model of the film (model.md §3).
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Cavitation {
+    /// Elrod–Adams p–θ: mass-conserving (paper eqs. 4, 5; the model texopt is built on).
+    #[default]
+    ElrodAdams,
+    /// Contrast only (stability study, issue 6): Reynolds' cut-off, p ≥ 0 with the Reynolds
+    /// equation for a full film (θ ≡ 1) and dropped where p = 0. It does not conserve mass
+    /// (the paper's ref. [7]): runs detect that and fail (`SolveError::MassNotConserved`).
+    ReynoldsCutoff,
+}
+
+impl Cavitation {
+    pub fn is_elrod_adams(&self) -> bool {
+        *self == Cavitation::ElrodAdams
     }
 }
 
@@ -213,6 +249,8 @@ pub struct Tolerance {
     /// iteration, and the iteration is monotone for M-matrices, so n1 + this bounds a sound
     /// solve): more means a failed solve (an error, never a number).
     pub extra_iterations: usize,
+    /// Gauss–Seidel (contrast): most sweeps per film solve before it is declared failed.
+    pub sweeps: usize,
 }
 
 impl Default for Tolerance {
@@ -223,9 +261,15 @@ impl Default for Tolerance {
             cycles: 8,
             inner: 1e-2,
             extra_iterations: 60,
+            sweeps: 20_000,
         }
     }
 }
+
+/// Gauss–Seidel stops at this largest relative nodal residual at most: the nodes of the
+/// flooded gap upstream hold φ ≈ 1000 µm, so 1e-8 relative there still leaves a summed
+/// mass defect of ~1e-4 of the throughflow; 1e-12 keeps it under `run::MASS_TOL`.
+const GS_RESIDUAL: f64 = 1e-12;
 
 /// Largest excursion of θ outside [0, 1] taken for round-off.
 const THETA_ROUND_OFF: f64 = 1e-9;
@@ -250,6 +294,12 @@ pub enum FilmError {
     GapClosed { h: f64, x1: f64, x2: f64 },
     #[error("saturation θ = {theta:.6e} outside [0, 1] beyond round-off at x1 = {x1:.5} cm, x2 = {x2:.5} cm")]
     SaturationOutOfRange { theta: f64, x1: f64, x2: f64 },
+    #[error("plain Gauss–Seidel did not converge in {sweeps} sweeps (relative residual {residual:.2e} > {tol:.0e}); its error decays by 1 − O(1/N²) per sweep, so fine meshes are out of its reach: use --solver direct or multigrid")]
+    SweepsExhausted {
+        sweeps: usize,
+        residual: f64,
+        tol: f64,
+    },
     #[error("singular film matrix at unknown {row} (pivot {pivot:e})")]
     Singular { row: usize, pivot: f64 },
 }
@@ -273,6 +323,7 @@ pub struct SolveStats {
 pub struct FilmSolver {
     pub tol: Tolerance,
     pub method: Method,
+    pub cavitation: Cavitation,
     lu: BandLu,
     mg: LineMultigrid,
     rhs1: Vec<f64>,
@@ -417,10 +468,17 @@ impl FilmSolver {
         a.reset(hi - lo + 1, n2);
         self.y1.clear();
         let mut fmax: f64 = 0.0;
+        let cutoff = !self.cavitation.is_elrod_adams();
         for i in lo..=hi {
             for j in 0..n2 {
                 let k = i * n2 + j;
                 let r = (i - lo) * n2 + j;
+                if cutoff && !state.pressurised[k] {
+                    // Reynolds cut-off: p = 0 fixed, the equation dropped.
+                    self.y1.push(0.0);
+                    a.c[r] = 1.0;
+                    continue;
+                }
                 let f = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
                 self.y1.push(-f);
                 let cw = faces.cx[k - n2];
@@ -447,7 +505,13 @@ impl FilmSolver {
                 // Off-diagonals depend on the neighbour's unknown only: its pressure enters
                 // through −c, the upstream φ through −adv, downstream φ not at all.
                 if i > lo {
-                    a.w[r] = if state.pressurised[k - n2] { -cw } else { -adv };
+                    a.w[r] = if state.pressurised[k - n2] {
+                        -cw
+                    } else if cutoff {
+                        0.0
+                    } else {
+                        -adv
+                    };
                 }
                 if i < hi && state.pressurised[k + n2] {
                     a.e[r] = -ce;
@@ -466,7 +530,7 @@ impl FilmSolver {
     /// Prepares the assembled matrix for solves: band LU, or the multigrid hierarchy.
     fn factor(&mut self) -> Result<(), FilmError> {
         match self.method {
-            Method::Direct | Method::Reference => {
+            Method::Direct | Method::Reference | Method::GaussSeidel => {
                 let a = self.mg.fine();
                 let n2 = a.n2;
                 self.lu.reset(a.len(), n2);
@@ -501,7 +565,7 @@ impl FilmSolver {
     /// the guess in x. Returns the V-cycles used.
     fn solve_linear(&mut self, x: &mut Vec<f64>, rhs: &[f64], cycles: usize, rel: f64) -> usize {
         match self.method {
-            Method::Direct | Method::Reference => {
+            Method::Direct | Method::Reference | Method::GaussSeidel => {
                 x.clear();
                 x.extend_from_slice(rhs);
                 self.lu.solve(x);
@@ -521,6 +585,47 @@ impl FilmSolver {
         z: &mut f64,
     ) -> Result<SolveStats, FilmError> {
         let g = step.grid;
+        let bc = step.boundary;
+        for j in 0..g.n2 {
+            let (k0, kn) = (g.idx(0, j), g.idx(g.n1, j));
+            state.p[k0] = bc.p_left;
+            state.phi[k0] = bc.phi_inlet.min(step.gap.h(g, k0, *z));
+            state.pressurised[k0] = false;
+            state.p[kn] = bc.p_right;
+            state.pressurised[kn] = false;
+        }
+        let (iterations, cycles) = match self.method {
+            Method::GaussSeidel => self.gauss_seidel(step, state, z)?,
+            _ => self.active_set(step, state, z)?,
+        };
+        self.finish(step, state, *z, iterations, cycles)
+    }
+
+    /// The gap at Z into `self.h` and its face conductances; a closed gap is an error.
+    fn set_gap(&mut self, step: &Step, z: f64) -> Result<(), FilmError> {
+        let g = step.grid;
+        self.h.clear();
+        self.h.extend((0..g.nodes()).map(|k| step.gap.h(g, k, z)));
+        if let Some(k) = (0..g.nodes()).find(|&k| self.h[k] <= 0.0 || self.h[k].is_nan()) {
+            return Err(FilmError::GapClosed {
+                h: self.h[k],
+                x1: g.x(k / g.n2),
+                x2: g.y(k % g.n2),
+            });
+        }
+        face_conductances(g, &self.h, &mut self.cx, &mut self.cy);
+        Ok(())
+    }
+
+    /// Primal–dual active-set (semi-smooth Newton) iteration with Z bordered (the direct,
+    /// multigrid and reference methods). Returns (iterations, V-cycles).
+    fn active_set(
+        &mut self,
+        step: &Step,
+        state: &mut FilmState,
+        z: &mut f64,
+    ) -> Result<(usize, usize), FilmError> {
+        let g = step.grid;
         let (n1, n2) = (g.n1, g.n2);
         let bc = step.boundary;
         let adv = bc.u * g.dy;
@@ -528,15 +633,10 @@ impl FilmSolver {
         let load_weight = g.dx * g.dy / g.width;
         let ring = &step.gap.ring;
         let phi_old = (step.inv_dt > 0.0).then_some(step.phi_old);
+        // Reynolds cut-off (contrast): θ ≡ 1, so φ = h is no unknown anywhere and the
+        // cavitated nodes simply drop their equation (p = 0).
+        let cutoff = !self.cavitation.is_elrod_adams();
 
-        for j in 0..n2 {
-            let (k0, kn) = (g.idx(0, j), g.idx(n1, j));
-            state.p[k0] = bc.p_left;
-            state.phi[k0] = bc.phi_inlet.min(step.gap.h(g, k0, *z));
-            state.pressurised[k0] = false;
-            state.p[kn] = bc.p_right;
-            state.pressurised[kn] = false;
-        }
         let interior = n2..n1 * n2;
         let ring_min_base = (0..g.nodes())
             .filter(|&k| ring[k / n2])
@@ -551,18 +651,9 @@ impl FilmSolver {
         loop {
             iterations += 1;
             // Gap, conductances and their Z-derivatives at the current Z.
-            self.h.clear();
-            self.h.extend((0..g.nodes()).map(|k| step.gap.h(g, k, *z)));
-            if let Some(k) = (0..g.nodes()).find(|&k| self.h[k] <= 0.0 || self.h[k].is_nan()) {
-                return Err(FilmError::GapClosed {
-                    h: self.h[k],
-                    x1: g.x(k / n2),
-                    x2: g.y(k % n2),
-                });
-            }
-            face_conductances(g, &self.h, &mut self.cx, &mut self.cy);
+            self.set_gap(step, *z)?;
             for k in interior.clone() {
-                if state.pressurised[k] {
+                if state.pressurised[k] || cutoff {
                     state.phi[k] = self.h[k];
                 }
             }
@@ -586,15 +677,8 @@ impl FilmSolver {
 
             // Upstream of the range every node is cavitated with p = 0 around it: exact
             // upwind sweep (the stencil is affine in φ_ij with slope adv + at).
-            let faces = Faces {
-                cx: &self.cx,
-                cy: &self.cy,
-            };
-            for i in 1..lo {
-                for j in 0..n2 {
-                    let r = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
-                    state.phi[i * n2 + j] -= r / (adv + at);
-                }
+            if !cutoff {
+                self.upwind_sweep(step, state, 1..lo, adv, at);
             }
 
             let mut dz = 0.0;
@@ -639,7 +723,8 @@ impl FilmSolver {
                         || iterations > 2;
                     if refresh {
                         // ∂F/∂Z: the same stencil with conductances ∂c/∂Z and φ' = ∂h/∂Z on
-                        // the pressurised set (φ = h there), without the old-time term.
+                        // the pressurised set (φ = h there; everywhere under the cut-off),
+                        // without the old-time term.
                         face_conductance_derivatives(
                             g,
                             &self.h,
@@ -649,7 +734,7 @@ impl FilmSolver {
                         );
                         self.dphi.clear();
                         self.dphi.extend((0..g.nodes()).map(|k| {
-                            if state.pressurised[k] && ring[k / n2] {
+                            if (state.pressurised[k] || cutoff) && ring[k / n2] {
                                 1.0
                             } else {
                                 0.0
@@ -662,9 +747,12 @@ impl FilmSolver {
                         self.rhs2.clear();
                         for i in lo..=hi {
                             for j in 0..n2 {
-                                self.rhs2.push(balance(
-                                    g, &dfaces, adv, at, &state.p, &self.dphi, None, i, j,
-                                ));
+                                let dropped = cutoff && !state.pressurised[i * n2 + j];
+                                self.rhs2.push(if dropped {
+                                    0.0
+                                } else {
+                                    balance(g, &dfaces, adv, at, &state.p, &self.dphi, None, i, j)
+                                });
                             }
                         }
                         let mut y2 = std::mem::take(&mut self.y2);
@@ -699,11 +787,7 @@ impl FilmSolver {
                     }
                     let gx = -link.kappa * load_weight;
                     dz = -(gres + gx * gy1) / (1.0 - gx * gy2);
-                    // Damping: an update may at most halve the smallest gap under the ring, so
-                    // no iterate closes it (a ring truly pushed into the liner still fails).
-                    if ring_min_base + *z + dz <= 0.5 * (ring_min_base + *z) {
-                        dz = -0.5 * (ring_min_base + *z);
-                    }
+                    dz = limit_closing(dz, *z, ring_min_base);
                     for (a, b) in self.y1.iter_mut().zip(&self.y2) {
                         *a -= b * dz;
                     }
@@ -715,7 +799,7 @@ impl FilmSolver {
                         let d = self.y1[(i - lo) * n2 + j];
                         if state.pressurised[k] {
                             state.p[k] += d;
-                        } else {
+                        } else if !cutoff {
                             state.phi[k] += d;
                         }
                     }
@@ -727,15 +811,8 @@ impl FilmSolver {
             *z += dz;
 
             // Downstream of the range: exact upwind sweep again.
-            let faces = Faces {
-                cx: &self.cx,
-                cy: &self.cy,
-            };
-            for i in hi + 1..n1 {
-                for j in 0..n2 {
-                    let r = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
-                    state.phi[i * n2 + j] -= r / (adv + at);
-                }
+            if !cutoff {
+                self.upwind_sweep(step, state, hi + 1..n1, adv, at);
             }
 
             // Active-set update: negative pressure → cavitated; over-full film → pressurised.
@@ -756,6 +833,20 @@ impl FilmSolver {
                         state.phi[k] = hk;
                         changes += 1;
                     }
+                } else if cutoff {
+                    // Cut-off: a dropped node comes back when p = 0 leaves it a net inflow
+                    // (the Reynolds equation would raise its pressure).
+                    let faces = Faces {
+                        cx: &self.cx,
+                        cy: &self.cy,
+                    };
+                    let (i, j) = (k / n2, k % n2);
+                    let f = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
+                    let scale = (adv + at) * hk + adv * state.phi[k - n2];
+                    if f < -1e-12 * scale {
+                        state.pressurised[k] = true;
+                        changes += 1;
+                    }
                 } else if state.phi[k] > hk * (1.0 + eps) {
                     state.pressurised[k] = true;
                     state.p[k] = 0.0;
@@ -763,27 +854,7 @@ impl FilmSolver {
                     changes += 1;
                 }
             }
-            if !z.is_finite() {
-                return Err(FilmError::NonFinite {
-                    quantity: "ring position Z",
-                    x1: f64::NAN,
-                    x2: f64::NAN,
-                });
-            }
-            if let Some(k) = interior
-                .clone()
-                .find(|&k| !(state.p[k].is_finite() && state.phi[k].is_finite()))
-            {
-                return Err(FilmError::NonFinite {
-                    quantity: if state.p[k].is_finite() {
-                        "film content hθ"
-                    } else {
-                        "pressure"
-                    },
-                    x1: g.x(k / n2),
-                    x2: g.y(k % n2),
-                });
-            }
+            check_finite(g, state, *z)?;
             // An exact linear solve leaves a round-off residual: settled set and Z suffice.
             let exact = empty || self.method != Method::Multigrid;
             if exact && changes == 0 && dz.abs() <= self.tol.z_abs {
@@ -799,14 +870,173 @@ impl FilmSolver {
                 });
             }
         }
+        Ok((iterations, cycles))
+    }
+
+    /// Exact upwind sweep over node columns `cols`, all cavitated with p = 0 around them
+    /// (the stencil is affine in φ_ij with slope adv + at).
+    fn upwind_sweep(
+        &self,
+        step: &Step,
+        state: &mut FilmState,
+        cols: std::ops::Range<usize>,
+        adv: f64,
+        at: f64,
+    ) {
+        let g = step.grid;
+        let phi_old = (step.inv_dt > 0.0).then_some(step.phi_old);
+        let faces = Faces {
+            cx: &self.cx,
+            cy: &self.cy,
+        };
+        for i in cols {
+            for j in 0..g.n2 {
+                let r = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
+                state.phi[i * g.n2 + j] -= r / (adv + at);
+            }
+        }
+    }
+
+    /// Plain Gauss–Seidel (contrast): at fixed Z when the problem has no ring, otherwise a
+    /// secant iteration on the ring equation G(Z) = Z − z_pred − κ(W_h(Z) − W_ps) = 0 around
+    /// film solves at fixed Z. Returns (sweeps, 0).
+    fn gauss_seidel(
+        &mut self,
+        step: &Step,
+        state: &mut FilmState,
+        z: &mut f64,
+    ) -> Result<(usize, usize), FilmError> {
+        let mut sweeps = 0;
+        let Some(link) = step.ring else {
+            self.gs_fixed_z(step, state, *z, &mut sweeps)?;
+            return Ok((sweeps, 0));
+        };
+        let g = step.grid;
+        let ring = &step.gap.ring;
+        let ring_min_base = (0..g.nodes())
+            .filter(|&k| ring[k / g.n2])
+            .map(|k| step.gap.base[k])
+            .fold(f64::INFINITY, f64::min);
+        let ring_residual = |s: &mut Self, st: &mut FilmState, zz: f64, n: &mut usize| {
+            s.gs_fixed_z(step, st, zz, n)?;
+            Ok::<f64, FilmError>(zz - link.z_pred - link.kappa * (load(g, ring, &st.p) - link.w_ps))
+        };
+        let (mut z0, mut g0) = (*z, ring_residual(self, state, *z, &mut sweeps)?);
+        // First step as if W_h did not depend on Z, then secant steps.
+        let mut z1 = z0 + limit_closing(-g0, z0, ring_min_base);
+        for _ in 0..60 {
+            let g1 = ring_residual(self, state, z1, &mut sweeps)?;
+            let dz = if g1 == g0 {
+                0.0
+            } else {
+                limit_closing(-g1 * (z1 - z0) / (g1 - g0), z1, ring_min_base)
+            };
+            (z0, g0) = (z1, g1);
+            z1 += dz;
+            if dz.abs() <= self.tol.z_abs.max(1e-9 * z1.abs()) {
+                *z = z0;
+                return Ok((sweeps, 0));
+            }
+            if !z1.is_finite() {
+                break;
+            }
+        }
+        Err(FilmError::NotConverged {
+            iterations: sweeps,
+            changes: 0,
+            dz: (z1 - z0).abs(),
+            z: z1,
+        })
+    }
+
+    /// Plain projected Gauss–Seidel at fixed Z: each node in turn solves its own balance for
+    /// its unknown (p if pressurised, φ if not), p < 0 → cavitated, φ > h → pressurised;
+    /// until the largest relative residual is below `tol.residual`.
+    fn gs_fixed_z(
+        &mut self,
+        step: &Step,
+        state: &mut FilmState,
+        z: f64,
+        sweeps: &mut usize,
+    ) -> Result<(), FilmError> {
+        let g = step.grid;
+        let (n1, n2) = (g.n1, g.n2);
+        let adv = step.boundary.u * g.dy;
+        let at = 2.0 * g.dx * g.dy * step.inv_dt;
+        let phi_old = (step.inv_dt > 0.0).then_some(step.phi_old);
+        self.set_gap(step, z)?;
+        for k in n2..n1 * n2 {
+            if state.pressurised[k] {
+                state.phi[k] = self.h[k];
+            }
+        }
+        loop {
+            let faces = Faces {
+                cx: &self.cx,
+                cy: &self.cy,
+            };
+            for i in 1..n1 {
+                for j in 0..n2 {
+                    let k = i * n2 + j;
+                    let f = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
+                    if state.pressurised[k] {
+                        let p = state.p[k] - f / conductance_sum(g, &faces, i, j);
+                        if p < 0.0 {
+                            state.p[k] = 0.0;
+                            state.pressurised[k] = false;
+                        } else {
+                            state.p[k] = p;
+                        }
+                    } else {
+                        let phi = state.phi[k] - f / (adv + at);
+                        if phi > self.h[k] {
+                            state.phi[k] = self.h[k];
+                            state.pressurised[k] = true;
+                        } else {
+                            state.phi[k] = phi;
+                        }
+                    }
+                }
+            }
+            *sweeps += 1;
+            if sweeps.is_multiple_of(4) || *sweeps >= self.tol.sweeps {
+                check_finite(g, state, z)?;
+                let residual = self.max_relative_residual(step, state, z);
+                if residual <= self.tol.residual.min(GS_RESIDUAL) {
+                    return Ok(());
+                }
+                if *sweeps >= self.tol.sweeps {
+                    return Err(FilmError::SweepsExhausted {
+                        sweeps: *sweeps,
+                        residual,
+                        tol: self.tol.residual.min(GS_RESIDUAL),
+                    });
+                }
+            }
+        }
+    }
+
+    /// Final state, guards and statistics of a converged solve.
+    fn finish(
+        &mut self,
+        step: &Step,
+        state: &mut FilmState,
+        z: f64,
+        iterations: usize,
+        cycles: usize,
+    ) -> Result<SolveStats, FilmError> {
+        let g = step.grid;
+        let (n1, n2) = (g.n1, g.n2);
+        let interior = n2..n1 * n2;
+        let cutoff = !self.cavitation.is_elrod_adams();
         // Final state: p = 0 on the cavitated set, θ = 1 on the pressurised set, round-off
         // negative pressures clipped. φ on the cavitated set is left as solved (θ ≤ 1 + 1e-13,
         // the switching threshold): clipping it would remove mass where φ ≈ h is large (the
         // flooded gap e upstream of the ring) and break the exact discrete balance.
         for k in interior.clone() {
-            if state.pressurised[k] {
+            if state.pressurised[k] || cutoff {
                 state.p[k] = state.p[k].max(0.0);
-                state.phi[k] = step.gap.h(g, k, *z);
+                state.phi[k] = step.gap.h(g, k, z);
             } else {
                 state.p[k] = 0.0;
             }
@@ -817,21 +1047,21 @@ impl FilmSolver {
         // Guard: θ = φ/h must stay in [0, 1] up to round-off (a wrong number that looks
         // right is worse than an error).
         if let Some(k) = interior.clone().find(|&k| {
-            let theta = state.phi[k] / step.gap.h(g, k, *z);
+            let theta = state.phi[k] / step.gap.h(g, k, z);
             !(-THETA_ROUND_OFF..=1.0 + THETA_ROUND_OFF).contains(&theta)
         }) {
             return Err(FilmError::SaturationOutOfRange {
-                theta: state.phi[k] / step.gap.h(g, k, *z),
+                theta: state.phi[k] / step.gap.h(g, k, z),
                 x1: g.x(k / n2),
                 x2: g.y(k % n2),
             });
         }
-        let residual = self.max_relative_residual(step, state, *z);
+        let residual = self.max_relative_residual(step, state, z);
         Ok(SolveStats {
             iterations,
             cycles,
             residual,
-            w_h: load(g, ring, &state.p),
+            w_h: load(g, &step.gap.ring, &state.p),
         })
     }
 
@@ -866,6 +1096,55 @@ impl FilmSolver {
         }
         worst
     }
+}
+
+/// Sum of the four face conductances of node (i, j): the diagonal ∂F/∂p_ij of the stencil.
+#[inline]
+fn conductance_sum(g: &Grid, f: &Faces, i: usize, j: usize) -> f64 {
+    let (n2, k) = (g.n2, i * g.n2 + j);
+    let mut c = f.cx[k - n2] + f.cx[k];
+    if j > 0 {
+        c += f.cy[i * (n2 - 1) + j - 1];
+    }
+    if j + 1 < n2 {
+        c += f.cy[i * (n2 - 1) + j];
+    }
+    c
+}
+
+/// Damping of a ring update: it may at most halve the smallest gap under the ring, so no
+/// iterate closes it (a ring truly pushed into the liner still fails).
+fn limit_closing(dz: f64, z: f64, ring_min_base: f64) -> f64 {
+    if ring_min_base + z + dz <= 0.5 * (ring_min_base + z) {
+        -0.5 * (ring_min_base + z)
+    } else {
+        dz
+    }
+}
+
+/// Guard: every interior p and φ and Z finite, else an error naming where.
+fn check_finite(g: &Grid, state: &FilmState, z: f64) -> Result<(), FilmError> {
+    if !z.is_finite() {
+        return Err(FilmError::NonFinite {
+            quantity: "ring position Z",
+            x1: f64::NAN,
+            x2: f64::NAN,
+        });
+    }
+    if let Some(k) =
+        (g.n2..g.n1 * g.n2).find(|&k| !(state.p[k].is_finite() && state.phi[k].is_finite()))
+    {
+        return Err(FilmError::NonFinite {
+            quantity: if state.p[k].is_finite() {
+                "film content hθ"
+            } else {
+                "pressure"
+            },
+            x1: g.x(k / g.n2),
+            x2: g.y(k % g.n2),
+        });
+    }
+    Ok(())
 }
 
 /// Hydrodynamic load per unit width W_h = (1/B)∫∫_ring p dx1 dx2 (eq. 16), as the nodal sum

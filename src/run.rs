@@ -14,6 +14,11 @@ use crate::steady::{solve_untextured, SteadyError};
 /// Pseudo-period used to average and test an untextured transient run (no texture period).
 pub const UNTEXTURED_PERIOD: f64 = 0.06;
 
+/// Largest relative mass defect of a step ([`Transient::mass_defect`]) taken for a converged
+/// solve: the Elrod–Adams scheme conserves mass to round-off (≤ 1.5e-12 over the stability
+/// map, results/stability.md), inexact multigrid solves to ≈ their tolerance.
+pub const MASS_TOL: f64 = 1e-6;
+
 /// Outcomes of one evaluation (model.md §6). Friction coefficients per eq. (11); Z and
 /// clearances in µm.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -102,6 +107,14 @@ pub enum SolveError {
         quantity: String,
         value: f64,
     },
+    #[error("case {case}: mass not conserved at t = {t:.5}: the step's film content changed by {defect:.2e} of its throughflow more than the boundary flows carried (tolerance {tol:.0e}); {hint}")]
+    MassNotConserved {
+        case: String,
+        t: f64,
+        defect: f64,
+        tol: f64,
+        hint: String,
+    },
     #[error("case {case}: steady force balance failed: {source}")]
     Steady { case: String, source: SteadyError },
 }
@@ -131,6 +144,12 @@ pub struct Transient {
     pub extra_friction: Vec<Friction>,
     /// Ring coupling (implicit unless a stability study asks otherwise).
     pub coupling: Coupling,
+    /// Guard: a step whose relative mass defect exceeds this is an error
+    /// (`SolveError::MassNotConserved`). [`MASS_TOL`] unless a study of a non-conserving
+    /// model sets it to infinity to measure how far it drifts.
+    pub mass_tolerance: f64,
+    /// Largest relative mass defect of a step so far.
+    pub max_mass_defect: f64,
     total_iterations: usize,
     max_residual: f64,
 }
@@ -203,6 +222,15 @@ impl Transient {
                 (st, rs)
             }
         };
+        let mut state = state;
+        if !num.cavitation.is_elrod_adams() {
+            // Reynolds cut-off: a full film (θ ≡ 1) by construction.
+            for k in 0..g.nodes() {
+                state.phi[k] = scene.gap.h(g, k, ring_state.z);
+            }
+        }
+        let mut solver = FilmSolver::with_method(num.film_tolerance(), num.solver);
+        solver.cavitation = num.cavitation;
         let ring = Ring {
             mass: case.mass,
             w_ps: case.w_ps,
@@ -217,13 +245,15 @@ impl Transient {
             dt,
             steps_per_period,
             steps: 0,
-            solver: FilmSolver::with_method(num.film_tolerance(), num.solver),
+            solver,
             last: SolveStats::default(),
             friction: Friction::default(),
             extra_theta_s: Vec::new(),
             extra_friction: Vec::new(),
             coupling: num.coupling,
             scene,
+            mass_tolerance: MASS_TOL,
+            max_mass_defect: 0.0,
             total_iterations: 0,
             max_residual: 0.0,
         }
@@ -298,6 +328,24 @@ impl Transient {
             });
         }
         self.ring_state = self.ring.advance(&s, self.dt, z, stats.w_h);
+        // Guard: the step must conserve mass (a wrong number that looks right is worse
+        // than an error).
+        let defect = self.mass_defect();
+        self.max_mass_defect = self.max_mass_defect.max(defect);
+        if defect.is_nan() || defect > self.mass_tolerance {
+            return Err(SolveError::MassNotConserved {
+                case: self.case.label(),
+                t: t_new,
+                defect,
+                tol: self.mass_tolerance,
+                hint: if self.solver.cavitation.is_elrod_adams() {
+                    "the film solve is not converged (tighten --solve-tol or use --solver direct)"
+                        .into()
+                } else {
+                    "the Reynolds cut-off does not conserve mass in cavitated regions (paper ref. [7]); use the Elrod–Adams model".into()
+                },
+            });
+        }
         self.t = t_new;
         self.steps += 1;
         self.last = stats;
