@@ -8,7 +8,16 @@
 pub struct BandLu {
     n: usize,
     w: usize,
+    /// The factors (L below the diagonal, U on and above), row-major band.
     a: Vec<f64>,
+    /// The matrix `a` was factored from, to find the rows a new matrix shares with it.
+    orig: Vec<f64>,
+    /// The matrix being assembled (`reset`, `add`) for the next `factor`.
+    next: Vec<f64>,
+    next_n: usize,
+    next_w: usize,
+    /// Whether `a` holds complete factors of `orig`.
+    valid: bool,
 }
 
 /// A zero or non-finite pivot: the matrix is singular (should not happen for an M-matrix).
@@ -19,33 +28,66 @@ pub struct SingularPivot {
 }
 
 impl BandLu {
-    /// Resets to an n×n zero matrix of half bandwidth w, reusing the allocation.
+    /// Starts assembling an n×n zero matrix of half bandwidth w, reusing the allocation.
     pub fn reset(&mut self, n: usize, w: usize) {
-        self.n = n;
-        self.w = w;
-        let len = n * (2 * w + 1);
-        self.a.clear();
-        self.a.resize(len, 0.0);
+        self.next_n = n;
+        self.next_w = w;
+        self.next.clear();
+        self.next.resize(n * (2 * w + 1), 0.0);
     }
 
-    #[inline]
-    fn at(&self, r: usize, c: usize) -> usize {
-        debug_assert!(c + self.w >= r && c <= r + self.w);
-        r * (2 * self.w + 1) + (c + self.w - r)
-    }
-
-    /// Adds `v` to entry (r, c); |r − c| must be ≤ w.
+    /// Adds `v` to entry (r, c) of the matrix being assembled; |r − c| must be ≤ w.
     #[inline]
     pub fn add(&mut self, r: usize, c: usize, v: f64) {
-        let k = self.at(r, c);
-        self.a[k] += v;
+        let w = self.next_w;
+        debug_assert!(c + w >= r && c <= r + w);
+        self.next[r * (2 * w + 1) + (c + w - r)] += v;
     }
 
-    /// In-place LU factorisation (unit lower L below the diagonal, U on and above).
+    /// LU factorisation of the assembled matrix (unit lower L below the diagonal, U on and
+    /// above). Elimination never changes a row from the rows after it, so the leading rows
+    /// the matrix shares bit for bit with the last one factored keep their factors and only
+    /// the rest is eliminated: the film's flooded inlet bank, untouched by Z, is factored
+    /// once per time step instead of once per Newton iteration. Same bits as a full
+    /// factorisation.
     pub fn factor(&mut self) -> Result<(), SingularPivot> {
+        let (n, w) = (self.next_n, self.next_w);
+        let stride = 2 * w + 1;
+        // Rows before r0 are unchanged; a reused row must also have seen the same
+        // (untruncated) elimination updates, hence the margin before the end.
+        let mut r0 = 0;
+        if self.valid && w == self.w {
+            let limit = n.min(self.n).saturating_sub(w + 1);
+            let same =
+                |x: &[f64], y: &[f64]| x.iter().zip(y).all(|(a, b)| a.to_bits() == b.to_bits());
+            while r0 < limit
+                && same(
+                    &self.next[r0 * stride..(r0 + 1) * stride],
+                    &self.orig[r0 * stride..(r0 + 1) * stride],
+                )
+            {
+                r0 += 1;
+            }
+        }
+        self.n = n;
+        self.w = w;
+        // The new matrix becomes the reference (its rows before r0 equal the old ones).
+        std::mem::swap(&mut self.orig, &mut self.next);
+        self.a.resize(n * stride, 0.0);
+        self.a[r0 * stride..].copy_from_slice(&self.orig[r0 * stride..]);
+        self.valid = false;
+        self.eliminate_from(r0)?;
+        self.valid = true;
+        Ok(())
+    }
+
+    /// Right-looking elimination of rows r0.. (rows before r0 hold their final factors):
+    /// the pivots k < r0 first update the rows ≥ r0 within their band, then elimination
+    /// proceeds as usual; each row sees its updates in the same order as in a full pass.
+    fn eliminate_from(&mut self, r0: usize) -> Result<(), SingularPivot> {
         let (n, w) = (self.n, self.w);
         let stride = 2 * w + 1;
-        for k in 0..n {
+        for k in r0.saturating_sub(w)..n {
             let piv = self.a[k * stride + w];
             if !(piv.is_finite() && piv != 0.0) {
                 return Err(SingularPivot { row: k, value: piv });
@@ -55,7 +97,7 @@ impl BandLu {
             let (head, tail) = self.a.split_at_mut((k + 1) * stride);
             // Row k of U, columns k+1..=last.
             let urow = &head[k * stride + w + 1..k * stride + w + 1 + (last - k)];
-            for i in k + 1..=last {
+            for i in (k + 1).max(r0)..=last {
                 let row = &mut tail[(i - k - 1) * stride..(i - k) * stride];
                 let lik_idx = k + w - i;
                 let lik = row[lik_idx] * inv;
@@ -94,6 +136,39 @@ impl BandLu {
                 s -= row[j + w - i] * b[j];
             }
             b[i] = s / row[w];
+        }
+    }
+
+    /// Solves A x = b1 and A x = b2 in place together: the same arithmetic as two `solve`
+    /// calls (bit-identical results), but the two independent substitution chains
+    /// interleave, which hides the floating-point latency of each.
+    pub fn solve2(&self, b1: &mut [f64], b2: &mut [f64]) {
+        let (n, w) = (self.n, self.w);
+        let stride = 2 * w + 1;
+        assert!(b1.len() >= n && b2.len() >= n);
+        for i in 0..n {
+            let first = i.saturating_sub(w);
+            let row = &self.a[i * stride..];
+            let (mut s1, mut s2) = (b1[i], b2[i]);
+            for k in first..i {
+                let l = row[k + w - i];
+                s1 -= l * b1[k];
+                s2 -= l * b2[k];
+            }
+            b1[i] = s1;
+            b2[i] = s2;
+        }
+        for i in (0..n).rev() {
+            let last = (i + w).min(n - 1);
+            let row = &self.a[i * stride..];
+            let (mut s1, mut s2) = (b1[i], b2[i]);
+            for j in i + 1..=last {
+                let u = row[j + w - i];
+                s1 -= u * b1[j];
+                s2 -= u * b2[j];
+            }
+            b1[i] = s1 / row[w];
+            b2[i] = s2 / row[w];
         }
     }
 }
@@ -137,7 +212,13 @@ mod tests {
             .map(|r| (0..n).map(|c| dense[r][c] * x[c]).sum())
             .collect();
         lu.factor().unwrap();
+        let (mut b1, mut b2) = (b.clone(), b.iter().map(|v| 2.0 * v).collect::<Vec<_>>());
         lu.solve(&mut b);
+        lu.solve2(&mut b1, &mut b2);
+        assert_eq!(b, b1);
+        for (x2, x) in b2.iter().zip(&b) {
+            assert_eq!(*x2, 2.0 * x);
+        }
         for k in 0..n {
             assert!((b[k] - x[k]).abs() < 1e-12, "{k}: {} vs {}", b[k], x[k]);
         }

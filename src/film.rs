@@ -78,6 +78,32 @@ pub struct Gap {
 }
 
 impl Gap {
+    /// The gap at every node for ring position z into `out` (column by column: no index
+    /// division in the hot loop).
+    pub fn fill(&self, grid: &Grid, z: f64, out: &mut Vec<f64>) {
+        out.clear();
+        let n2 = grid.n2;
+        for (i, &under) in self.ring.iter().enumerate() {
+            let col = &self.base[i * n2..(i + 1) * n2];
+            if under {
+                out.extend(col.iter().map(|b| b + z));
+            } else {
+                out.extend_from_slice(col);
+            }
+        }
+    }
+
+    /// The smallest gap without Z under the ring (∞ when no column lies under it).
+    pub fn ring_min_base(&self, grid: &Grid) -> f64 {
+        let n2 = grid.n2;
+        self.ring
+            .iter()
+            .enumerate()
+            .filter(|(_, &under)| under)
+            .flat_map(|(i, _)| self.base[i * n2..(i + 1) * n2].iter().copied())
+            .fold(f64::INFINITY, f64::min)
+    }
+
     #[inline]
     pub fn h(&self, grid: &Grid, k: usize, z: f64) -> f64 {
         if self.ring[k / grid.n2] {
@@ -469,6 +495,7 @@ impl FilmSolver {
         self.y1.clear();
         let mut fmax: f64 = 0.0;
         let cutoff = !self.cavitation.is_elrod_adams();
+        let inexact = self.method == Method::Multigrid;
         for i in lo..=hi {
             for j in 0..n2 {
                 let k = i * n2 + j;
@@ -494,10 +521,13 @@ impl FilmSolver {
                     0.0
                 };
                 let csum = cw + ce + cs + cn;
-                // Relative to the node's largest terms: its Poiseuille and Couette fluxes.
-                let scale = csum * state.p[k].abs() + (adv + at) * state.phi[k].abs();
-                if scale > 0.0 {
-                    fmax = fmax.max(f.abs() / scale);
+                // Relative to the node's largest terms: its Poiseuille and Couette fluxes
+                // (read by the multigrid path only).
+                if inexact {
+                    let scale = csum * state.p[k].abs() + (adv + at) * state.phi[k].abs();
+                    if scale > 0.0 {
+                        fmax = fmax.max(f.abs() / scale);
+                    }
                 }
                 // Diagonal: ∂F/∂p_ij = Σc on the pressurised set, ∂F/∂φ_ij = adv + at on the
                 // cavitated set.
@@ -604,9 +634,8 @@ impl FilmSolver {
     /// The gap at Z into `self.h` and its face conductances; a closed gap is an error.
     fn set_gap(&mut self, step: &Step, z: f64) -> Result<(), FilmError> {
         let g = step.grid;
-        self.h.clear();
-        self.h.extend((0..g.nodes()).map(|k| step.gap.h(g, k, z)));
-        if let Some(k) = (0..g.nodes()).find(|&k| self.h[k] <= 0.0 || self.h[k].is_nan()) {
+        step.gap.fill(g, z, &mut self.h);
+        if let Some(k) = self.h.iter().position(|&h| h <= 0.0 || h.is_nan()) {
             return Err(FilmError::GapClosed {
                 h: self.h[k],
                 x1: g.x(k / g.n2),
@@ -638,10 +667,7 @@ impl FilmSolver {
         let cutoff = !self.cavitation.is_elrod_adams();
 
         let interior = n2..n1 * n2;
-        let ring_min_base = (0..g.nodes())
-            .filter(|&k| ring[k / n2])
-            .map(|k| step.gap.base[k])
-            .fold(f64::INFINITY, f64::min);
+        let ring_min_base = step.gap.ring_min_base(g);
 
         let mut iterations = 0;
         let mut cycles = 0;
@@ -660,10 +686,10 @@ impl FilmSolver {
 
             // x1-range [lo, hi] holding every pressurised node with one column of margin.
             let (mut lo, mut hi) = (usize::MAX, 0);
-            for k in interior.clone() {
-                if state.pressurised[k] {
-                    lo = lo.min(k / n2);
-                    hi = hi.max(k / n2);
+            for i in 1..n1 {
+                if state.pressurised[i * n2..(i + 1) * n2].contains(&true) {
+                    lo = lo.min(i);
+                    hi = i;
                 }
             }
             let empty = lo == usize::MAX && self.method != Method::Reference;
@@ -709,7 +735,15 @@ impl FilmSolver {
                 } else {
                     (self.tol.inner, self.tol.cycles)
                 };
-                cycles += self.solve_linear(&mut y1, &rhs1, max_cycles, rel);
+                // Direct: the solve waits for y2's right-hand side, so both substitutions
+                // run together (BandLu::solve2).
+                let direct = self.method != Method::Multigrid;
+                let mut y1_pending = direct;
+                if direct {
+                    y1.copy_from_slice(&rhs1);
+                } else {
+                    cycles += self.solve_linear(&mut y1, &rhs1, max_cycles, rel);
+                }
                 self.y1 = y1;
                 self.rhs1 = rhs1;
 
@@ -733,13 +767,16 @@ impl FilmSolver {
                             &mut self.dcy,
                         );
                         self.dphi.clear();
-                        self.dphi.extend((0..g.nodes()).map(|k| {
-                            if (state.pressurised[k] || cutoff) && ring[k / n2] {
-                                1.0
-                            } else {
-                                0.0
-                            }
-                        }));
+                        for (i, &under) in ring.iter().enumerate() {
+                            let col = &state.pressurised[i * n2..(i + 1) * n2];
+                            self.dphi.extend(col.iter().map(|&pr| {
+                                if (pr || cutoff) && under {
+                                    1.0
+                                } else {
+                                    0.0
+                                }
+                            }));
+                        }
                         let dfaces = Faces {
                             cx: &self.dcx,
                             cy: &self.dcy,
@@ -766,12 +803,19 @@ impl FilmSolver {
                             y2.resize(self.rhs2.len(), 0.0);
                         }
                         let rhs2 = std::mem::take(&mut self.rhs2);
-                        cycles +=
-                            self.solve_linear(&mut y2, &rhs2, self.tol.cycles, self.tol.inner);
+                        if y1_pending {
+                            y2.copy_from_slice(&rhs2);
+                            self.lu.solve2(&mut self.y1, &mut y2);
+                            y1_pending = false;
+                        } else {
+                            cycles +=
+                                self.solve_linear(&mut y2, &rhs2, self.tol.cycles, self.tol.inner);
+                        }
                         self.rhs2 = rhs2;
                         self.y2 = y2;
                         y2_range = Some((lo, hi));
                     }
+                    debug_assert!(!y1_pending);
                     // Ring equation G = Z − z_pred − κ(W_h(p) − W_ps) = 0, ∂G/∂p_k = −κ·w_k.
                     let w_h = load(g, ring, &state.p);
                     let gres = *z - link.z_pred - link.kappa * (w_h - link.w_ps);
@@ -791,6 +835,10 @@ impl FilmSolver {
                     for (a, b) in self.y1.iter_mut().zip(&self.y2) {
                         *a -= b * dz;
                     }
+                }
+                if y1_pending {
+                    // No ring: y1 alone.
+                    self.lu.solve(&mut self.y1);
                 }
                 debug_assert_eq!(self.y1.len(), m1 * n2);
                 for i in lo..=hi {
@@ -824,8 +872,9 @@ impl FilmSolver {
             let eps = 1e-13;
             let p_eps = eps * pmax;
             let mut changes = 0;
+            step.gap.fill(g, *z, &mut self.h);
             for k in interior.clone() {
-                let hk = step.gap.h(g, k, *z);
+                let hk = self.h[k];
                 if state.pressurised[k] {
                     if state.p[k] < -p_eps {
                         state.pressurised[k] = false;
@@ -913,10 +962,7 @@ impl FilmSolver {
         };
         let g = step.grid;
         let ring = &step.gap.ring;
-        let ring_min_base = (0..g.nodes())
-            .filter(|&k| ring[k / g.n2])
-            .map(|k| step.gap.base[k])
-            .fold(f64::INFINITY, f64::min);
+        let ring_min_base = step.gap.ring_min_base(g);
         let ring_residual = |s: &mut Self, st: &mut FilmState, zz: f64, n: &mut usize| {
             s.gs_fixed_z(step, st, zz, n)?;
             Ok::<f64, FilmError>(zz - link.z_pred - link.kappa * (load(g, ring, &st.p) - link.w_ps))
@@ -1033,10 +1079,11 @@ impl FilmSolver {
         // negative pressures clipped. φ on the cavitated set is left as solved (θ ≤ 1 + 1e-13,
         // the switching threshold): clipping it would remove mass where φ ≈ h is large (the
         // flooded gap e upstream of the ring) and break the exact discrete balance.
+        step.gap.fill(g, z, &mut self.h);
         for k in interior.clone() {
             if state.pressurised[k] || cutoff {
                 state.p[k] = state.p[k].max(0.0);
-                state.phi[k] = step.gap.h(g, k, z);
+                state.phi[k] = self.h[k];
             } else {
                 state.p[k] = 0.0;
             }
@@ -1047,7 +1094,7 @@ impl FilmSolver {
         // Guard: θ = φ/h must stay in [0, 1] up to round-off (a wrong number that looks
         // right is worse than an error).
         if let Some(k) = interior.clone().find(|&k| {
-            let theta = state.phi[k] / step.gap.h(g, k, z);
+            let theta = state.phi[k] / self.h[k];
             !(-THETA_ROUND_OFF..=1.0 + THETA_ROUND_OFF).contains(&theta)
         }) {
             return Err(FilmError::SaturationOutOfRange {
@@ -1069,8 +1116,7 @@ impl FilmSolver {
     /// that node's balance.
     fn max_relative_residual(&mut self, step: &Step, state: &FilmState, z: f64) -> f64 {
         let g = step.grid;
-        self.h.clear();
-        self.h.extend((0..g.nodes()).map(|k| step.gap.h(g, k, z)));
+        step.gap.fill(g, z, &mut self.h);
         face_conductances(g, &self.h, &mut self.cx, &mut self.cy);
         let faces = Faces {
             cx: &self.cx,
