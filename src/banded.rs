@@ -223,4 +223,72 @@ mod tests {
             assert!((b[k] - x[k]).abs() < 1e-12, "{k}: {} vs {}", b[k], x[k]);
         }
     }
+
+    /// A 5-point M-matrix on an nx×ny grid whose diagonal from row `from` on is raised by
+    /// `bump` (a Z change under the ring, seen by the trailing rows only).
+    fn laplacian(lu: &mut BandLu, nx: usize, ny: usize, from: usize, bump: f64) {
+        lu.reset(nx * ny, ny);
+        for i in 0..nx {
+            for j in 0..ny {
+                let r = i * ny + j;
+                let d = 4.5 + 0.1 * (r as f64).sin() + if r >= from { bump } else { 0.0 };
+                lu.add(r, r, d);
+                if i > 0 {
+                    lu.add(r, r - ny, -1.0);
+                }
+                if i + 1 < nx {
+                    lu.add(r, r + ny, -1.2);
+                }
+                if j > 0 {
+                    lu.add(r, r - 1, -0.9);
+                }
+                if j + 1 < ny {
+                    lu.add(r, r + 1, -1.0);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn refactoring_reuses_shared_leading_rows_bit_for_bit() {
+        let (nx, ny) = (12, 4);
+        let rhs: Vec<f64> = (0..nx * ny).map(|k| (k as f64 * 0.61).cos()).collect();
+        let solve = |lu: &BandLu| {
+            let mut b = rhs.clone();
+            lu.solve(&mut b);
+            b
+        };
+        // A reused factorisation: first the old matrix, then one differing from row 25 on.
+        let mut reused = BandLu::default();
+        laplacian(&mut reused, nx, ny, 25, 0.0);
+        reused.factor().unwrap();
+        laplacian(&mut reused, nx, ny, 25, 0.37);
+        reused.factor().unwrap();
+        // ... against a fresh one of the new matrix.
+        let mut fresh = BandLu::default();
+        laplacian(&mut fresh, nx, ny, 25, 0.37);
+        fresh.factor().unwrap();
+        assert_eq!(reused.a, fresh.a, "factors differ");
+        assert_eq!(solve(&reused), solve(&fresh));
+        // A change in the first row, a smaller matrix, and back: always the fresh factors.
+        for (n_x, from, bump) in [(12, 0, 0.1), (9, 5, 0.2), (12, 30, 0.3)] {
+            laplacian(&mut reused, n_x, ny, from, bump);
+            reused.factor().unwrap();
+            let mut f = BandLu::default();
+            laplacian(&mut f, n_x, ny, from, bump);
+            f.factor().unwrap();
+            assert_eq!(
+                reused.a, f.a,
+                "factors differ for {n_x} columns, change from {from}"
+            );
+        }
+        // A failed factorisation is never reused.
+        laplacian(&mut reused, nx, ny, 40, f64::NAN);
+        assert!(reused.factor().is_err());
+        laplacian(&mut reused, nx, ny, 40, 0.5);
+        reused.factor().unwrap();
+        laplacian(&mut fresh, nx, ny, 40, 0.5);
+        fresh.factor().unwrap();
+        assert_eq!(reused.a, fresh.a);
+    }
 }
