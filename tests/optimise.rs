@@ -200,3 +200,83 @@ fn bad_optimiser_inputs_are_refused_with_exit_2_and_nothing_written() {
     assert_eq!(o.status.code(), Some(2));
     assert!(!cache.exists());
 }
+
+/// A search killed (SIGKILL) mid-way and started again with the same flags resumes through
+/// the cache: it simulates only what the killed one had not finished, and reports exactly
+/// what an uninterrupted search reports.
+#[test]
+fn a_killed_search_resumes_through_the_cache_with_the_same_answer() {
+    let dir = std::env::temp_dir().join(format!("texopt-opt-kill-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let cmd = |cache: &str| {
+        let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_texopt"));
+        c.args([
+            "optimise",
+            "--R",
+            "5",
+            "--mesh",
+            "64x4",
+            "--dt",
+            "1.6e-3",
+            "--l1",
+            "0.005..0.03",
+            "--l2",
+            "0.005..0.03",
+            "--search-fidelity",
+            "fast",
+            "--jobs",
+            "2",
+            "--json",
+            "--cache",
+        ])
+        .arg(dir.join(cache))
+        .arg("--out")
+        .arg(dir.join(format!("out-{cache}")))
+        .stderr(std::process::Stdio::null());
+        c
+    };
+    let json = |out: std::process::Output| -> serde_json::Value {
+        assert!(out.status.success());
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let whole = json(cmd("a.sqlite").output().unwrap());
+
+    // Killed once it has stored some evaluations (or after 60 s at the latest).
+    let mut child = cmd("b.sqlite")
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let stored = |n: usize| {
+        texopt::cache::Cache::open(&dir.join("b.sqlite"))
+            .ok()
+            .and_then(|c| c.stats().ok())
+            .is_some_and(|s| s.done >= n)
+    };
+    let t0 = std::time::Instant::now();
+    while !stored(40) && t0.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(stored(40), "the killed search had stored evaluations");
+
+    let resumed = json(cmd("b.sqlite").output().unwrap());
+    let sims = |v: &serde_json::Value| v["simulations"].as_u64().unwrap();
+    assert!(
+        sims(&resumed) < sims(&whole),
+        "resumed {} vs whole {}",
+        sims(&resumed),
+        sims(&whole)
+    );
+    for key in [
+        "best_friction",
+        "best_clearance",
+        "front",
+        "plain",
+        "evaluated",
+    ] {
+        assert_eq!(resumed[key], whole[key], "{key} differs after the kill");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
