@@ -4,6 +4,7 @@
 # half the cells across (N2), periodic tolerances, and the solver variants.
 # The references are the 1024×64, dt = 2e-4 runs (Case I from studies/convergence.sh).
 # Run one case per core: about 20 minutes on the 2-core machine.
+# `bash studies/speed.sh finer`: the tiers against 2048×32, dt = 1e-4 (results/speed_finer.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --example speed
@@ -22,6 +23,14 @@ sweep() {
     $bin run "$1" $s
   done
 }
+if [ "${1:-}" = finer ]; then
+  # The finer reference (results/speed_finer.md): 2048 cells along x1, dt = 1e-4.
+  $bin finer-run case-I 2048x32 1e-4 &
+  $bin finer-run case-III 2048x32 1e-4
+  wait
+  $bin finer
+  exit 0
+fi
 $bin run case-III 1024x64 2e-4
 sweep case-I &
 sweep case-III
