@@ -147,10 +147,10 @@ impl Cache {
             }
             _ => sql(e),
         };
-        let app: i32 = conn
-            .query_row("PRAGMA application_id", [], |r| r.get(0))
+        // The first read: a file that is not a database, or a damaged one, fails here and is
+        // reported before anything is written to it.
+        conn.query_row("PRAGMA application_id", [], |r| r.get::<_, i32>(0))
             .map_err(damaged)?;
-        // A damaged file is reported before anything is written to it.
         let check: String = conn
             .query_row("PRAGMA quick_check", [], |r| r.get(0))
             .map_err(damaged)?;
@@ -164,9 +164,17 @@ impl Cache {
                 ),
             });
         }
-        let tables: i64 = conn
-            .query_row("SELECT count(*) FROM sqlite_master", [], |r| r.get(0))
-            .map_err(sql)?;
+        // What the file holds, read in one snapshot (another process may be creating it).
+        let identity = |conn: &Connection| -> rusqlite::Result<(i32, i64)> {
+            let app: i32 = conn.query_row("PRAGMA application_id", [], |r| r.get(0))?;
+            let tables: i64 =
+                conn.query_row("SELECT count(*) FROM sqlite_master", [], |r| r.get(0))?;
+            Ok((app, tables))
+        };
+        conn.execute_batch("BEGIN").map_err(sql)?;
+        let seen = identity(&conn);
+        conn.execute_batch("COMMIT").map_err(sql)?;
+        let (app, tables) = seen.map_err(sql)?;
         if app != APPLICATION_ID && tables > 0 {
             return Err(CacheError::Foreign {
                 path: shown,
@@ -186,29 +194,59 @@ impl Cache {
                 });
             }
         }
-        conn.pragma_update(None, "journal_mode", "WAL")
-            .map_err(sql)?;
+        // Switching a fresh file to WAL needs it to itself for a moment; SQLite may answer
+        // "busy" at once instead of waiting, so wait here (bounded like the busy timeout).
+        let t0 = std::time::Instant::now();
+        loop {
+            match conn.pragma_update(None, "journal_mode", "WAL") {
+                Err(e)
+                    if e.sqlite_error_code() == Some(rusqlite::ErrorCode::DatabaseBusy)
+                        && t0.elapsed().as_secs() < 120 =>
+                {
+                    std::thread::sleep(std::time::Duration::from_millis(20));
+                }
+                r => break r.map_err(sql)?,
+            }
+        }
         conn.pragma_update(None, "synchronous", "NORMAL")
             .map_err(sql)?;
         if app != APPLICATION_ID {
-            conn.execute_batch(&format!(
-                "BEGIN IMMEDIATE;
-                 CREATE TABLE IF NOT EXISTS evaluations (
-                     hash TEXT PRIMARY KEY,
-                     key TEXT NOT NULL,
-                     status TEXT NOT NULL CHECK (status IN ('done', 'failed')),
-                     outcome TEXT,
-                     reason TEXT,
-                     wall_time_s REAL NOT NULL,
-                     steps INTEGER NOT NULL,
-                     texopt_version TEXT NOT NULL,
-                     created TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now'))
-                 );
-                 PRAGMA application_id = {APPLICATION_ID};
-                 PRAGMA user_version = {SCHEMA};
-                 COMMIT;"
-            ))
-            .map_err(sql)?;
+            // Created under the write lock, after checking again that nobody else did.
+            conn.execute_batch("BEGIN IMMEDIATE").map_err(sql)?;
+            let create = match identity(&conn) {
+                Ok((APPLICATION_ID, _)) => Ok(()),
+                Ok((_, 0)) => conn.execute_batch(&format!(
+                    "CREATE TABLE IF NOT EXISTS evaluations (
+                         hash TEXT PRIMARY KEY,
+                         key TEXT NOT NULL,
+                         status TEXT NOT NULL CHECK (status IN ('done', 'failed')),
+                         outcome TEXT,
+                         reason TEXT,
+                         wall_time_s REAL NOT NULL,
+                         steps INTEGER NOT NULL,
+                         texopt_version TEXT NOT NULL,
+                         created TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now'))
+                     );
+                     PRAGMA application_id = {APPLICATION_ID};
+                     PRAGMA user_version = {SCHEMA};"
+                )),
+                Ok(_) => {
+                    let _ = conn.execute_batch("ROLLBACK");
+                    return Err(CacheError::Foreign {
+                        path: shown,
+                        why: "not a texopt cache (an SQLite database of another application)"
+                            .into(),
+                    });
+                }
+                Err(e) => Err(e),
+            };
+            match create {
+                Ok(()) => conn.execute_batch("COMMIT").map_err(sql)?,
+                Err(e) => {
+                    let _ = conn.execute_batch("ROLLBACK");
+                    return Err(sql(e));
+                }
+            }
         }
         Ok(Cache {
             conn,
@@ -365,5 +403,44 @@ impl Cache {
             .collect::<Result<_, _>>()
             .map_err(|e| self.sql(e))?;
         Ok(rows.join("; "))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Processes (here: threads with their own connections) opening one fresh cache file at
+    /// the same moment all get it: no "database is locked" from the one-time set-up.
+    #[test]
+    fn many_openers_of_a_fresh_cache_all_succeed() {
+        for round in 0..20 {
+            let p = std::env::temp_dir().join(format!(
+                "texopt-cache-race-{}-{round}.sqlite",
+                std::process::id()
+            ));
+            for ext in ["", "-wal", "-shm"] {
+                let _ = std::fs::remove_file(format!("{}{ext}", p.display()));
+            }
+            let barrier = std::sync::Barrier::new(6);
+            let results: Vec<Result<(), String>> = std::thread::scope(|s| {
+                let handles: Vec<_> = (0..6)
+                    .map(|_| {
+                        s.spawn(|| {
+                            barrier.wait();
+                            let c = Cache::open(&p).map_err(|e| e.to_string())?;
+                            c.stats().map(|_| ()).map_err(|e| e.to_string())
+                        })
+                    })
+                    .collect();
+                handles.into_iter().map(|h| h.join().unwrap()).collect()
+            });
+            for r in &results {
+                assert!(r.is_ok(), "round {round}: {r:?}");
+            }
+            for ext in ["", "-wal", "-shm"] {
+                let _ = std::fs::remove_file(format!("{}{ext}", p.display()));
+            }
+        }
     }
 }
