@@ -165,7 +165,7 @@ fn load_runs(path: &str, convergence: bool) -> Result<Vec<Run>, String> {
 fn finer() -> Result<(), String> {
     let runs = load_runs(RUNS, true)?;
     let finer = load_runs(FINER, false)?;
-    let mut md = String::from("# Fidelity tiers against a finer reference\n\nReproduce: `bash studies/speed.sh finer` (the two 2048×32 runs take about 35 min each, one per core), then `cargo run --release --example speed -- finer`. Reference: 2048 cells along x1 and dt = 1e-4 (the issue asks for 2048×128; the speed study found N2 matters little: Case I at 1024×8 is within 0.07 % of 1024×64). Rows: the tier settings as run by the speed study (periodic tolerance 1e-5) and the study's old reference 1024×64. Errors relative to the reference; times are one core of the 2-core machine (from the speed study, before the solver speed-ups).\n");
+    let mut md = String::from("# Fidelity tiers against a finer reference\n\nReproduce: `bash studies/speed.sh finer` (the two 2048×32 runs took 22 and 49 min, one per core, beside other work), then `cargo run --release --example speed -- finer`. Reference: 2048 cells along x1 and dt = 1e-4 (the issue asks for 2048×128; the speed study found N2 matters little: Case I at 1024×8 is within 0.07 % of 1024×64). Rows: the tier settings as run by the speed study (periodic tolerance 1e-5) and the study's old reference 1024×64. Errors relative to the reference; times are one core of the 2-core machine (from the speed study, before the solver speed-ups).\n");
     for case in ["case-I", "case-III"] {
         let Some(reference) = finer.iter().find(|r| r.case == case) else {
             continue;
