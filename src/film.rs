@@ -436,18 +436,24 @@ fn face_conductance_derivatives(
     let (n1, n2) = (g.n1, g.n2);
     let (sx, sy) = (g.dy / g.dx, g.dx / g.dy);
     let dz = |i: usize| if ring[i] { 1.0 } else { 0.0 };
+    // Zero away from the ring (the same +0.0 the product gives); computed under it only.
     dcx.clear();
-    dcx.extend((0..n1 * n2).map(|k| {
-        let i = k / n2;
-        let hf = 0.5 * (h[k] + h[k + n2]);
-        3.0 * hf * hf * 0.5 * (dz(i) + dz(i + 1)) * sx
-    }));
+    dcx.resize(n1 * n2, 0.0);
     dcy.clear();
+    dcy.resize((n1 + 1) * n2.saturating_sub(1), 0.0);
     for i in 0..=n1 {
-        for j in 0..n2.saturating_sub(1) {
-            let k = i * n2 + j;
-            let hf = 0.5 * (h[k] + h[k + 1]);
-            dcy.push(3.0 * hf * hf * dz(i) * sy);
+        if i < n1 && (ring[i] || ring[i + 1]) {
+            for k in i * n2..(i + 1) * n2 {
+                let hf = 0.5 * (h[k] + h[k + n2]);
+                dcx[k] = 3.0 * hf * hf * 0.5 * (dz(i) + dz(i + 1)) * sx;
+            }
+        }
+        if ring[i] {
+            for j in 0..n2.saturating_sub(1) {
+                let k = i * n2 + j;
+                let hf = 0.5 * (h[k] + h[k + 1]);
+                dcy[i * (n2 - 1) + j] = 3.0 * hf * hf * dz(i) * sy;
+            }
         }
     }
 }
@@ -560,30 +566,13 @@ impl FilmSolver {
     /// Prepares the assembled matrix for solves: band LU, or the multigrid hierarchy.
     fn factor(&mut self) -> Result<(), FilmError> {
         match self.method {
-            Method::Direct | Method::Reference | Method::GaussSeidel => {
-                let a = self.mg.fine();
-                let n2 = a.n2;
-                self.lu.reset(a.len(), n2);
-                for r in 0..a.len() {
-                    self.lu.add(r, r, a.c[r]);
-                    if r >= n2 {
-                        self.lu.add(r, r - n2, a.w[r]);
-                    }
-                    if r + n2 < a.len() {
-                        self.lu.add(r, r + n2, a.e[r]);
-                    }
-                    if r % n2 > 0 {
-                        self.lu.add(r, r - 1, a.s[r]);
-                    }
-                    if r % n2 + 1 < n2 {
-                        self.lu.add(r, r + 1, a.n[r]);
-                    }
-                }
-                self.lu.factor().map_err(|e| FilmError::Singular {
+            Method::Direct | Method::Reference | Method::GaussSeidel => self
+                .lu
+                .factor(self.mg.fine())
+                .map_err(|e| FilmError::Singular {
                     row: e.row,
                     pivot: e.value,
-                })
-            }
+                }),
             Method::Multigrid => self.mg.setup().map_err(|e| FilmError::Singular {
                 row: e.node,
                 pivot: e.value,
