@@ -300,7 +300,10 @@ impl Transient {
         };
         // Initial guess of the film iteration: the previous time level, or the state one
         // texture period ago when the ring is near where it was then.
-        if let Some(snap) = self.period_ago.guess(self.steps + 1, z, s.z) {
+        if let Some((snap, z_shifted)) = self.period_ago.guess(self.steps + 1, z, s.z) {
+            if !explicit {
+                z = z_shifted;
+            }
             self.state.p.copy_from_slice(&snap.p);
             self.state.phi.copy_from_slice(&snap.phi);
             self.state.pressurised.copy_from_slice(&snap.pressurised);
@@ -598,11 +601,16 @@ impl PeriodGuess {
     }
 
     /// The state of time level `level − period`, if stored and the ring at the guess
-    /// `z_guess` for level `level` is near enough its Z then (see [`PERIOD_GUESS_DRIFT`]).
-    fn guess(&self, level: usize, z_guess: f64, z_now: f64) -> Option<&FilmState> {
+    /// `z_guess` for level `level` is near enough its Z then (see [`PERIOD_GUESS_DRIFT`]);
+    /// with it a guess of Z: the ring's step one period ago repeated from `z_now` (closer
+    /// than the velocity extrapolation by ≈ 30× near the periodic regime, which lets the
+    /// direct method confirm the step by a chord solve).
+    fn guess(&self, level: usize, z_guess: f64, z_now: f64) -> Option<(&FilmState, f64)> {
         let n = self.slots.len();
         let (state, z_then) = self.slots.get(level.checked_rem(n)?)?.as_ref()?;
-        ((z_guess - z_then).abs() <= PERIOD_GUESS_DRIFT * (z_guess - z_now).abs()).then_some(state)
+        let near = (z_guess - z_then).abs() <= PERIOD_GUESS_DRIFT * (z_guess - z_now).abs();
+        let (_, z_before) = self.slots[(level + n - 1) % n].as_ref()?;
+        near.then_some((state, z_then + (z_now - z_before)))
     }
 
     /// Keeps the solved state of time level `level` (reusing the slot's buffers).
