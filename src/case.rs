@@ -203,9 +203,9 @@ fn yes() -> bool {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Fidelity {
-    /// 256×8, dt = 8e-4: screening (errors ≈ 1–2 %, ≈ 1.5 s a case).
+    /// 256×8, dt = 8e-4: screening (errors ≈ 1–2 %, ≈ 1 s a case).
     Draft,
-    /// 512×8, dt = 4e-4: studies and optimisation (errors < 1 %, ≈ 6–8 s a case).
+    /// 512×8, dt = 4e-4: studies and optimisation (errors < 1 %, ≈ 3–5 s a case).
     Fast,
     /// 512×32, dt = 4e-4: the paper's fidelity (model.md §3), for reproducing it.
     Paper,
