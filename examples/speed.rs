@@ -83,7 +83,9 @@ fn run(args: &[String], out_path: &str) -> Result<(), String> {
         outcome: out,
     })
     .unwrap();
-    writeln!(f, "{line}").map_err(|e| e.to_string())?;
+    // One write per line: the two cases run at once append to the same file.
+    f.write_all(format!("{line}\n").as_bytes())
+        .map_err(|e| e.to_string())?;
     Ok(())
 }
 
@@ -165,7 +167,7 @@ fn load_runs(path: &str, convergence: bool) -> Result<Vec<Run>, String> {
 fn finer() -> Result<(), String> {
     let runs = load_runs(RUNS, true)?;
     let finer = load_runs(FINER, false)?;
-    let mut md = String::from("# Fidelity tiers against a finer reference\n\nReproduce: `bash studies/speed.sh finer` (the two 2048×32 runs took 22 and 49 min, one per core, beside other work), then `cargo run --release --example speed -- finer`. Reference: 2048 cells along x1 and dt = 1e-4 (the issue asks for 2048×128; the speed study found N2 matters little: Case I at 1024×8 is within 0.07 % of 1024×64). Rows: the tier settings as run by the speed study (periodic tolerance 1e-5) and the study's old reference 1024×64. Errors relative to the reference; times are one core of the 2-core machine (from the speed study, before the solver speed-ups).\n");
+    let mut md = String::from("# Fidelity tiers against a finer reference\n\nReproduce: `bash studies/speed.sh finer` (the two 2048×32 runs took 22 and 49 min, one per core, beside other work), then `cargo run --release --example speed -- finer`. Reference: 2048 cells along x1 and dt = 1e-4 (the issue asks for 2048×128; the speed study found N2 matters little: Case I at 1024×8 is within 0.07 % of 1024×64). Rows: the tier settings as run by the speed study (periodic tolerance 1e-5) and the study's old reference 1024×64. Errors relative to the reference; times are one core of the 2-core machine (from the speed study; the 1024×64 and 2048×32 references were run before the solver speed-ups of issue 3, their times are not comparable).\n");
     for case in ["case-I", "case-III"] {
         let Some(reference) = finer.iter().find(|r| r.case == case) else {
             continue;
@@ -218,7 +220,7 @@ fn finer() -> Result<(), String> {
 fn report() -> Result<(), String> {
     let runs = load_runs(RUNS, true)?;
     let mut csv = String::from("case,setting,n1,n2,dt,periodic_tol,solver,f_mean,c_min,err_f,err_c,wall_s,steps,periods,pareto\n");
-    let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh`. Error: relative to the finest run of the same case (first row of each table). Wall time: one core of the 2-core machine, from the start to the detected periodic regime. ★ = Pareto-optimal in f̄ error and time (no other setting is both faster and more accurate); tier names mark the fidelity tiers.\n");
+    let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh`. Error: relative to the finest run of the same case (first row of each table). Wall time: one core of the 2-core machine, from the start to the detected periodic regime. The references were run before the solver speed-ups of issue 3 (period-old guess, chord steps; answers unchanged to round-off), the other rows after; so the references' times are not comparable with them. ★ = Pareto-optimal in f̄ error and time (no other setting is both faster and more accurate); tier names mark the fidelity tiers.\n");
     let mut series_data = Vec::new();
     for (ci, case) in ["case-I", "case-III"].iter().enumerate() {
         let mut rs: Vec<&Run> = runs.iter().filter(|r| r.case == *case).collect();
