@@ -161,6 +161,13 @@ pub struct FilmState {
 }
 
 impl FilmState {
+    /// Takes `other`'s values (same grid), reusing the allocations.
+    pub fn assign(&mut self, other: &FilmState) {
+        self.p.copy_from_slice(&other.p);
+        self.phi.copy_from_slice(&other.phi);
+        self.pressurised.copy_from_slice(&other.pressurised);
+    }
+
     /// Zero pressure and film φ_0 everywhere (capped at the local gap), nothing pressurised.
     pub fn cavitated(grid: &Grid, gap: &Gap, z: f64, phi0: f64) -> Self {
         let n = grid.nodes();

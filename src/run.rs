@@ -286,7 +286,6 @@ impl Transient {
         let t_new = (self.steps + 1) as f64 * self.dt;
         self.scene.place(t_new);
         std::mem::swap(&mut self.phi_old, &mut self.state.phi);
-        self.state.phi.copy_from_slice(&self.phi_old);
         let s = self.ring_state;
         let link = self.ring.link(&s, self.dt);
         let explicit = self.coupling == Coupling::Explicit;
@@ -300,13 +299,14 @@ impl Transient {
         };
         // Initial guess of the film iteration: the previous time level, or the state one
         // texture period ago when the ring is near where it was then.
-        if let Some((snap, z_shifted)) = self.period_ago.guess(self.steps + 1, z, s.z) {
-            if !explicit {
-                z = z_shifted;
+        match self.period_ago.guess(self.steps + 1, z, s.z) {
+            Some((snap, z_shifted)) => {
+                if !explicit {
+                    z = z_shifted;
+                }
+                self.state.assign(snap);
             }
-            self.state.p.copy_from_slice(&snap.p);
-            self.state.phi.copy_from_slice(&snap.phi);
-            self.state.pressurised.copy_from_slice(&snap.pressurised);
+            None => self.state.phi.copy_from_slice(&self.phi_old),
         }
         if !z.is_finite() {
             return Err(SolveError::Unstable {
@@ -621,9 +621,7 @@ impl PeriodGuess {
         };
         match slot {
             Some((s, zs)) => {
-                s.p.copy_from_slice(&state.p);
-                s.phi.copy_from_slice(&state.phi);
-                s.pressurised.copy_from_slice(&state.pressurised);
+                s.assign(state);
                 *zs = z;
             }
             None => *slot = Some((state.clone(), z)),
