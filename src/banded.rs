@@ -28,6 +28,11 @@ pub struct SingularPivot {
 }
 
 impl BandLu {
+    /// Memory held by the factors and the operator they are of (bytes).
+    pub fn bytes(&self) -> usize {
+        8 * (self.a.capacity() + 5 * self.orig.c.capacity())
+    }
+
     /// LU factorisation of the 5-point operator `s` (unit lower L below the diagonal, U on
     /// and above). Elimination never changes a row from the rows after it, so the leading
     /// rows `s` shares bit for bit with the operator factored last keep their factors and
@@ -167,56 +172,85 @@ impl BandLu {
         let stride = 2 * w + 1;
         for i in 0..n {
             let first = i.saturating_sub(w);
-            let row = &self.a[i * stride..];
-            let mut s = b[i];
-            for k in first..i {
-                s -= row[k + w - i] * b[k];
-            }
-            b[i] = s;
+            let row = &self.a[i * stride..(i + 1) * stride];
+            let l = &row[first + w - i..w];
+            b[i] -= dot(l, &b[first..i]);
         }
         for i in (0..n).rev() {
             let last = (i + w).min(n - 1);
-            let row = &self.a[i * stride..];
-            let mut s = b[i];
-            for j in i + 1..=last {
-                s -= row[j + w - i] * b[j];
-            }
-            b[i] = s / row[w];
+            let row = &self.a[i * stride..(i + 1) * stride];
+            let u = &row[w + 1..w + 1 + (last - i)];
+            b[i] = (b[i] - dot(u, &b[i + 1..=last])) / row[w];
         }
     }
 
-    /// Solves A x = b1 and A x = b2 in place together: the same arithmetic as two `solve`
-    /// calls (bit-identical results), but the two independent substitution chains
-    /// interleave, which hides the floating-point latency of each.
+    /// Solves A x = b1 and A x = b2 in place together (each row of the factors is read
+    /// once for both): the same arithmetic as two `solve` calls, so the same bits.
     pub fn solve2(&self, b1: &mut [f64], b2: &mut [f64]) {
         let (n, w) = (self.n, self.w);
         let stride = 2 * w + 1;
         assert!(b1.len() >= n && b2.len() >= n);
         for i in 0..n {
             let first = i.saturating_sub(w);
-            let row = &self.a[i * stride..];
-            let (mut s1, mut s2) = (b1[i], b2[i]);
-            for k in first..i {
-                let l = row[k + w - i];
-                s1 -= l * b1[k];
-                s2 -= l * b2[k];
-            }
-            b1[i] = s1;
-            b2[i] = s2;
+            let row = &self.a[i * stride..(i + 1) * stride];
+            let l = &row[first + w - i..w];
+            let (d1, d2) = dot2(l, &b1[first..i], &b2[first..i]);
+            b1[i] -= d1;
+            b2[i] -= d2;
         }
         for i in (0..n).rev() {
             let last = (i + w).min(n - 1);
-            let row = &self.a[i * stride..];
-            let (mut s1, mut s2) = (b1[i], b2[i]);
-            for j in i + 1..=last {
-                let u = row[j + w - i];
-                s1 -= u * b1[j];
-                s2 -= u * b2[j];
-            }
-            b1[i] = s1 / row[w];
-            b2[i] = s2 / row[w];
+            let row = &self.a[i * stride..(i + 1) * stride];
+            let u = &row[w + 1..w + 1 + (last - i)];
+            let (d1, d2) = dot2(u, &b1[i + 1..=last], &b2[i + 1..=last]);
+            b1[i] = (b1[i] - d1) / row[w];
+            b2[i] = (b2[i] - d2) / row[w];
         }
     }
+}
+
+/// Σ a_k·x_k in four interleaved partial sums: a substitution row is a dot product of up to
+/// w = N2 terms, and one running sum would chain their additions (latency-bound: the back
+/// substitution's row i waits on row i + 1 from its first term). Four sums let the terms
+/// proceed in parallel; the order is fixed, so the result is deterministic.
+#[inline]
+fn dot(a: &[f64], x: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 4];
+    let (ac, ar) = a.split_at(a.len() & !3);
+    let (xc, xr) = x.split_at(ac.len());
+    for (a4, x4) in ac.chunks_exact(4).zip(xc.chunks_exact(4)) {
+        for l in 0..4 {
+            acc[l] += a4[l] * x4[l];
+        }
+    }
+    for (l, (a, x)) in ar.iter().zip(xr).enumerate() {
+        acc[l] += a * x;
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
+}
+
+/// `dot` for two vectors against the same coefficients (each equal to its `dot`).
+#[inline]
+fn dot2(a: &[f64], x: &[f64], y: &[f64]) -> (f64, f64) {
+    let (mut p, mut q) = ([0.0f64; 4], [0.0f64; 4]);
+    let (ac, ar) = a.split_at(a.len() & !3);
+    let (xc, xr) = x.split_at(ac.len());
+    let (yc, yr) = y.split_at(ac.len());
+    for ((a4, x4), y4) in ac
+        .chunks_exact(4)
+        .zip(xc.chunks_exact(4))
+        .zip(yc.chunks_exact(4))
+    {
+        for l in 0..4 {
+            p[l] += a4[l] * x4[l];
+            q[l] += a4[l] * y4[l];
+        }
+    }
+    for (l, ((a, x), y)) in ar.iter().zip(xr).zip(yr).enumerate() {
+        p[l] += a * x;
+        q[l] += a * y;
+    }
+    ((p[0] + p[1]) + (p[2] + p[3]), (q[0] + q[1]) + (q[2] + q[3]))
 }
 
 /// x −= l·u, element by element.

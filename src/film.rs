@@ -349,11 +349,47 @@ pub struct SolveStats {
     pub iterations: usize,
     /// Multigrid V-cycles (0 for the direct method).
     pub cycles: usize,
+    /// Band LU factorisations (direct and reference methods): iterations without one were
+    /// chord steps on factors at hand.
+    pub factorisations: usize,
     /// Largest nodal mass-balance residual after the solve, relative to the largest flux
     /// term at that node (round-off level when converged).
     pub residual: f64,
     /// Hydrodynamic load W_h = (1/B)∫∫_ring p (eq. 16).
     pub w_h: f64,
+}
+
+/// Band LU factors of a film matrix and what they were factored for, so that they can serve
+/// later solves: a chord step inside the iteration, or the same texture phase one period
+/// later (the transient keeps one per step of a period, run.rs).
+#[derive(Debug, Default, Clone)]
+pub struct Factors {
+    lu: BandLu,
+    of: Option<FactoredFor>,
+}
+
+/// The film problem factors were computed for: node columns lo..=hi, the active set over
+/// them and the ring position Z. With the same texture phase, the same range and active set,
+/// the matrix differs from theirs only through Z (conductances ∝ h³).
+#[derive(Debug, Clone)]
+struct FactoredFor {
+    lo: usize,
+    hi: usize,
+    z: f64,
+    active: Vec<bool>,
+}
+
+impl Factors {
+    /// Memory held (bytes).
+    pub fn bytes(&self) -> usize {
+        self.lu.bytes() + self.of.as_ref().map_or(0, |f| f.active.len())
+    }
+
+    /// Whether these factors are of the matrix of range lo..=hi with active set `active`.
+    fn fit(&self, lo: usize, hi: usize, active: &[bool]) -> Option<f64> {
+        let f = self.of.as_ref()?;
+        (f.lo == lo && f.hi == hi && f.active == active).then_some(f.z)
+    }
 }
 
 /// Reusable work arrays of the film solver.
@@ -362,7 +398,13 @@ pub struct FilmSolver {
     pub tol: Tolerance,
     pub method: Method,
     pub cavitation: Cavitation,
-    lu: BandLu,
+    factors: Factors,
+    /// Whether `factors` were handed in for this very film problem's geometry (the same
+    /// texture phase one period earlier, [`FilmSolver::inherit_factors`]); otherwise
+    /// only their bit-identical leading rows are reused.
+    inherited: bool,
+    /// Factorisations in the current solve.
+    factorisations: usize,
     mg: LineMultigrid,
     rhs1: Vec<f64>,
     rhs2: Vec<f64>,
@@ -578,13 +620,16 @@ impl FilmSolver {
     /// Prepares the assembled matrix for solves: band LU, or the multigrid hierarchy.
     fn factor(&mut self) -> Result<(), FilmError> {
         match self.method {
-            Method::Direct | Method::Reference | Method::GaussSeidel => self
-                .lu
-                .factor(self.mg.fine())
-                .map_err(|e| FilmError::Singular {
-                    row: e.row,
-                    pivot: e.value,
-                }),
+            Method::Direct | Method::Reference | Method::GaussSeidel => {
+                self.factors.of = None;
+                self.factors
+                    .lu
+                    .factor(self.mg.fine())
+                    .map_err(|e| FilmError::Singular {
+                        row: e.row,
+                        pivot: e.value,
+                    })
+            }
             Method::Multigrid => self.mg.setup().map_err(|e| FilmError::Singular {
                 row: e.node,
                 pivot: e.value,
@@ -599,11 +644,27 @@ impl FilmSolver {
             Method::Direct | Method::Reference | Method::GaussSeidel => {
                 x.clear();
                 x.extend_from_slice(rhs);
-                self.lu.solve(x);
+                self.factors.lu.solve(x);
                 0
             }
             Method::Multigrid => self.mg.gmres(x, rhs, rel, cycles),
         }
+    }
+
+    /// Exchanges the solver's factors with `other`, which must be of the film problem the next
+    /// [`Self::solve`] is given up to Z (same grid, texture phase, time step and boundary
+    /// data): that solve may then use them for chord steps. (Factors of any other problem
+    /// would still serve only through their bit-identical leading rows.)
+    pub fn inherit_factors(&mut self, other: &mut Factors) {
+        std::mem::swap(&mut self.factors, other);
+        self.inherited = true;
+    }
+
+    /// Exchanges the solver's factors with `other` (to keep them for later: they serve a
+    /// later solve only through [`Self::inherit_factors`]).
+    pub fn swap_factors(&mut self, other: &mut Factors) {
+        std::mem::swap(&mut self.factors, other);
+        self.inherited = false;
     }
 
     /// Solves one film problem in place. `state` holds the initial guess (normally the
@@ -617,6 +678,11 @@ impl FilmSolver {
     ) -> Result<SolveStats, FilmError> {
         let g = step.grid;
         let bc = step.boundary;
+        self.factorisations = 0;
+        // Factors not handed in for this problem serve only through their identical rows.
+        if !std::mem::take(&mut self.inherited) {
+            self.factors.of = None;
+        }
         for j in 0..g.n2 {
             let (k0, kn) = (g.idx(0, j), g.idx(g.n1, j));
             state.p[k0] = bc.p_left;
@@ -674,8 +740,6 @@ impl FilmSolver {
         let mut cycles = 0;
         // What the last update did (multigrid: convergence is judged on the next residual).
         let (mut last_changes, mut last_dz) = (usize::MAX, f64::INFINITY);
-        // The range whose matrix the band LU holds factors of (this solve only).
-        let mut factored = None;
         let mut y2_range = None;
         loop {
             iterations += 1;
@@ -724,19 +788,27 @@ impl FilmSolver {
                 {
                     break;
                 }
-                // Chord step: after an iteration that left the active set alone and moved Z
-                // by so little that the matrix changed only by δc/c = 3|δZ|/h ≤ CHORD_DRIFT
-                // (conductances ∝ h³), the last factors solve the new system to that relative
-                // accuracy. The iteration stays convergent (error × CHORD_DRIFT per step) and
-                // ends where Newton would, to round-off; it saves a factorisation, mostly the
-                // confirming one of a step.
+                // Chord step: when the factors at hand are of this range and active set and
+                // Z has moved since by so little that the matrix changed only by δc/c =
+                // 3|δZ|/h ≤ CHORD_DRIFT (conductances ∝ h³), they solve the new system to
+                // that relative accuracy. The iteration stays convergent (error × CHORD_DRIFT
+                // per step) and ends where Newton would, to round-off; it saves a
+                // factorisation: the confirming one of a step, and near the periodic regime
+                // the first one too, with the factors of the same phase a period earlier.
+                let active = &state.pressurised[lo * n2..(hi + 1) * n2];
                 let chord = self.method == Method::Direct
-                    && last_changes == 0
-                    && factored == Some((lo, hi))
-                    && 3.0 * last_dz <= CHORD_DRIFT * (*z + ring_min_base);
+                    && self.factors.fit(lo, hi, active).is_some_and(|zf| {
+                        3.0 * (*z - zf).abs() <= CHORD_DRIFT * (*z + ring_min_base)
+                    });
                 if !chord {
+                    self.factorisations += 1;
                     self.factor()?;
-                    factored = Some((lo, hi));
+                    self.factors.of = Some(FactoredFor {
+                        lo,
+                        hi,
+                        z: *z,
+                        active: state.pressurised[lo * n2..(hi + 1) * n2].to_vec(),
+                    });
                 }
                 // Newton correction from zero (the residual is the right-hand side).
                 let rhs1 = std::mem::take(&mut self.y1);
@@ -821,7 +893,7 @@ impl FilmSolver {
                         let rhs2 = std::mem::take(&mut self.rhs2);
                         if y1_pending {
                             y2.copy_from_slice(&rhs2);
-                            self.lu.solve2(&mut self.y1, &mut y2);
+                            self.factors.lu.solve2(&mut self.y1, &mut y2);
                             y1_pending = false;
                         } else {
                             cycles +=
@@ -854,7 +926,7 @@ impl FilmSolver {
                 }
                 if y1_pending {
                     // No ring: y1 alone.
-                    self.lu.solve(&mut self.y1);
+                    self.factors.lu.solve(&mut self.y1);
                 }
                 debug_assert_eq!(self.y1.len(), m1 * n2);
                 for i in lo..=hi {
@@ -1133,6 +1205,7 @@ impl FilmSolver {
         Ok(SolveStats {
             iterations,
             cycles,
+            factorisations: self.factorisations,
             residual,
             w_h: load(g, &step.gap.ring, &state.p),
         })

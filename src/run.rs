@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use crate::case::{CaseSpec, Coupling, Numerics, Start};
 use crate::dynamics::{Ring, RingState};
-use crate::film::{Boundary, FilmError, FilmSolver, FilmState, SolveStats, Step};
+use crate::film::{Boundary, Factors, FilmError, FilmSolver, FilmState, Method, SolveStats, Step};
 use crate::friction::{friction, Friction, FrictionModel};
 use crate::scene::Scene;
 use crate::steady::{solve_untextured, SteadyError};
@@ -284,7 +284,12 @@ impl Transient {
     /// One backward-Euler step of the film with the implicit Newmark ring update.
     pub fn step(&mut self) -> Result<(), SolveError> {
         let t_new = (self.steps + 1) as f64 * self.dt;
-        self.scene.place(t_new);
+        // The texture placed by its phase within the period, so that the gap is the same to
+        // the bit at the same phase of every period (u·t_new is that plus whole periods):
+        // the matrix rows the texture alone sets (the flooded gap upstream) then match
+        // the factors kept from a period ago and are not eliminated again.
+        let phase = ((self.steps + 1) % self.steps_per_period) as f64 * self.dt;
+        self.scene.place(phase);
         std::mem::swap(&mut self.phi_old, &mut self.state.phi);
         let s = self.ring_state;
         let link = self.ring.link(&s, self.dt);
@@ -336,6 +341,8 @@ impl Transient {
             },
             ring: (!explicit).then_some(link),
         };
+        let level = self.steps + 1;
+        self.period_ago.lend_factors(level, &mut self.solver);
         let stats = self
             .solver
             .solve(&step, &mut self.state, &mut z)
@@ -344,6 +351,7 @@ impl Transient {
                 t: t_new,
                 source,
             })?;
+        self.period_ago.keep_factors(level, &mut self.solver);
         if z <= 0.0 {
             return Err(SolveError::Contact {
                 case: self.case.label(),
@@ -574,6 +582,11 @@ impl Transient {
 struct PeriodGuess {
     /// Slot n mod len: the solved state of time level n and its Z; empty when disabled.
     slots: Vec<Option<(FilmState, f64)>>,
+    /// Slot n mod len: the film-matrix factors of time level n's last iteration (direct
+    /// method), lent to the solve one period later; empty when disabled.
+    factors: Vec<Option<Factors>>,
+    /// Memory the kept factors take (bytes, as measured when each slot was filled).
+    factor_bytes: usize,
 }
 
 /// The period-old state is used when |Z_guess − Z_then| ≤ this × |Z_guess − Z_now|: the
@@ -583,6 +596,10 @@ struct PeriodGuess {
 /// 3.07 / 3.16 at 0.3 / 3 / 10 / 30 / 100; Case I 3.29 without, 2.89 / 2.70 / 2.66 at
 /// 1 / 10 / 30; R = 51.2 5.78 without, 3.99 at 10.
 const PERIOD_GUESS_DRIFT: f64 = 10.0;
+
+/// Most memory the kept factors of a period may take (bytes): 512×32 needs ≈ 800 MB for
+/// per = 0.06 (150 steps of ≈ 5 MB), 512×8 ≈ 50 MB; beyond it the later steps go without.
+const PERIOD_FACTORS_MEMORY: usize = 1 << 30;
 
 /// Most memory the period's states may take (bytes); longer periods go without.
 const PERIOD_GUESS_MEMORY: usize = 256 << 20;
@@ -597,6 +614,44 @@ impl PeriodGuess {
             } else {
                 Vec::new()
             },
+            factors: if on {
+                vec![None; steps_per_period]
+            } else {
+                Vec::new()
+            },
+            factor_bytes: 0,
+        }
+    }
+
+    /// Lends the solver the factors kept from time level `level − period` (same texture
+    /// phase), if any: near the periodic regime they serve the step's first iteration as a
+    /// chord step, and their rows the texture alone sets are reused bit for bit.
+    fn lend_factors(&mut self, level: usize, solver: &mut FilmSolver) {
+        let n = self.factors.len();
+        if let Some(Some(f)) = level.checked_rem(n).map(|k| &mut self.factors[k]) {
+            solver.inherit_factors(f);
+        }
+    }
+
+    /// Keeps the solver's factors of time level `level` for one period (within
+    /// [`PERIOD_FACTORS_MEMORY`]), leaving the solver the slot's old ones.
+    fn keep_factors(&mut self, level: usize, solver: &mut FilmSolver) {
+        if solver.method != Method::Direct {
+            return;
+        }
+        let n = self.factors.len();
+        let Some(slot) = level.checked_rem(n).map(|k| &mut self.factors[k]) else {
+            return;
+        };
+        match slot {
+            Some(f) => solver.swap_factors(f),
+            None if self.factor_bytes <= PERIOD_FACTORS_MEMORY => {
+                let mut f = Factors::default();
+                solver.swap_factors(&mut f);
+                self.factor_bytes += f.bytes();
+                *slot = Some(f);
+            }
+            None => {}
         }
     }
 
