@@ -61,7 +61,17 @@ impl BandLu {
         }
         self.n = n;
         self.w = w;
-        self.orig.clone_from(s);
+        // The operator factored: its rows before r0 are already those of `s`.
+        self.orig.reshape(s.m1, s.n2);
+        for (o, v) in [
+            (&mut self.orig.c, &s.c),
+            (&mut self.orig.w, &s.w),
+            (&mut self.orig.e, &s.e),
+            (&mut self.orig.s, &s.s),
+            (&mut self.orig.n, &s.n),
+        ] {
+            o[r0..].copy_from_slice(&v[r0..]);
+        }
         self.a.resize(n * stride, 0.0);
         // The band rows from r0 on: the stencil's five entries (0.0 + v: the bits an
         // accumulation into a zeroed band gives, −0.0 included), zeros elsewhere.

@@ -490,11 +490,14 @@ fn face_conductance_derivatives(
     let (n1, n2) = (g.n1, g.n2);
     let (sx, sy) = (g.dy / g.dx, g.dx / g.dy);
     let dz = |i: usize| if ring[i] { 1.0 } else { 0.0 };
-    // Zero away from the ring (the same +0.0 the product gives); computed under it only.
-    dcx.clear();
-    dcx.resize(n1 * n2, 0.0);
-    dcy.clear();
-    dcy.resize((n1 + 1) * n2.saturating_sub(1), 0.0);
+    // Zero away from the ring (the same +0.0 the product gives), computed under it only:
+    // the ring columns are the same in every call, so the zeros stay once written.
+    if dcx.len() != n1 * n2 || dcy.len() != (n1 + 1) * n2.saturating_sub(1) {
+        dcx.clear();
+        dcx.resize(n1 * n2, 0.0);
+        dcy.clear();
+        dcy.resize((n1 + 1) * n2.saturating_sub(1), 0.0);
+    }
     for i in 0..=n1 {
         if i < n1 && (ring[i] || ring[i + 1]) {
             for k in i * n2..(i + 1) * n2 {
@@ -551,7 +554,8 @@ impl FilmSolver {
         active.clear();
         active.extend_from_slice(&state.pressurised[lo * n2..(hi + 1) * n2]);
         let a = self.mg.fine_mut();
-        a.reset(hi - lo + 1, n2);
+        // Every entry is written below.
+        a.reshape(hi - lo + 1, n2);
         self.y1.clear();
         let mut fmax: f64 = 0.0;
         let cutoff = !self.cavitation.is_elrod_adams();
@@ -563,7 +567,7 @@ impl FilmSolver {
                 if cutoff && !state.pressurised[k] {
                     // Reynolds cut-off: p = 0 fixed, the equation dropped.
                     self.y1.push(0.0);
-                    a.c[r] = 1.0;
+                    (a.c[r], a.w[r], a.e[r], a.s[r], a.n[r]) = (1.0, 0.0, 0.0, 0.0, 0.0);
                     continue;
                 }
                 let f = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
@@ -594,24 +598,19 @@ impl FilmSolver {
                 a.c[r] = if state.pressurised[k] { csum } else { adv + at };
                 // Off-diagonals depend on the neighbour's unknown only: its pressure enters
                 // through −c, the upstream φ through −adv, downstream φ not at all.
-                if i > lo {
-                    a.w[r] = if state.pressurised[k - n2] {
-                        -cw
-                    } else if cutoff {
-                        0.0
-                    } else {
-                        -adv
-                    };
-                }
-                if i < hi && state.pressurised[k + n2] {
-                    a.e[r] = -ce;
-                }
-                if j > 0 && state.pressurised[k - 1] {
-                    a.s[r] = -cs;
-                }
-                if j + 1 < n2 && state.pressurised[k + 1] {
-                    a.n[r] = -cn;
-                }
+                a.w[r] = if i == lo {
+                    0.0
+                } else if state.pressurised[k - n2] {
+                    -cw
+                } else if cutoff {
+                    0.0
+                } else {
+                    -adv
+                };
+                let coupled = |on: bool, c: f64| if on { -c } else { 0.0 };
+                a.e[r] = coupled(i < hi && state.pressurised[k + n2], ce);
+                a.s[r] = coupled(j > 0 && state.pressurised[k - 1], cs);
+                a.n[r] = coupled(j + 1 < n2 && state.pressurised[k + 1], cn);
             }
         }
         fmax
@@ -735,6 +734,11 @@ impl FilmSolver {
 
         let interior = n2..n1 * n2;
         let ring_min_base = step.gap.ring_min_base(g);
+        // Node columns whose balance depends on Z: under the ring and one either side.
+        let ring_cols = match (ring.iter().position(|&r| r), ring.iter().rposition(|&r| r)) {
+            (Some(a), Some(b)) => a.saturating_sub(1)..b + 2,
+            _ => 0..0,
+        };
 
         let mut iterations = 0;
         let mut cycles = 0;
@@ -869,11 +873,15 @@ impl FilmSolver {
                             cx: &self.dcx,
                             cy: &self.dcy,
                         };
+                        // Only the columns under the ring and their neighbours see Z (the
+                        // conductances of their faces, φ' there and upstream); elsewhere
+                        // ∂F/∂Z is exactly zero.
                         self.rhs2.clear();
                         for i in lo..=hi {
+                            let sees_z = ring_cols.contains(&i);
                             for j in 0..n2 {
                                 let dropped = cutoff && !state.pressurised[i * n2 + j];
-                                self.rhs2.push(if dropped {
+                                self.rhs2.push(if dropped || !sees_z {
                                     0.0
                                 } else {
                                     balance(g, &dfaces, adv, at, &state.p, &self.dphi, None, i, j)

@@ -44,6 +44,21 @@ impl Stencil5 {
         }
     }
 
+    /// Sets the shape without clearing: for callers that then write every entry.
+    pub fn reshape(&mut self, m1: usize, n2: usize) {
+        self.m1 = m1;
+        self.n2 = n2;
+        for v in [
+            &mut self.c,
+            &mut self.w,
+            &mut self.e,
+            &mut self.s,
+            &mut self.n,
+        ] {
+            v.resize(m1 * n2, 0.0);
+        }
+    }
+
     /// Number of unknowns.
     pub fn len(&self) -> usize {
         self.m1 * self.n2
