@@ -205,7 +205,8 @@ fn yes() -> bool {
 pub enum Fidelity {
     /// 256×8, dt = 8e-4: screening (errors ≈ 1–2 %, ≈ 1 s a case).
     Draft,
-    /// 512×8, dt = 4e-4: studies and optimisation (errors < 1 %, ≈ 3–5 s a case).
+    /// 512×8, dt = 4e-4: studies and optimisation (errors ≈ 1 %: ≤ 0.83 % against 1024×64,
+    /// up to 1.03 % against 2048×32; ≈ 3–5 s a case).
     Fast,
     /// 512×32, dt = 4e-4: the paper's fidelity (model.md §3), for reproducing it.
     Paper,

@@ -811,7 +811,7 @@ impl FilmSolver {
                         lo,
                         hi,
                         z: *z,
-                        active: state.pressurised[lo * n2..(hi + 1) * n2].to_vec(),
+                        active: active.to_vec(),
                     });
                 }
                 // Newton correction from zero (the residual is the right-hand side).

@@ -597,8 +597,9 @@ struct PeriodGuess {
 /// 1 / 10 / 30; R = 51.2 5.78 without, 3.99 at 10.
 const PERIOD_GUESS_DRIFT: f64 = 10.0;
 
-/// Most memory the kept factors of a period may take (bytes): 512×32 needs ≈ 800 MB for
-/// per = 0.06 (150 steps of ≈ 5 MB), 512×8 ≈ 50 MB; beyond it the later steps go without.
+/// Most memory the kept factors of a period may take (bytes): 512×32 needs ≈ 0.9 GB for
+/// per = 0.06 (150 steps of ≈ 6 MB; a Case III run peaks at 0.98 GB resident), 512×8
+/// ≈ 50 MB; beyond it the later steps of a period go without.
 const PERIOD_FACTORS_MEMORY: usize = 1 << 30;
 
 /// Most memory the period's states may take (bytes); longer periods go without.
