@@ -63,13 +63,12 @@ impl BandLu {
         self.w = w;
         // The operator factored: its rows before r0 are already those of `s`.
         self.orig.reshape(s.m1, s.n2);
-        for (o, v) in [
-            (&mut self.orig.c, &s.c),
-            (&mut self.orig.w, &s.w),
-            (&mut self.orig.e, &s.e),
-            (&mut self.orig.s, &s.s),
-            (&mut self.orig.n, &s.n),
-        ] {
+        for (o, v) in self
+            .orig
+            .coefficients_mut()
+            .into_iter()
+            .zip(s.coefficients())
+        {
             o[r0..].copy_from_slice(&v[r0..]);
         }
         self.a.resize(n * stride, 0.0);

@@ -30,33 +30,35 @@ pub struct Stencil5 {
 impl Stencil5 {
     /// Resets to an all-zero operator of the given shape, reusing the allocations.
     pub fn reset(&mut self, m1: usize, n2: usize) {
-        self.m1 = m1;
-        self.n2 = n2;
-        for v in [
-            &mut self.c,
-            &mut self.w,
-            &mut self.e,
-            &mut self.s,
-            &mut self.n,
-        ] {
-            v.clear();
-            v.resize(m1 * n2, 0.0);
-        }
+        self.reshape(m1, n2);
+        self.coefficients_mut()
+            .into_iter()
+            .for_each(|v| v.fill(0.0));
     }
 
     /// Sets the shape without clearing: for callers that then write every entry.
     pub fn reshape(&mut self, m1: usize, n2: usize) {
         self.m1 = m1;
         self.n2 = n2;
-        for v in [
+        for v in self.coefficients_mut() {
+            v.resize(m1 * n2, 0.0);
+        }
+    }
+
+    /// The five coefficient arrays (c, w, e, s, n).
+    pub fn coefficients_mut(&mut self) -> [&mut Vec<f64>; 5] {
+        [
             &mut self.c,
             &mut self.w,
             &mut self.e,
             &mut self.s,
             &mut self.n,
-        ] {
-            v.resize(m1 * n2, 0.0);
-        }
+        ]
+    }
+
+    /// The five coefficient arrays (c, w, e, s, n).
+    pub fn coefficients(&self) -> [&Vec<f64>; 5] {
+        [&self.c, &self.w, &self.e, &self.s, &self.n]
     }
 
     /// Number of unknowns.
