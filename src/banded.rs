@@ -39,7 +39,8 @@ impl BandLu {
     /// only the rest is eliminated: the film's flooded inlet bank, untouched by Z, is
     /// factored once per time step instead of once per Newton iteration. Same bits as a
     /// full factorisation. Rows are compared on the stencil (5 numbers), not on the band.
-    pub fn factor(&mut self, s: &Stencil5) -> Result<(), SingularPivot> {
+    /// Returns the number of rows eliminated (those not kept).
+    pub fn factor(&mut self, s: &Stencil5) -> Result<usize, SingularPivot> {
         let (n, w) = (s.len(), s.n2);
         let stride = 2 * w + 1;
         // Rows before r0 are unchanged; a reused row must also have seen the same
@@ -94,7 +95,7 @@ impl BandLu {
         self.valid = false;
         self.eliminate_from(r0)?;
         self.valid = true;
-        Ok(())
+        Ok(n - r0)
     }
 
     /// Right-looking elimination of rows r0.. (rows before r0 hold their final factors),

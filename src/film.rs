@@ -312,6 +312,16 @@ const THETA_ROUND_OFF: f64 = 1e-9;
 /// from Newton's by about this times the last correction (measured: outcomes within 1e-13).
 const CHORD_DRIFT: f64 = 1e-6;
 
+/// A chord step ends the iteration only when its correction times the matrix's relative
+/// drift (the residual it leaves, relative) is at most this: round-off.
+const CHORD_CONFIRM: f64 = 1e-14;
+
+/// Fewest cells across (band half-width) at which the Newton matrix is frozen at the
+/// factors' Z when only the active set changed. Measured (valgrind instruction counts, Case
+/// III from the paper start): 512×32 first period −6.4 %; 512×8 whole run +1.1 % (there a
+/// factorisation costs ≈ 2.5 substitutions, and the confirming chord step eats the gain).
+const FROZEN_MIN_N2: usize = 16;
+
 /// Why a film solve failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FilmError {
@@ -352,6 +362,9 @@ pub struct SolveStats {
     /// Band LU factorisations (direct and reference methods): iterations without one were
     /// chord steps on factors at hand.
     pub factorisations: usize,
+    /// Matrix rows those factorisations eliminated (rows they shared with the factors at
+    /// hand were kept).
+    pub eliminated_rows: usize,
     /// Largest nodal mass-balance residual after the solve, relative to the largest flux
     /// term at that node (round-off level when converged).
     pub residual: f64,
@@ -403,14 +416,23 @@ pub struct FilmSolver {
     /// texture phase one period earlier, [`FilmSolver::inherit_factors`]); otherwise
     /// only their bit-identical leading rows are reused.
     inherited: bool,
-    /// Factorisations in the current solve.
+    /// Factorisations in the current solve and the rows they eliminated.
     factorisations: usize,
+    eliminated_rows: usize,
+    /// Freeze the Newton matrix at the factors' Z when only the active set changed (wide
+    /// bands, `FROZEN_MIN_N2`); on by default, off to show what it saves.
+    pub freeze_z: bool,
     mg: LineMultigrid,
     rhs1: Vec<f64>,
     rhs2: Vec<f64>,
     h: Vec<f64>,
     cx: Vec<f64>,
     cy: Vec<f64>,
+    /// The gap and face conductances at the Z of the factors at hand, when the Newton
+    /// matrix is frozen there (see `active_set`).
+    jh: Vec<f64>,
+    jcx: Vec<f64>,
+    jcy: Vec<f64>,
     dcx: Vec<f64>,
     dcy: Vec<f64>,
     dphi: Vec<f64>,
@@ -517,16 +539,14 @@ fn face_conductance_derivatives(
 
 impl FilmSolver {
     pub fn new(tol: Tolerance) -> Self {
-        FilmSolver {
-            tol,
-            ..Default::default()
-        }
+        Self::with_method(tol, Method::default())
     }
 
     pub fn with_method(tol: Tolerance, method: Method) -> Self {
         FilmSolver {
             tol,
             method,
+            freeze_z: true,
             ..Default::default()
         }
     }
@@ -538,10 +558,10 @@ impl FilmSolver {
         &mut self,
         step: &Step,
         state: &FilmState,
-        lo: usize,
-        hi: usize,
+        (lo, hi): (usize, usize),
         adv: f64,
         at: f64,
+        frozen: bool,
     ) -> f64 {
         let g = step.grid;
         let n2 = g.n2;
@@ -549,6 +569,18 @@ impl FilmSolver {
         let faces = Faces {
             cx: &self.cx,
             cy: &self.cy,
+        };
+        // The matrix's conductances: at the current Z, or frozen at the factors' Z.
+        let jfaces = if frozen {
+            Faces {
+                cx: &self.jcx,
+                cy: &self.jcy,
+            }
+        } else {
+            Faces {
+                cx: &self.cx,
+                cy: &self.cy,
+            }
         };
         let active = self.mg.fine_active_mut();
         active.clear();
@@ -572,15 +604,15 @@ impl FilmSolver {
                 }
                 let f = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
                 self.y1.push(-f);
-                let cw = faces.cx[k - n2];
-                let ce = faces.cx[k];
+                let cw = jfaces.cx[k - n2];
+                let ce = jfaces.cx[k];
                 let cs = if j > 0 {
-                    faces.cy[i * (n2 - 1) + j - 1]
+                    jfaces.cy[i * (n2 - 1) + j - 1]
                 } else {
                     0.0
                 };
                 let cn = if j + 1 < n2 {
-                    faces.cy[i * (n2 - 1) + j]
+                    jfaces.cy[i * (n2 - 1) + j]
                 } else {
                     0.0
                 };
@@ -621,13 +653,16 @@ impl FilmSolver {
         match self.method {
             Method::Direct | Method::Reference | Method::GaussSeidel => {
                 self.factors.of = None;
-                self.factors
-                    .lu
-                    .factor(self.mg.fine())
-                    .map_err(|e| FilmError::Singular {
-                        row: e.row,
-                        pivot: e.value,
-                    })
+                let rows =
+                    self.factors
+                        .lu
+                        .factor(self.mg.fine())
+                        .map_err(|e| FilmError::Singular {
+                            row: e.row,
+                            pivot: e.value,
+                        })?;
+                self.eliminated_rows += rows;
+                Ok(())
             }
             Method::Multigrid => self.mg.setup().map_err(|e| FilmError::Singular {
                 row: e.node,
@@ -678,6 +713,7 @@ impl FilmSolver {
         let g = step.grid;
         let bc = step.boundary;
         self.factorisations = 0;
+        self.eliminated_rows = 0;
         // Factors not handed in for this problem serve only through their identical rows.
         if !std::mem::take(&mut self.inherited) {
             self.factors.of = None;
@@ -779,19 +815,15 @@ impl FilmSolver {
             }
 
             let mut dz = 0.0;
+            // Whether this iteration's matrix was not the Newton matrix at the current Z
+            // (a chord step, or frozen at the factors' Z), and the size of its correction.
+            let mut frozen: Option<f64> = None;
+            let mut correction: f64 = 0.0;
             if !empty {
                 let m1 = hi - lo + 1;
-                // Residual F = balance(·) at the current iterate and the Newton matrix ∂F/∂x.
-                let fmax = self.assemble(step, state, lo, hi, adv, at);
-                // Multigrid: converged when the last update settled the set and Z and the
-                // residual is at tolerance (the direct path decides after its exact solve).
-                if self.method == Method::Multigrid
-                    && last_changes == 0
-                    && last_dz <= self.tol.z_abs
-                    && fmax <= self.tol.residual
-                {
-                    break;
-                }
+                // Relative matrix change 3|δZ|/h since factors at zf (conductances ∝ h³).
+                let drift = |zf: f64| 3.0 * (*z - zf).abs() / (*z + ring_min_base);
+                let drift_ok = |zf: f64| drift(zf) <= CHORD_DRIFT;
                 // Chord step: when the factors at hand are of this range and active set and
                 // Z has moved since by so little that the matrix changed only by δc/c =
                 // 3|δZ|/h ≤ CHORD_DRIFT (conductances ∝ h³), they solve the new system to
@@ -801,16 +833,51 @@ impl FilmSolver {
                 // the first one too, with the factors of the same phase a period earlier.
                 let active = &state.pressurised[lo * n2..(hi + 1) * n2];
                 let chord = self.method == Method::Direct
-                    && self.factors.fit(lo, hi, active).is_some_and(|zf| {
-                        3.0 * (*z - zf).abs() <= CHORD_DRIFT * (*z + ring_min_base)
-                    });
+                    && self.factors.fit(lo, hi, active).is_some_and(drift_ok);
+                // Frozen Z: when only the active set changed since the factors (Z within the
+                // chord drift), the matrix is assembled at their Z, so that it differs from
+                // theirs only in the rows around the switched nodes and the LU reuses every
+                // row before the first of them (at the current Z every row under the ring
+                // would differ). Pays where a factorisation is dear against the confirming
+                // chord step it may cost (wide bands).
+                let frozen_z = match &self.factors.of {
+                    Some(f)
+                        if !chord
+                            && self.freeze_z
+                            && self.method == Method::Direct
+                            && n2 >= FROZEN_MIN_N2
+                            && f.lo == lo
+                            && f.hi == hi
+                            && f.z != *z
+                            && drift_ok(f.z) =>
+                    {
+                        Some(f.z)
+                    }
+                    _ => None,
+                };
+                frozen = frozen_z.map(drift);
+                if let Some(zf) = frozen_z {
+                    step.gap.fill(g, zf, &mut self.jh);
+                    face_conductances(g, &self.jh, &mut self.jcx, &mut self.jcy);
+                }
+                // Residual F = balance(·) at the current iterate and the Newton matrix ∂F/∂x.
+                let fmax = self.assemble(step, state, (lo, hi), adv, at, frozen_z.is_some());
+                // Multigrid: converged when the last update settled the set and Z and the
+                // residual is at tolerance (the direct path decides after its exact solve).
+                if self.method == Method::Multigrid
+                    && last_changes == 0
+                    && last_dz <= self.tol.z_abs
+                    && fmax <= self.tol.residual
+                {
+                    break;
+                }
                 if !chord {
                     self.factorisations += 1;
                     self.factor()?;
                     self.factors.of = Some(FactoredFor {
                         lo,
                         hi,
-                        z: *z,
+                        z: frozen_z.unwrap_or(*z),
                         active: active.to_vec(),
                     });
                 }
@@ -937,17 +1004,22 @@ impl FilmSolver {
                     self.factors.lu.solve(&mut self.y1);
                 }
                 debug_assert_eq!(self.y1.len(), m1 * n2);
+                let (mut dp, mut dphi, mut pmax) = (0.0f64, 0.0f64, 0.0f64);
                 for i in lo..=hi {
                     for j in 0..n2 {
                         let k = i * n2 + j;
                         let d = self.y1[(i - lo) * n2 + j];
                         if state.pressurised[k] {
                             state.p[k] += d;
+                            dp = dp.max(d.abs());
+                            pmax = pmax.max(state.p[k].abs());
                         } else if !cutoff {
                             state.phi[k] += d;
+                            dphi = dphi.max(d.abs() / self.h[k]);
                         }
                     }
                 }
+                correction = dphi.max(if pmax > 0.0 { dp / pmax } else { 0.0 });
             } else if let Some(link) = step.ring {
                 // No pressure anywhere: W_h = 0 and the ring update is explicit.
                 dz = link.z_pred - link.kappa * link.w_ps - *z;
@@ -1002,7 +1074,10 @@ impl FilmSolver {
             check_finite(g, state, *z)?;
             // An exact linear solve leaves a round-off residual: settled set and Z suffice.
             let exact = empty || self.method != Method::Multigrid;
-            if exact && changes == 0 && dz.abs() <= self.tol.z_abs {
+            // After a chord step the residual is the matrix error (its drift) times the
+            // correction: stop only once that is at round-off.
+            let confirmed = frozen.is_none_or(|d| d * correction <= CHORD_CONFIRM);
+            if exact && changes == 0 && dz.abs() <= self.tol.z_abs && confirmed {
                 break;
             }
             (last_changes, last_dz) = (changes, dz.abs());
@@ -1214,6 +1289,7 @@ impl FilmSolver {
             iterations,
             cycles,
             factorisations: self.factorisations,
+            eliminated_rows: self.eliminated_rows,
             residual,
             w_h: load(g, &step.gap.ring, &state.p),
         })
