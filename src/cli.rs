@@ -210,6 +210,10 @@ pub struct BenchArgs {
     /// Film linear solver.
     #[arg(long, value_enum, default_value_t = Method::Direct)]
     pub solver: Method,
+    /// Initial state of every case: the paper's (the speed targets are stated from it) or
+    /// the untextured equilibrium.
+    #[arg(long, value_enum, default_value_t = Start::Paper)]
+    pub start: Start,
     /// Where to write the results (JSON).
     #[arg(long, value_name = "FILE", default_value = "results/bench.json")]
     pub out: PathBuf,
@@ -403,6 +407,7 @@ fn bench_cmd(a: &BenchArgs) -> Result<i32, CmdError> {
     let fidelity = a.fidelity;
     let num = Numerics {
         solver: a.solver,
+        start: a.start,
         ..fidelity.numerics()
     };
     let mut rows = Vec::new();

@@ -307,20 +307,38 @@ const GS_RESIDUAL: f64 = 1e-12;
 /// Largest excursion of θ outside [0, 1] taken for round-off.
 const THETA_ROUND_OFF: f64 = 1e-9;
 
-/// Direct method: the last factors are reused (a chord step) when the matrix has changed by
-/// at most this much relative since they were computed; the converged state then differs
-/// from Newton's by about this times the last correction (measured: outcomes within 1e-13).
-const CHORD_DRIFT: f64 = 1e-6;
+/// Direct method: the factors at hand are reused (a chord step) when the matrix has changed
+/// by at most this much relative since they were computed (3|δZ|/h: conductances ∝ h³).
+/// Each chord step then cuts the error by at least this factor, and the stopping rule
+/// accounts for it (`CHORD_CONFIRM`), so the converged state is Newton's to round-off.
+/// With a narrow band a factorisation is cheap against an iteration, and a tight bound keeps
+/// the factors fresh, so that near the periodic regime a step settles in one iteration; with
+/// a wide band ([`WIDE_BAND_N2`]) a looser one trades iterations for factorisations.
+/// Measured (Case III from the paper start, per step): 512×8 at 1e-6 / 1e-5 / 1e-4: 2.90 /
+/// 3.05 / 3.06 iterations, 2.18 / 1.94 / 1.78 factorisations (there an iteration costs
+/// ≈ 2.5 factorisations); 512×32 at 1e-6 / 1e-4: 3.65 / 3.85 iterations, 2.80 / 2.47
+/// factorisations (there a factorisation costs ≈ 1.5 iterations).
+fn chord_drift(n2: usize) -> f64 {
+    if n2 >= WIDE_BAND_N2 {
+        1e-4
+    } else {
+        1e-6
+    }
+}
 
-/// A chord step ends the iteration only when its correction times the matrix's relative
-/// drift (the residual it leaves, relative) is at most this: round-off.
-const CHORD_CONFIRM: f64 = 1e-14;
+/// An iteration ends the solve only when the residual it leaves, estimated as the relative
+/// matrix error at the final Z (chord drift, or for a Newton step its own Z change) times
+/// its relative correction, is at most this: round-off (exact Newton steps leave up to
+/// ≈ 1e-12).
+const CHORD_CONFIRM: f64 = 1e-12;
 
-/// Fewest cells across (band half-width) at which the Newton matrix is frozen at the
-/// factors' Z when only the active set changed. Measured (valgrind instruction counts, Case
-/// III from the paper start): 512×32 first period −6.4 %; 512×8 whole run +1.1 % (there a
-/// factorisation costs ≈ 2.5 substitutions, and the confirming chord step eats the gain).
-const FROZEN_MIN_N2: usize = 16;
+/// Fewest cells across (the band's half-width) from which a factorisation costs more than
+/// an iteration, so that the solver saves factorisations rather than iterations: a looser
+/// chord bound, and the Newton matrix frozen at the factors' Z when only the active set
+/// changed. Measured for the latter (valgrind instruction counts, Case III from the paper
+/// start): 512×32 first period −6.4 %; 512×8 whole run +1.1 % (there a factorisation costs
+/// ≈ 2.5 substitutions, and the confirming chord step eats the gain).
+const WIDE_BAND_N2: usize = 16;
 
 /// Why a film solve failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -420,7 +438,7 @@ pub struct FilmSolver {
     factorisations: usize,
     eliminated_rows: usize,
     /// Freeze the Newton matrix at the factors' Z when only the active set changed (wide
-    /// bands, `FROZEN_MIN_N2`); on by default, off to show what it saves.
+    /// bands, `WIDE_BAND_N2`); on by default, off to show what it saves.
     pub freeze_z: bool,
     mg: LineMultigrid,
     rhs1: Vec<f64>,
@@ -817,17 +835,20 @@ impl FilmSolver {
             let mut dz = 0.0;
             // Whether this iteration's matrix was not the Newton matrix at the current Z
             // (a chord step, or frozen at the factors' Z), and the size of its correction.
-            let mut frozen: Option<f64> = None;
+            // The Z the iteration's matrix is of (the current Z for a Newton step), and
+            // whether it was a chord or frozen one.
+            let mut z_matrix: Option<f64> = None;
+            let mut chorded = false;
             let mut correction: f64 = 0.0;
             if !empty {
                 let m1 = hi - lo + 1;
                 // Relative matrix change 3|δZ|/h since factors at zf (conductances ∝ h³).
                 let drift = |zf: f64| 3.0 * (*z - zf).abs() / (*z + ring_min_base);
-                let drift_ok = |zf: f64| drift(zf) <= CHORD_DRIFT;
+                let drift_ok = |zf: f64| drift(zf) <= chord_drift(n2);
                 // Chord step: when the factors at hand are of this range and active set and
                 // Z has moved since by so little that the matrix changed only by δc/c =
-                // 3|δZ|/h ≤ CHORD_DRIFT (conductances ∝ h³), they solve the new system to
-                // that relative accuracy. The iteration stays convergent (error × CHORD_DRIFT
+                // 3|δZ|/h ≤ chord_drift (conductances ∝ h³), they solve the new system to
+                // that relative accuracy. The iteration stays convergent (error × the drift
                 // per step) and ends where Newton would, to round-off; it saves a
                 // factorisation: the confirming one of a step, and near the periodic regime
                 // the first one too, with the factors of the same phase a period earlier.
@@ -845,7 +866,7 @@ impl FilmSolver {
                         if !chord
                             && self.freeze_z
                             && self.method == Method::Direct
-                            && n2 >= FROZEN_MIN_N2
+                            && n2 >= WIDE_BAND_N2
                             && f.lo == lo
                             && f.hi == hi
                             && f.z != *z
@@ -855,7 +876,12 @@ impl FilmSolver {
                     }
                     _ => None,
                 };
-                frozen = frozen_z.map(drift);
+                chorded = chord || frozen_z.is_some();
+                z_matrix = Some(if chord {
+                    self.factors.of.as_ref().map_or(*z, |f| f.z)
+                } else {
+                    frozen_z.unwrap_or(*z)
+                });
                 if let Some(zf) = frozen_z {
                     step.gap.fill(g, zf, &mut self.jh);
                     face_conductances(g, &self.jh, &mut self.jcx, &mut self.jcy);
@@ -1072,12 +1098,19 @@ impl FilmSolver {
                 }
             }
             check_finite(g, state, *z)?;
-            // An exact linear solve leaves a round-off residual: settled set and Z suffice.
+            // Exact linear solves (direct): stop once the set is settled and what the next
+            // iteration would still change is at round-off: a Newton step that moved Z by at
+            // most z_abs, or any step whose estimated leftover is. At a fixed set the
+            // problem is nonlinear only through h(Z), so what is left is about the matrix's
+            // relative error at the final Z (c: the drift of chord or frozen factors, or a
+            // Newton step's own Z change) times this iteration's change, in Z and in p, φ.
             let exact = empty || self.method != Method::Multigrid;
-            // After a chord step the residual is the matrix error (its drift) times the
-            // correction: stop only once that is at round-off.
-            let confirmed = frozen.is_none_or(|d| d * correction <= CHORD_CONFIRM);
-            if exact && changes == 0 && dz.abs() <= self.tol.z_abs && confirmed {
+            let settled = (dz.abs() <= self.tol.z_abs && !chorded)
+                || z_matrix.is_some_and(|zm| {
+                    let c = 3.0 * (*z - zm).abs() / (*z + ring_min_base);
+                    c * dz.abs() <= self.tol.z_abs && c * correction <= CHORD_CONFIRM
+                });
+            if exact && changes == 0 && settled {
                 break;
             }
             (last_changes, last_dz) = (changes, dz.abs());

@@ -587,6 +587,9 @@ struct PeriodGuess {
     factors: Vec<Option<Factors>>,
     /// Memory the kept factors take (bytes, as measured when each slot was filled).
     factor_bytes: usize,
+    /// Slot n mod (len + 1): Z of time level n, one level further back than the states, for
+    /// the ring's step of one period ago.
+    z: Vec<Option<f64>>,
 }
 
 /// The period-old state is used when |Z_guess − Z_then| ≤ this × |Z_guess − Z_now|: the
@@ -621,6 +624,11 @@ impl PeriodGuess {
                 Vec::new()
             },
             factor_bytes: 0,
+            z: if on {
+                vec![None; steps_per_period + 1]
+            } else {
+                Vec::new()
+            },
         }
     }
 
@@ -658,20 +666,25 @@ impl PeriodGuess {
 
     /// The state of time level `level − period`, if stored and the ring at the guess
     /// `z_guess` for level `level` is near enough its Z then (see [`PERIOD_GUESS_DRIFT`]);
-    /// with it a guess of Z: the ring's step one period ago repeated from `z_now` (closer
-    /// than the velocity extrapolation by ≈ 30× near the periodic regime, which lets the
-    /// direct method confirm the step by a chord solve).
+    /// with it a guess of Z: the ring's step of one period ago repeated from `z_now`, i.e.
+    /// the drift over the last period carried forward by one step (near the periodic
+    /// regime far closer than the velocity extrapolation, which lets the direct method
+    /// settle the step by one chord solve).
     fn guess(&self, level: usize, z_guess: f64, z_now: f64) -> Option<(&FilmState, f64)> {
         let n = self.slots.len();
         let (state, z_then) = self.slots.get(level.checked_rem(n)?)?.as_ref()?;
         let near = (z_guess - z_then).abs() <= PERIOD_GUESS_DRIFT * (z_guess - z_now).abs();
-        let (_, z_before) = self.slots[(level + n - 1) % n].as_ref()?;
-        near.then_some((state, z_then + (z_now - z_before)))
+        // Z of level − period − 1 (the slot of level − 1 holds level − 1 itself).
+        let z_before = self.z[level.checked_sub(n + 1)? % (n + 1)]?;
+        near.then_some((state, z_now + (z_then - z_before)))
     }
 
     /// Keeps the solved state of time level `level` (reusing the slot's buffers).
     fn store(&mut self, level: usize, state: &FilmState, z: f64) {
         let n = self.slots.len();
+        if let Some(slot) = level.checked_rem(n + 1).and_then(|k| self.z.get_mut(k)) {
+            *slot = Some(z);
+        }
         let Some(slot) = level.checked_rem(n).map(|k| &mut self.slots[k]) else {
             return;
         };
@@ -686,6 +699,7 @@ impl PeriodGuess {
 
     fn clear(&mut self) {
         self.slots.iter_mut().for_each(|s| *s = None);
+        self.z.iter_mut().for_each(|z| *z = None);
     }
 }
 
