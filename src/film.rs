@@ -833,10 +833,8 @@ impl FilmSolver {
             }
 
             let mut dz = 0.0;
-            // Whether this iteration's matrix was not the Newton matrix at the current Z
-            // (a chord step, or frozen at the factors' Z), and the size of its correction.
-            // The Z the iteration's matrix is of (the current Z for a Newton step), and
-            // whether it was a chord or frozen one.
+            // The Z the iteration's matrix is of (the current Z for a Newton step), whether
+            // it was a chord or frozen one, and the relative size of its correction.
             let mut z_matrix: Option<f64> = None;
             let mut chorded = false;
             let mut correction: f64 = 0.0;
