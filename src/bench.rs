@@ -54,11 +54,16 @@ impl BenchRow {
     pub fn line(&self) -> String {
         let o = &self.outcome;
         format!(
-            "{:16} {:6} {:8.2} s  {:6} steps {:4} periods  {:5.2} it/step  {:7.3} ms/step  f̄ {:.5}  C_min {:.4} µm{}",
+            "{:16} {:6} {:8.2} s  {:6} steps{} {:4} periods  {:5.2} it/step  {:7.3} ms/step  f̄ {:.5}  C_min {:.4} µm{}",
             self.name,
             self.fidelity,
             self.wall_time_s,
             self.steps,
+            if o.approach_steps > 0 {
+                format!(" ({} coarse)", o.approach_steps)
+            } else {
+                String::new()
+            },
             self.periods,
             self.iterations_per_step,
             self.ms_per_step,

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use crate::case::{CaseSpec, Coupling, Fidelity, InputError, Numerics, Start, Texture};
 use crate::film::{Cavitation, Method};
-use crate::run::{simulate, Outcome, Progress, RunResult, SeriesRow, Transient};
+use crate::run::{simulate, Outcome, Progress, RunResult, SeriesRow};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -214,6 +214,10 @@ pub struct BenchArgs {
     /// the untextured equilibrium.
     #[arg(long, value_enum, default_value_t = Start::Paper)]
     pub start: Start,
+    /// Coarse approach to the periodic regime: N2 of the mesh the ring's transient runs on
+    /// before the tier's mesh takes over, or `off` [default: the tier's: 8 for paper]
+    #[arg(long = "approach-n2", value_name = "N2|off", value_parser = parse_approach)]
+    pub approach_n2: Option<ApproachN2>,
     /// Where to write the results (JSON).
     #[arg(long, value_name = "FILE", default_value = "results/bench.json")]
     pub out: PathBuf,
@@ -320,6 +324,13 @@ pub struct SimulateArgs {
     /// Do not jump the state along a dominant slow mode (simulate every period of the approach).
     #[arg(long = "no-extrapolate")]
     pub no_extrapolate: bool,
+    /// Coarse approach to the periodic regime: run the ring's transient on a mesh of N2 cells
+    /// along x2 (same N1 and dt), then carry the state over to the full mesh and run on to
+    /// its own periodic regime (the answer is the full mesh's); `off` to run every step on
+    /// the full mesh. Only meshes with more x2 cells use it. [default: the tier's: 8 for
+    /// paper, off for the others]
+    #[arg(long = "approach-n2", value_name = "N2|off", value_parser = parse_approach)]
+    pub approach_n2: Option<ApproachN2>,
     /// Ring coupling: implicit (Newmark inside the film iteration, default) or explicit
     /// (for stability studies: it fails at the paper's dt, model.md §4).
     #[arg(long, value_enum, default_value_t = Coupling::Implicit)]
@@ -349,6 +360,23 @@ fn parse_radius(s: &str) -> Result<f64, String> {
     }
     t.parse::<f64>()
         .map_err(|_| format!("expected a radius in cm (e.g. 0.8) or \"inf\", got {s:?}"))
+}
+
+/// `--approach-n2`: a cell count, or `off`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ApproachN2(pub Option<usize>);
+
+fn parse_approach(s: &str) -> Result<ApproachN2, String> {
+    let t = s.trim();
+    if t.eq_ignore_ascii_case("off") {
+        return Ok(ApproachN2(None));
+    }
+    match t.parse::<usize>() {
+        Ok(n) if n > 0 => Ok(ApproachN2(Some(n))),
+        _ => Err(format!(
+            "expected a number of x2 cells ≥ 1 (e.g. 8) or \"off\", got {s:?}"
+        )),
+    }
 }
 
 fn parse_mesh(s: &str) -> Result<(usize, usize), String> {
@@ -405,10 +433,12 @@ fn bench_cmd(a: &BenchArgs) -> Result<i32, CmdError> {
         )));
     }
     let fidelity = a.fidelity;
+    let tier = fidelity.numerics();
     let num = Numerics {
         solver: a.solver,
         start: a.start,
-        ..fidelity.numerics()
+        approach_n2: a.approach_n2.map_or(tier.approach_n2, |x| x.0),
+        ..tier
     };
     let mut rows = Vec::new();
     let mut failed = 0;
@@ -774,6 +804,7 @@ pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputErr
         cycles: a.cycles,
         start: a.start,
         extrapolate: !a.no_extrapolate,
+        approach_n2: a.approach_n2.map_or(tier.approach_n2, |x| x.0),
         coupling: a.coupling,
         cavitation: a.cavitation,
         ..Numerics::default()
@@ -822,7 +853,7 @@ fn simulate_cmd(a: &SimulateArgs) -> Result<i32, CmdError> {
         }
     };
     let result = if transient {
-        Transient::new(&case, &num).run_observed(&num, a.series.is_some(), &mut observe)
+        crate::run::run_transient(&case, &num, a.series.is_some(), &[], &mut observe)
     } else {
         simulate(&case, &num, false)
     };
@@ -900,6 +931,12 @@ fn print_summary(case: &CaseSpec, num: &Numerics, o: &Outcome) {
             if o.converged { "reached" } else { "NOT reached" },
             o.periodic_error
         );
+        if let (true, Some(coarse)) = (o.approach_steps > 0, num.approach_numerics(case)) {
+            println!(
+                "  (the first {} steps on {}x{} cells, the coarse approach: the outcomes are those of the full mesh; --approach-n2 off to run every step on it)",
+                o.approach_steps, coarse.n1, coarse.n2
+            );
+        }
     }
     println!(
         "  mean friction coefficient  f = {:.5}   (eq. 11; the paper prints f/10 = {:.6})",

@@ -53,6 +53,14 @@ pub struct Outcome {
     /// Largest relative nodal residual of the film equation over the run.
     pub max_residual: f64,
     pub wall_time_s: f64,
+    /// Of `steps` (and `periods`), those taken on the coarse approach mesh
+    /// (`Numerics::approach_n2`); 0 without one. Absent in records made before it existed.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub approach_steps: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// One row of the time series: values at the end of each step.
@@ -155,6 +163,19 @@ pub struct Transient {
     /// Solved states of the last texture period, slot = step index mod steps per period:
     /// the initial guess of the film iteration one period later ([`PeriodGuess`]).
     period_ago: PeriodGuess,
+    /// What a coarse approach ([`Transient::refined`]) took before this run's mesh.
+    pub approach: ApproachDone,
+}
+
+/// The part of a run taken on a coarse approach mesh (zero without one).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ApproachDone {
+    pub steps: usize,
+    pub periods: usize,
+    pub wall_time_s: f64,
+    /// Simulated time at which the run moved to its own mesh.
+    pub t: f64,
+    pub n2: usize,
 }
 
 impl Transient {
@@ -169,7 +190,7 @@ impl Transient {
     /// acceleration is consistent with the unpressurised film: Z''(0) = −W_ps/m.
     ///
     /// With `Start::Equilibrium` (numerics) the run starts instead from the untextured force
-    /// balance; the periodic regime it reaches is the same (tests/start.rs).
+    /// balance; the periodic regime it reaches is the same (tests/solvers.rs).
     pub fn new(case: &CaseSpec, num: &Numerics) -> Self {
         let scene = Scene::new(case, num);
         let period = case
@@ -261,6 +282,7 @@ impl Transient {
             total_iterations: 0,
             max_residual: 0.0,
             period_ago,
+            approach: ApproachDone::default(),
         }
     }
 
@@ -413,6 +435,36 @@ impl Transient {
         Ok(())
     }
 
+    /// This run, after `done` (its periods, wall time) on a coarse mesh, carried over to the
+    /// mesh of `num`: same N1 and time step, another N2 (model.md §3's grid, x2 cells only).
+    /// The ring state, time, step count and iteration tally go on as they are; the film's
+    /// saturation θ and pressure are interpolated in x2 ([`interpolate_x2`]) at the current
+    /// texture phase, and that film is also the new mesh's previous time level. The new
+    /// run's first step then solves the new mesh's film for it; the mismatch decays like any
+    /// start's (the periodic regime does not depend on the start).
+    pub fn refined(&self, num: &Numerics, done: ApproachDone) -> Transient {
+        let mut fine = Transient::new(&self.case, num);
+        debug_assert_eq!(
+            (fine.scene.grid.n1, fine.steps_per_period),
+            (self.scene.grid.n1, self.steps_per_period)
+        );
+        let phase = (self.steps % self.steps_per_period) as f64 * self.dt;
+        fine.scene.place(phase);
+        let mut coarse = self.scene.clone();
+        coarse.place(phase);
+        fine.state = interpolate_x2(&coarse, &self.state, self.ring_state.z, &fine.scene);
+        fine.phi_old.copy_from_slice(&fine.state.phi);
+        fine.ring_state = self.ring_state;
+        fine.t = self.t;
+        fine.steps = self.steps;
+        fine.total_iterations = self.total_iterations;
+        fine.max_residual = self.max_residual;
+        fine.max_mass_defect = self.max_mass_defect;
+        fine.extra_theta_s.clone_from(&self.extra_theta_s);
+        fine.approach = done;
+        fine
+    }
+
     /// Relative discrete mass defect of the last step: |Σ(φⁿ⁺¹ − φⁿ)·area − dt·(in − out)|
     /// over dt·(|in| + |out|), the x1-end flows. Round-off for the conservative scheme when
     /// the film solve converged. (Σ of differences: the totals hold the flooded upstream gap,
@@ -519,7 +571,7 @@ impl Transient {
                 f64::INFINITY
             });
             observe(&Progress {
-                period: history.len() * wp,
+                period: self.approach.periods + history.len() * wp,
                 t: self.t,
                 f_mean: history[history.len() - 1].friction.total(),
                 z_mean: history[history.len() - 1].z_mean,
@@ -543,7 +595,7 @@ impl Transient {
             z_min: last.z_min,
             z_max: last.z_max,
             c_min,
-            periods: history.len() * wp,
+            periods: self.approach.periods + history.len() * wp,
             steps: self.steps,
             converged,
             periodic_error,
@@ -552,7 +604,8 @@ impl Transient {
             t_end: self.t,
             iterations_per_step: self.total_iterations as f64 / self.steps.max(1) as f64,
             max_residual: self.max_residual,
-            wall_time_s: start.elapsed().as_secs_f64(),
+            wall_time_s: self.approach.wall_time_s + start.elapsed().as_secs_f64(),
+            approach_steps: self.approach.steps,
         };
         let extra = self
             .extra_theta_s
@@ -868,6 +921,66 @@ fn periodic_error(h: &[PeriodMeans]) -> f64 {
 
 /// One evaluation with the default dispatch: an untextured liner is solved as the steady
 /// 1D force balance on n1 cells; a textured one by the 2D transient to the periodic regime.
+/// The transient of a textured case ready to run on `num`'s mesh: from the start of
+/// `num.start`, or, with a coarse approach (`num.approach_n2` below N2), from where a run on
+/// the coarse mesh reached its periodic regime to [`APPROACH_TOL`] (`observe` sees that
+/// run's periods; its time series, when asked for, goes to `series`).
+pub fn start_transient(
+    case: &CaseSpec,
+    num: &Numerics,
+    series: Option<&mut Vec<SeriesRow>>,
+    observe: &mut dyn FnMut(&Progress),
+) -> Result<Transient, SolveError> {
+    let Some(coarse) = num.approach_numerics(case) else {
+        return Ok(Transient::new(case, num));
+    };
+    let mut t = Transient::new(case, &coarse);
+    let r = t.run_observed(&coarse, series.is_some(), observe)?;
+    if let (Some(all), Some(rows)) = (series, r.series) {
+        all.extend(rows);
+    }
+    let done = ApproachDone {
+        steps: r.outcome.steps,
+        periods: r.outcome.periods,
+        wall_time_s: r.outcome.wall_time_s,
+        t: r.outcome.t_end,
+        n2: coarse.n2,
+    };
+    Ok(t.refined(num, done))
+}
+
+/// The 2D transient of `case` to its periodic regime (with the coarse approach of `num`, if
+/// any), reporting the outcomes for the further shear thresholds `extra_theta_s` too and
+/// calling `observe` after every texture period of either mesh. The time series, when
+/// asked for, holds every step, the coarse approach's included.
+pub fn run_transient(
+    case: &CaseSpec,
+    num: &Numerics,
+    record_series: bool,
+    extra_theta_s: &[f64],
+    observe: &mut dyn FnMut(&Progress),
+) -> Result<RunResult, SolveError> {
+    let mut series = record_series.then(Vec::new);
+    let mut t = start_transient(case, num, series.as_mut(), observe)?;
+    t.extra_theta_s = extra_theta_s.to_vec();
+    let mut r = t.run_observed(num, record_series, observe)?;
+    if let (Some(mut all), Some(rows)) = (series, r.series.take()) {
+        all.extend(rows);
+        r.series = Some(all);
+    }
+    Ok(r)
+}
+
+/// Periodic tolerance at which a coarse approach hands over to the full mesh: about the
+/// coarse mesh's own offset from the full one (512×8 vs 512×32: 0.1–0.4 % in f̄ and Z̄),
+/// which only the full mesh's periods remove; converging the coarse run much further buys
+/// nothing, stopping it much earlier leaves the full mesh part of the transient. Measured
+/// (paper tier, `bench`, Case I / Case III / R = 51.2, wall s, two runs side by side): from
+/// the paper's start 19.6 / 19.7 / 23.0 at 1e-1, 15.9 / 23.2 / 25.6 at 1e-2, 14.7 / 19.1 /
+/// 25.2 at 1e-3; from the equilibrium start 25.7 / 22.2 / 36.0, 15.5 / 17.4 / 24.0, 13.1 /
+/// 19.9 / 23.6 (without the approach 31.3 / 40.9 / 33.2).
+pub const APPROACH_TOL: f64 = 1e-3;
+
 pub fn simulate(
     case: &CaseSpec,
     num: &Numerics,
@@ -898,11 +1011,7 @@ pub fn simulate_theta_s(
             }
             Ok(r)
         }
-        Some(_) => {
-            let mut t = Transient::new(case, num);
-            t.extra_theta_s = extra_theta_s.to_vec();
-            t.run_to_periodic(num, record_series)
-        }
+        Some(_) => run_transient(case, num, record_series, extra_theta_s, &mut |_| {}),
     }
 }
 
@@ -933,10 +1042,43 @@ pub fn steady_outcome(case: &CaseSpec, n1: usize) -> Result<RunResult, SolveErro
         iterations_per_step: 0.0,
         max_residual: 0.0,
         wall_time_s: start.elapsed().as_secs_f64(),
+        approach_steps: 0,
     };
     Ok(RunResult {
         outcome,
         series: None,
         extra: Vec::new(),
     })
+}
+
+/// The film state of scene `from` (ring at z) on the mesh of scene `to`: same N1, other N2,
+/// both placed at the same texture phase. Saturation θ and pressure are interpolated
+/// linearly in x2 between node centres (held constant beyond the outermost ones, the
+/// symmetry lines), φ = θ·h on the new gap (h on the pressurised set, θ = 1), the active set
+/// that of the nearer node. Why θ rather than φ: the pockets' depth differs node by node
+/// between the meshes, the saturation far less.
+fn interpolate_x2(from: &Scene, state: &FilmState, z: f64, to: &Scene) -> FilmState {
+    let (gc, gf) = (&from.grid, &to.grid);
+    let mut out = FilmState::cavitated(gf, &to.gap, z, 0.0);
+    let last = (gc.n2 - 1) as f64;
+    for j in 0..gf.n2 {
+        // The fine node's x2 in coarse node units, and its two neighbours there.
+        let s = (gf.y(j) / gc.dy - 0.5).clamp(0.0, last);
+        let j0 = s.floor() as usize;
+        let j1 = (j0 + 1).min(gc.n2 - 1);
+        let w = s - j0 as f64;
+        for i in 0..=gf.n1 {
+            let (k0, k1) = (gc.idx(i, j0), gc.idx(i, j1));
+            let theta_at = |k: usize| state.theta(gc, &from.gap, z, k).clamp(0.0, 1.0);
+            let theta = (1.0 - w) * theta_at(k0) + w * theta_at(k1);
+            let p = (1.0 - w) * state.p[k0] + w * state.p[k1];
+            let k = gf.idx(i, j);
+            let h = to.gap.h(gf, k, z);
+            let pressurised = state.pressurised[if w < 0.5 { k0 } else { k1 }];
+            out.pressurised[k] = pressurised;
+            out.p[k] = if pressurised { p.max(0.0) } else { 0.0 };
+            out.phi[k] = if pressurised { h } else { theta * h };
+        }
+    }
+    out
 }

@@ -126,6 +126,8 @@ fn bad_inputs_are_refused_with_exit_2_and_a_message_naming_the_parameter() {
         (with_tex(&["--start", "cold"]), "--start"),
         (with_tex(&["--solve-tol", "0"]), "--solve-tol"),
         (with_tex(&["--cycles", "0"]), "cycles"),
+        (with_tex(&["--approach-n2", "0"]), "--approach-n2"),
+        (with_tex(&["--approach-n2", "coarse"]), "--approach-n2"),
         (
             to(&["bench", "--case", "case-IV", "--out", s]),
             "no such benchmark case",
@@ -184,6 +186,26 @@ fn fidelity_tiers_set_mesh_and_step_unless_overridden() {
     let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
     assert_eq!(v["inputs"]["mesh"], "64x4");
     assert_eq!(v["inputs"]["numerics"]["dt"], 8e-4);
+    // The paper tier approaches the periodic regime on 8 cells across unless told not to;
+    // the other tiers do not.
+    assert!(v["inputs"]["numerics"].get("approach_n2").is_none());
+    for (extra, want) in [(None, Some(8)), (Some("off"), None), (Some("4"), Some(4))] {
+        let mut args = vec!["simulate", "--R", "0.8", "--json"];
+        if let Some(x) = extra {
+            args.extend(["--approach-n2", x]);
+        }
+        let (code, out, err) = texopt(&args);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+        assert_eq!(v["inputs"]["mesh"], "512x32");
+        assert_eq!(
+            v["inputs"]["numerics"]
+                .get("approach_n2")
+                .and_then(|n| n.as_u64()),
+            want,
+            "{extra:?}"
+        );
+    }
 }
 
 #[test]
@@ -270,6 +292,42 @@ fn json_and_series_deliver_the_promised_fields() {
         "t,Z,W_h,f,f_couette,f_poiseuille,f_pressure"
     );
     assert_eq!(lines.count() as u64, v["steps"].as_u64().unwrap());
+    assert!(
+        v.get("approach_steps").is_none(),
+        "64x4 is below the tier's approach"
+    );
+
+    // With a coarse approach (64x2 first): its steps are counted and in the series too.
+    let (code, out, err) = texopt(&[
+        "simulate",
+        "--R",
+        "3.2",
+        "--l1",
+        "0.03",
+        "--per",
+        "0.06",
+        "--depth",
+        "10",
+        "--mesh",
+        "64x4",
+        "--approach-n2",
+        "2",
+        "--json",
+        "--series",
+        series.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).expect("one JSON object");
+    let (steps, coarse) = (
+        v["steps"].as_u64().unwrap(),
+        v["approach_steps"].as_u64().unwrap(),
+    );
+    assert!(
+        coarse > 0 && coarse < steps,
+        "{coarse} of {steps} steps coarse"
+    );
+    let csv = std::fs::read_to_string(&series).unwrap();
+    assert_eq!(csv.lines().count() as u64, steps + 1);
 
     // The untextured liner: steady 1D, human summary with units.
     let (code, out, _) = texopt(&["simulate", "--R", "0.8"]);

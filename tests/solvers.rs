@@ -278,3 +278,46 @@ fn slow_mode_extrapolation_saves_periods_without_changing_the_answer() {
         plain.z_mean
     );
 }
+
+#[test]
+fn a_coarse_approach_takes_the_transient_without_changing_the_answer() {
+    // From the paper's start the ring's transient runs on 8 cells along x2, then the state
+    // moves to 16: the answer must be the 16-cell mesh's, reached in fewer steps on it.
+    for case in [
+        case_three(),
+        CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0)),
+    ] {
+        let run = |approach_n2: Option<usize>| {
+            let num = Numerics {
+                n2: 16,
+                start: Start::Paper,
+                periodic_tol: 1e-5,
+                approach_n2,
+                ..Fidelity::Draft.numerics()
+            };
+            simulate(&case, &num, true).unwrap()
+        };
+        let (plain, approached) = (run(None), run(Some(8)));
+        let (a, b) = (&approached.outcome, &plain.outcome);
+        assert!(a.converged && b.converged);
+        assert_eq!(b.approach_steps, 0);
+        assert!(a.approach_steps > 0, "no coarse approach ran");
+        // The time series holds every step, the coarse ones included.
+        assert_eq!(approached.series.as_ref().map(Vec::len), Some(a.steps));
+        assert!(
+            a.steps - a.approach_steps < b.steps,
+            "{} of {} steps on the full mesh vs {} without the approach",
+            a.steps - a.approach_steps,
+            a.steps,
+            b.steps
+        );
+        let rel = |x: f64, y: f64| ((x - y) / y).abs();
+        for (what, x, y) in [
+            ("f", a.f_mean, b.f_mean),
+            ("C_min", a.c_min, b.c_min),
+            ("Z", a.z_mean, b.z_mean),
+        ] {
+            assert!(rel(x, y) < 5e-5, "{what}: {x} with the approach vs {y}");
+        }
+    }
+}
