@@ -317,7 +317,7 @@ impl Numerics {
     }
 }
 
-/// x2 cells of the coarse approach of the tiers with more (`paper`): the `fast` tier's N2.
+/// x2 cells of the coarse approach of the tiers with more (`paper`, `fine`): the `fast` tier's N2.
 pub const APPROACH_N2: usize = 8;
 
 /// Fewest cells across a pocket (along x2) the tiers above `draft` accept before raising N2.

@@ -215,7 +215,7 @@ pub struct BenchArgs {
     #[arg(long, value_enum, default_value_t = Start::Paper)]
     pub start: Start,
     /// Coarse approach to the periodic regime: N2 of the mesh the ring's transient runs on
-    /// before the tier's mesh takes over, or `off` [default: the tier's: 8 for paper]
+    /// before the tier's mesh takes over, or `off` [default: the tier's: 8 for paper and fine]
     #[arg(long = "approach-n2", value_name = "N2|off", value_parser = parse_approach)]
     pub approach_n2: Option<ApproachN2>,
     /// Where to write the results (JSON).
@@ -328,7 +328,7 @@ pub struct SimulateArgs {
     /// along x2 (same N1 and dt), then carry the state over to the full mesh and run on to
     /// its own periodic regime (the answer is the full mesh's); `off` to run every step on
     /// the full mesh. Only meshes with more x2 cells use it. [default: the tier's: 8 for
-    /// paper, off for the others]
+    /// paper and fine, off for draft and fast]
     #[arg(long = "approach-n2", value_name = "N2|off", value_parser = parse_approach)]
     pub approach_n2: Option<ApproachN2>,
     /// Ring coupling: implicit (Newmark inside the film iteration, default) or explicit
