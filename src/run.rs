@@ -919,8 +919,6 @@ fn periodic_error(h: &[PeriodMeans]) -> f64 {
     est(&|p| p.friction.total()).max(est(&|p| p.z_mean))
 }
 
-/// One evaluation with the default dispatch: an untextured liner is solved as the steady
-/// 1D force balance on n1 cells; a textured one by the 2D transient to the periodic regime.
 /// The transient of a textured case ready to run on `num`'s mesh: from the start of
 /// `num.start`, or, with a coarse approach (`num.approach_n2` below N2), from where a run on
 /// the coarse mesh reached its periodic regime to [`APPROACH_TOL`] (`observe` sees that
@@ -931,11 +929,18 @@ pub fn start_transient(
     series: Option<&mut Vec<SeriesRow>>,
     observe: &mut dyn FnMut(&Progress),
 ) -> Result<Transient, SolveError> {
-    let Some(coarse) = num.approach_numerics(case) else {
+    let Some(mut coarse) = num.approach_numerics(case) else {
         return Ok(Transient::new(case, num));
     };
+    // The full mesh keeps at least half of the time allowed.
+    coarse.t_max = 0.5 * num.t_max;
     let mut t = Transient::new(case, &coarse);
-    let r = t.run_observed(&coarse, series.is_some(), observe)?;
+    let r = match t.run_observed(&coarse, series.is_some(), observe) {
+        Ok(r) => r,
+        // A coarse mesh may fail where the full one would not (a pocket it resolves poorly
+        // closing the gap): then the full mesh runs from the start alone.
+        Err(_) => return Ok(Transient::new(case, num)),
+    };
     if let (Some(all), Some(rows)) = (series, r.series) {
         all.extend(rows);
     }
@@ -981,6 +986,8 @@ pub fn run_transient(
 /// 19.9 / 23.6 (without the approach 31.3 / 40.9 / 33.2).
 pub const APPROACH_TOL: f64 = 1e-3;
 
+/// One evaluation with the default dispatch: an untextured liner is solved as the steady
+/// 1D force balance on n1 cells; a textured one by the 2D transient to the periodic regime.
 pub fn simulate(
     case: &CaseSpec,
     num: &Numerics,
