@@ -470,7 +470,7 @@ struct Faces<'a> {
 /// Σ_faces c·(p_ij − p_nb) + adv·(φ_ij − φ_{i−1,j}) + at·(φ_ij − φ_old,ij), with adv = u·dy
 /// and at = 2·dx·dy/dt. It is (−2)× [net outflow + cell-area·∂φ/∂t] of the cell. Every solver
 /// path (residual, Z-derivative, upwind sweeps, mass checks) evaluates this function.
-#[inline]
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn balance(
     g: &Grid,
