@@ -214,14 +214,32 @@ impl BandLu {
     /// Solves A x = b1 and A x = b2 in place together (each row of the factors is read
     /// once for both): the same arithmetic as two `solve` calls, so the same bits.
     pub fn solve2(&self, b1: &mut [f64], b2: &mut [f64]) {
+        match self.w {
+            8 => self.solve2_w::<8>(b1, b2),
+            16 => self.solve2_w::<16>(b1, b2),
+            24 => self.solve2_w::<24>(b1, b2),
+            32 => self.solve2_w::<32>(b1, b2),
+            _ => self.solve2_w::<0>(b1, b2),
+        }
+    }
+
+    /// `solve2` with the band width W known at compile time (0: only at run time): rows
+    /// spanning the full band take dot products of fixed length (the same sums in the same
+    /// order, so the same bits).
+    fn solve2_w<const W: usize>(&self, b1: &mut [f64], b2: &mut [f64]) {
         let (n, w) = (self.n, self.w);
+        debug_assert!(W == 0 || W == w);
         let stride = 2 * w + 1;
         assert!(b1.len() >= n && b2.len() >= n);
         for i in 0..n {
             let first = i.saturating_sub(w);
             let row = &self.a[i * stride..(i + 1) * stride];
             let l = &row[first + w - i..w];
-            let (d1, d2) = dot2(l, &b1[first..i], &b2[first..i]);
+            let (d1, d2) = if W > 0 && i >= W {
+                dot2(&l[..W], &b1[first..first + W], &b2[first..first + W])
+            } else {
+                dot2(l, &b1[first..i], &b2[first..i])
+            };
             b1[i] -= d1;
             b2[i] -= d2;
         }
@@ -229,7 +247,11 @@ impl BandLu {
             let last = (i + w).min(n - 1);
             let row = &self.a[i * stride..(i + 1) * stride];
             let u = &row[w + 1..w + 1 + (last - i)];
-            let (d1, d2) = dot2(u, &b1[i + 1..=last], &b2[i + 1..=last]);
+            let (d1, d2) = if W > 0 && i + W < n {
+                dot2(&u[..W], &b1[i + 1..i + 1 + W], &b2[i + 1..i + 1 + W])
+            } else {
+                dot2(u, &b1[i + 1..=last], &b2[i + 1..=last])
+            };
             b1[i] = (b1[i] - d1) / row[w];
             b2[i] = (b2[i] - d2) / row[w];
         }
@@ -257,7 +279,7 @@ fn dot(a: &[f64], x: &[f64]) -> f64 {
 }
 
 /// `dot` for two vectors against the same coefficients (each equal to its `dot`).
-#[inline]
+#[inline(always)]
 fn dot2(a: &[f64], x: &[f64], y: &[f64]) -> (f64, f64) {
     let (mut p, mut q) = ([0.0f64; 4], [0.0f64; 4]);
     let (ac, ar) = a.split_at(a.len() & !3);
@@ -417,23 +439,25 @@ mod tests {
 
     #[test]
     fn solves_a_2d_laplacian_band() {
-        let (nx, ny) = (6, 4);
-        let s = laplacian(nx, ny, 0, 0.0);
-        let n = s.len();
-        let x: Vec<f64> = (0..n).map(|k| (k as f64 * 0.37).sin()).collect();
-        let mut b = vec![0.0; n];
-        s.apply(&x, &mut b);
-        let mut lu = BandLu::default();
-        lu.factor(&s).unwrap();
-        let (mut b1, mut b2) = (b.clone(), b.iter().map(|v| 2.0 * v).collect::<Vec<_>>());
-        lu.solve(&mut b);
-        lu.solve2(&mut b1, &mut b2);
-        assert_eq!(b, b1);
-        for (x2, x) in b2.iter().zip(&b) {
-            assert_eq!(*x2, 2.0 * x);
-        }
-        for k in 0..n {
-            assert!((b[k] - x[k]).abs() < 1e-12, "{k}: {} vs {}", b[k], x[k]);
+        // Width 4 takes the general path, 8, 16 and 32 the fixed-length one inside the band.
+        for (nx, ny) in [(6, 4), (7, 8), (5, 16), (4, 32)] {
+            let s = laplacian(nx, ny, 0, 0.0);
+            let n = s.len();
+            let x: Vec<f64> = (0..n).map(|k| (k as f64 * 0.37).sin()).collect();
+            let mut b = vec![0.0; n];
+            s.apply(&x, &mut b);
+            let mut lu = BandLu::default();
+            lu.factor(&s).unwrap();
+            let (mut b1, mut b2) = (b.clone(), b.iter().map(|v| 2.0 * v).collect::<Vec<_>>());
+            lu.solve(&mut b);
+            lu.solve2(&mut b1, &mut b2);
+            assert_eq!(bits(&b), bits(&b1), "{nx}x{ny}");
+            for (x2, x) in b2.iter().zip(&b) {
+                assert_eq!(*x2, 2.0 * x);
+            }
+            for k in 0..n {
+                assert!((b[k] - x[k]).abs() < 1e-12, "{k}: {} vs {}", b[k], x[k]);
+            }
         }
     }
 
