@@ -248,22 +248,16 @@ fn bench_writes_one_row_per_case_with_timings() {
 #[test]
 fn json_and_series_deliver_the_promised_fields() {
     let series = scratch("series.csv");
-    let (code, out, err) = texopt(&[
-        "simulate",
-        "--R",
-        "3.2",
-        "--l1",
-        "0.03",
-        "--per",
-        "0.06",
-        "--depth",
-        "10",
-        "--mesh",
-        "64x4",
-        "--json",
-        "--series",
-        series.to_str().unwrap(),
-    ]);
+    let case_three = |extra: &[&str]| {
+        let mut args = vec![
+            "simulate", "--R", "3.2", "--l1", "0.03", "--per", "0.06", "--depth", "10", "--mesh",
+            "64x4", "--json", "--series",
+        ];
+        args.push(series.to_str().unwrap());
+        args.extend_from_slice(extra);
+        texopt(&args)
+    };
+    let (code, out, err) = case_three(&[]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(out.trim()).expect("one JSON object");
     for key in [
@@ -298,24 +292,7 @@ fn json_and_series_deliver_the_promised_fields() {
     );
 
     // With a coarse approach (64x2 first): its steps are counted and in the series too.
-    let (code, out, err) = texopt(&[
-        "simulate",
-        "--R",
-        "3.2",
-        "--l1",
-        "0.03",
-        "--per",
-        "0.06",
-        "--depth",
-        "10",
-        "--mesh",
-        "64x4",
-        "--approach-n2",
-        "2",
-        "--json",
-        "--series",
-        series.to_str().unwrap(),
-    ]);
+    let (code, out, err) = case_three(&["--approach-n2", "2"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(out.trim()).expect("one JSON object");
     let (steps, coarse) = (
