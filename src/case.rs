@@ -168,8 +168,9 @@ pub struct Numerics {
     /// state over to this mesh and run on to its own periodic regime. The answer is this
     /// mesh's (the periodic regime does not depend on the start, tests/solvers.rs); the
     /// coarse mesh only takes the ring's transient, where a step costs a few band
-    /// factorisations (∝ N2³). None, or not below n2: off. Not serialised when off, so cache
-    /// keys of runs without it do not carry it.
+    /// factorisations (∝ N2³). None, or not below n2: off. Off in `Numerics::default()` (the
+    /// plain method, which the tests compare against); the `paper` and `fine` tiers set it.
+    /// Not serialised when off, so cache keys of runs without it do not carry it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub approach_n2: Option<usize>,
     /// How the ring equation is coupled to the film (implicit unless studying failure).
