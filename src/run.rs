@@ -173,9 +173,6 @@ pub struct ApproachDone {
     pub steps: usize,
     pub periods: usize,
     pub wall_time_s: f64,
-    /// Simulated time at which the run moved to its own mesh.
-    pub t: f64,
-    pub n2: usize,
 }
 
 impl Transient {
@@ -443,7 +440,12 @@ impl Transient {
     /// run's first step then solves the new mesh's film for it; the mismatch decays like any
     /// start's (the periodic regime does not depend on the start).
     pub fn refined(&self, num: &Numerics, done: ApproachDone) -> Transient {
-        let mut fine = Transient::new(&self.case, num);
+        // Its own start is replaced below: the paper's costs nothing to set up.
+        let fresh = Numerics {
+            start: Start::Paper,
+            ..num.clone()
+        };
+        let mut fine = Transient::new(&self.case, &fresh);
         debug_assert_eq!(
             (fine.scene.grid.n1, fine.steps_per_period),
             (self.scene.grid.n1, self.steps_per_period)
@@ -923,7 +925,7 @@ fn periodic_error(h: &[PeriodMeans]) -> f64 {
 /// `num.start`, or, with a coarse approach (`num.approach_n2` below N2), from where a run on
 /// the coarse mesh reached its periodic regime to [`APPROACH_TOL`] (`observe` sees that
 /// run's periods; its time series, when asked for, goes to `series`).
-pub fn start_transient(
+fn start_transient(
     case: &CaseSpec,
     num: &Numerics,
     series: Option<&mut Vec<SeriesRow>>,
@@ -934,12 +936,18 @@ pub fn start_transient(
     };
     // The full mesh keeps at least half of the time allowed.
     coarse.t_max = 0.5 * num.t_max;
+    let began = Instant::now();
     let mut t = Transient::new(case, &coarse);
     let r = match t.run_observed(&coarse, series.is_some(), observe) {
         Ok(r) => r,
         // A coarse mesh may fail where the full one would not (a pocket it resolves poorly
-        // closing the gap): then the full mesh runs from the start alone.
-        Err(_) => return Ok(Transient::new(case, num)),
+        // closing the gap): then the full mesh runs from the start alone (the time spent
+        // still counts).
+        Err(_) => {
+            let mut full = Transient::new(case, num);
+            full.approach.wall_time_s = began.elapsed().as_secs_f64();
+            return Ok(full);
+        }
     };
     if let (Some(all), Some(rows)) = (series, r.series) {
         all.extend(rows);
@@ -948,8 +956,6 @@ pub fn start_transient(
         steps: r.outcome.steps,
         periods: r.outcome.periods,
         wall_time_s: r.outcome.wall_time_s,
-        t: r.outcome.t_end,
-        n2: coarse.n2,
     };
     Ok(t.refined(num, done))
 }
