@@ -285,8 +285,9 @@ fn slow_mode_extrapolation_saves_periods_without_changing_the_answer() {
 #[test]
 fn a_damped_oscillation_is_read_and_jumped_without_changing_the_answer() {
     // A sharp ring (R = 0.2) settles by a slowly damped oscillation (|λ| ≈ 0.75 a window of
-    // two periods, a pseudo-period of ≈ 4 windows): the periodic test reads its limit and
-    // the state jumps to it, so the run stops sooner, within its tolerance of the limit.
+    // two periods, a pseudo-period of ≈ 4 windows): the state jumps to the limit read from
+    // the window means, so the run stops sooner, within its tolerance of the limit (as does
+    // the run without jumps).
     let case = CaseSpec::paper(0.2).with_texture(Texture::circular(0.01, 0.05, 5.0));
     let out = |extrapolate: bool, periodic_tol: f64| {
         let num = Numerics {
@@ -299,6 +300,7 @@ fn a_damped_oscillation_is_read_and_jumped_without_changing_the_answer() {
     let limit = out(false, 1e-10);
     let read = out(false, 1e-5);
     let jumped = out(true, 1e-5);
+    // (Without the fitted pair there is no jump: 68 periods for both.)
     assert!(limit.converged && read.converged && jumped.converged);
     // Measured: 152, 68 and 42 periods.
     assert!(
