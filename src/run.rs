@@ -557,8 +557,15 @@ impl Transient {
                 // the start of the remaining run changes; the periodic test then runs on
                 // fresh windows, so the reported regime is still a simulated one.
                 let fresh = &history[since_jump..];
-                let mode = slow_mode_ratio(fresh)
-                    .or_else(|| slow_pair(fresh).filter(|m| m.worth_a_jump(fresh, num)));
+                // A pair jumps only when both of its modes are slow (a damped oscillation,
+                // or two slow real modes); one slow real mode beside a fast one is the
+                // geometric jump's, a window or two later, once the fast one has gone (the
+                // pair fitted over it lands less close: R = 51.2 at 512×32 after the
+                // coarse approach needed a second jump and four more windows).
+                let mode = slow_mode_ratio(fresh).or_else(|| {
+                    slow_pair(fresh)
+                        .filter(|m| m.second_radius() >= PAIR_SECOND && m.worth_a_jump(fresh, num))
+                });
                 if let (Some(mode), [a, b, c]) = (mode, &snaps[..]) {
                     if self.jump_to_limit([a, b, c], mode) {
                         jumps += 1;
@@ -905,6 +912,17 @@ impl SlowMode {
         }
     }
 
+    /// Smaller |λ| of λ² = αλ + β (equal to the larger for a complex pair).
+    fn second_radius(&self) -> f64 {
+        let (a, b) = (self.alpha, self.beta);
+        let disc = a * a + 4.0 * b;
+        if disc < 0.0 {
+            (-b).sqrt()
+        } else {
+            0.5 * (a.abs() - disc.sqrt()).abs()
+        }
+    }
+
     /// Whether jumping along this mode saves windows: only when, decaying at its own rate,
     /// the mode would still need more than [`JUMP_WINDOWS`] windows to fall to the periodic
     /// tolerance (the run after a jump needs at least four fresh windows, and a mode decaying
@@ -916,6 +934,9 @@ impl SlowMode {
         distance > num.periodic_tol * self.radius().powi(-(JUMP_WINDOWS as i32))
     }
 }
+
+/// Smallest |λ| the second mode of a pair must have for the pair to jump.
+const PAIR_SECOND: f64 = 0.2;
 
 /// Windows a slow mode must still need before a jump along it pays (see
 /// [`SlowMode::worth_a_jump`]).
@@ -1232,6 +1253,14 @@ mod tests {
         let h = oscillation(12, 0.75, 1.5);
         let mode = slow_pair(&h).expect("a clean damped oscillation fits");
         assert!((mode.radius() - 0.75).abs() < 1e-9, "{mode:?}");
+        assert!((mode.second_radius() - 0.75).abs() < 1e-9, "{mode:?}");
+        // Two real modes, 0.9 and 0.1: λ² = λ − 0.09.
+        let real = SlowMode {
+            alpha: 1.0,
+            beta: -0.09,
+        };
+        assert!((real.radius() - 0.9).abs() < 1e-12 && (real.second_radius() - 0.1).abs() < 1e-12);
+        assert!((real.limit(1.0, 2.0, 2.5) - (2.5 - 2.0 + 0.09) / 0.09).abs() < 1e-9);
         // The estimate is the larger of the distance from the limit and the last change.
         let k = h.len() - 1;
         let rel = |y: &dyn Fn(&PeriodMeans) -> f64, limit: f64| {
