@@ -259,7 +259,8 @@ pub struct SimulateArgs {
     #[arg(long, value_enum, default_value_t = Fidelity::Paper)]
     pub fidelity: Fidelity,
     /// Mesh N1xN2: cells along x1 over 0.2 cm and along x2 over half a texture cell
-    /// [default: from --fidelity].
+    /// [default: from --fidelity, N2 raised where a pocket would span fewer than 4 cells
+    /// across (2 at draft), as in studies].
     #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
     pub mesh: Option<(usize, usize)>,
     /// Largest time step (ms); the step used divides the texture period exactly
@@ -792,7 +793,9 @@ pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputErr
             phase: a.phase,
         });
     }
-    let tier = a.fidelity.numerics();
+    // The tier as studies use it: N2 raised where a pocket would span too few cells across,
+    // so that `simulate` reproduces a study's row.
+    let tier = a.fidelity.numerics_for(&case);
     let num = Numerics {
         n1: a.mesh.map_or(tier.n1, |m| m.0),
         n2: a.mesh.map_or(tier.n2, |m| m.1),

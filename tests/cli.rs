@@ -209,6 +209,39 @@ fn fidelity_tiers_set_mesh_and_step_unless_overridden() {
 }
 
 #[test]
+fn simulate_resolves_small_pockets_as_studies_do() {
+    // l2 = 0.005 in a 0.05-wide cell spans 3.2 of the fast tier's 8 cells across: the tier
+    // raises N2 to 10 (4 cells a pocket), as `study` does, unless --mesh says otherwise.
+    let run = |mesh: Option<&str>| {
+        let mut args = vec![
+            "simulate",
+            "--R",
+            "3.2",
+            "--l1",
+            "0.005",
+            "--per",
+            "0.05",
+            "--depth",
+            "10",
+            "--fidelity",
+            "fast",
+            "--t-max",
+            "0.05",
+            "--json",
+        ];
+        if let Some(m) = mesh {
+            args.extend(["--mesh", m]);
+        }
+        let (code, out, err) = texopt(&args);
+        assert_ne!(code, 2, "{err}");
+        let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+        v["inputs"]["mesh"].as_str().unwrap().to_string()
+    };
+    assert_eq!(run(None), "512x10");
+    assert_eq!(run(Some("512x8")), "512x8");
+}
+
+#[test]
 fn bench_writes_one_row_per_case_with_timings() {
     let path = scratch("bench.json");
     let p = path.to_str().unwrap();
