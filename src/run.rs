@@ -928,26 +928,29 @@ impl SlowMode {
         (y2 - self.alpha * y1 - self.beta * y0) / (1.0 - self.alpha - self.beta)
     }
 
-    /// Largest |λ| of λ² = αλ + β: the decay per window.
-    fn radius(&self) -> f64 {
+    /// |λ| of the two roots of λ² = αλ + β, larger first (equal for a complex pair): the
+    /// decay per window of the slower and the faster mode.
+    fn radii(&self) -> (f64, f64) {
         let (a, b) = (self.alpha, self.beta);
         let disc = a * a + 4.0 * b;
         if disc < 0.0 {
-            (-b).sqrt()
+            ((-b).sqrt(), (-b).sqrt())
         } else {
-            0.5 * (a.abs() + disc.sqrt())
+            (
+                0.5 * (a.abs() + disc.sqrt()),
+                0.5 * (a.abs() - disc.sqrt()).abs(),
+            )
         }
     }
 
-    /// Smaller |λ| of λ² = αλ + β (equal to the larger for a complex pair).
+    /// Largest |λ|: the decay per window.
+    fn radius(&self) -> f64 {
+        self.radii().0
+    }
+
+    /// Smaller |λ| (equal to the larger for a complex pair).
     fn second_radius(&self) -> f64 {
-        let (a, b) = (self.alpha, self.beta);
-        let disc = a * a + 4.0 * b;
-        if disc < 0.0 {
-            (-b).sqrt()
-        } else {
-            0.5 * (a.abs() - disc.sqrt()).abs()
-        }
+        self.radii().1
     }
 
     /// Whether jumping along this mode saves windows: only when, decaying at its own rate,
