@@ -18,8 +18,9 @@ use crate::run::Outcome;
 /// Changes whenever a change of the code changes the answers for the same inputs; old
 /// entries then stop matching (they stay in the file until `texopt cache clear`).
 /// 2: averaging windows of whole periods ≥ 0.06 ms; screening tiers at periodic_tol 1e-4.
-/// 3: the periodic test reads a damped oscillation's limit (runs stop sooner, within their
-/// tolerance).
+/// 3: the periodic test reads a damped oscillation's limit and jumps along it (runs stop
+/// sooner, within their tolerance), and requires the film to hold the same oil at every
+/// window end (runs on a draining oil bank go on, or fail at t_max).
 pub const MODEL_VERSION: &str = "texopt-model-3";
 
 /// SQLite `application_id` of a texopt cache ("TXOP").
