@@ -322,8 +322,8 @@ impl Transient {
             (s.z + self.dt * s.v).max(0.5 * s.z)
         };
         // Initial guess of the film iteration: the previous time level, or the state one
-        // texture period ago when the ring is near where it was then.
-        match self.period_ago.guess(self.steps + 1, z, s.z) {
+        // texture period ago when its active set is the nearer (`PeriodGuess::guess`).
+        match self.period_ago.guess(self.steps + 1, s.z) {
             Some((snap, z_shifted)) => {
                 if !explicit {
                     z = z_shifted;
@@ -677,15 +677,10 @@ struct PeriodGuess {
     /// Slot n mod (len + 1): Z of time level n, one level further back than the states, for
     /// the ring's step of one period ago.
     z: Vec<Option<f64>>,
+    /// For the last stored level n: how many nodes' active-set flags differ from level
+    /// n − period's and from level n − 1's (see [`PeriodGuess::guess`]).
+    switched: Option<(usize, usize)>,
 }
-
-/// The period-old state is used when |Z_guess − Z_then| ≤ this × |Z_guess − Z_now|: the
-/// ring's drift over a period may exceed its change over one step by this much before the
-/// shifted texture of the previous step is the better guess. Measured (fast tier, paper
-/// start, iterations per step over the run): Case III 4.92 without, 3.67 / 3.31 / 3.13 /
-/// 3.07 / 3.16 at 0.3 / 3 / 10 / 30 / 100; Case I 3.29 without, 2.89 / 2.70 / 2.66 at
-/// 1 / 10 / 30; R = 51.2 5.78 without, 3.99 at 10.
-const PERIOD_GUESS_DRIFT: f64 = 10.0;
 
 /// Most memory the kept factors of a period may take (bytes): 512×32 needs ≈ 0.9 GB for
 /// per = 0.06 (150 steps of ≈ 6 MB; a Case III run peaks at 0.98 GB resident), 512×8
@@ -711,6 +706,7 @@ impl PeriodGuess {
                 Vec::new()
             },
             factor_bytes: 0,
+            switched: None,
             z: if on {
                 vec![None; steps_per_period + 1]
             } else {
@@ -751,19 +747,32 @@ impl PeriodGuess {
         }
     }
 
-    /// The state of time level `level − period`, if stored and the ring at the guess
-    /// `z_guess` for level `level` is near enough its Z then (see [`PERIOD_GUESS_DRIFT`]);
-    /// with it a guess of Z: the ring's step of one period ago repeated from `z_now`, i.e.
-    /// the drift over the last period carried forward by one step (near the periodic
-    /// regime far closer than the velocity extrapolation, which lets the direct method
-    /// settle the step by one chord solve).
-    fn guess(&self, level: usize, z_guess: f64, z_now: f64) -> Option<(&FilmState, f64)> {
+    /// The state of time level `level − period`, if stored and the better guess: when the
+    /// active set of the last solved level (`level − 1`) differs from the one a period
+    /// before it in no more nodes than from the one a step before it. With it a guess of Z:
+    /// the ring's step of one period ago repeated from `z_now`, i.e. the drift over the last
+    /// period carried forward by one step (near the periodic regime far closer than the
+    /// velocity extrapolation, which lets the direct method settle the step by one chord
+    /// solve).
+    ///
+    /// Why the active sets decide: how many nodes the first Newton iteration must switch is
+    /// what a guess costs (about one iteration and one factorisation per sweep of switches),
+    /// and the last level's switches over a period and over a step are known for free. The
+    /// ring's drift alone (the rule before, |Z_guess − Z_then| ≤ 10·|Z_guess − Z_now|) is
+    /// no measure of it: while a creeping ring drifts by 0.5–1 % a period the period-old
+    /// set is still far the better guess (R = 51.2, `fast`: 3.0 against 4–11 iterations a
+    /// step), and in the first periods after a start, with the ring nearly still, the
+    /// film's own transient makes it the worse (14–50 against 4–11). Measured (`fast`,
+    /// tolerance 1e-4, iterations a step and wall time): R = 51.2, 0.01/0.02/2 µm 4.93 →
+    /// 3.38, 9.95 → 7.18 s; R = 6.4, 0.0025/0.005/5 µm 4.37 → 2.44, 8.4 → 5.0 s; Case III
+    /// 3.48 → 3.21; outcomes equal to round-off (the guess only starts the iteration).
+    fn guess(&self, level: usize, z_now: f64) -> Option<(&FilmState, f64)> {
         let n = self.slots.len();
         let (state, z_then) = self.slots.get(level.checked_rem(n)?)?.as_ref()?;
-        let near = (z_guess - z_then).abs() <= PERIOD_GUESS_DRIFT * (z_guess - z_now).abs();
+        let better = matches!(self.switched, Some((period, step)) if period <= step);
         // Z of level − period − 1 (the slot of level − 1 holds level − 1 itself).
         let z_before = self.z[level.checked_sub(n + 1)? % (n + 1)]?;
-        near.then_some((state, z_now + (z_then - z_before)))
+        better.then_some((state, z_now + (z_then - z_before)))
     }
 
     /// Keeps the solved state of time level `level` (reusing the slot's buffers).
@@ -772,9 +781,20 @@ impl PeriodGuess {
         if let Some(slot) = level.checked_rem(n + 1).and_then(|k| self.z.get_mut(k)) {
             *slot = Some(z);
         }
-        let Some(slot) = level.checked_rem(n).map(|k| &mut self.slots[k]) else {
+        let Some(k) = level.checked_rem(n) else {
             return;
         };
+        let differ = |s: &Option<(FilmState, f64)>| {
+            s.as_ref().map(|(s, _)| {
+                s.pressurised
+                    .iter()
+                    .zip(&state.pressurised)
+                    .filter(|(a, b)| a != b)
+                    .count()
+            })
+        };
+        self.switched = differ(&self.slots[k]).zip(differ(&self.slots[(k + n - 1) % n]));
+        let slot = &mut self.slots[k];
         match slot {
             Some((s, zs)) => {
                 s.assign(state);
@@ -787,6 +807,7 @@ impl PeriodGuess {
     fn clear(&mut self) {
         self.slots.iter_mut().for_each(|s| *s = None);
         self.z.iter_mut().for_each(|z| *z = None);
+        self.switched = None;
     }
 }
 
