@@ -140,7 +140,7 @@ fn main() {
             Err(e) => {
                 let s = e.to_string();
                 let kind = if s.contains("reached the liner") {
-                    "contact (Z ≤ 0)"
+                    "contact (Z ≤ 1 nm)"
                 } else if s.contains("unstable")
                     || s.contains("not finite")
                     || s.contains("non-finite")

@@ -21,7 +21,10 @@ use crate::run::Outcome;
 /// 3: the periodic test reads a damped oscillation's limit and jumps along it (runs stop
 /// sooner, within their tolerance), and requires the film to hold the same oil at every
 /// window end (runs on a draining oil bank go on, or fail at t_max).
-pub const MODEL_VERSION: &str = "texopt-model-3";
+/// 4: contact once Z ≤ 1 nm (`run::CONTACT_Z`), not Z ≤ 0, which a ring pushed into the liner
+/// approached without ever reaching (a run that touched the liner in its transient and
+/// lifted off again used to report its periodic regime).
+pub const MODEL_VERSION: &str = "texopt-model-4";
 
 /// SQLite `application_id` of a texopt cache ("TXOP").
 const APPLICATION_ID: i32 = 0x5458_4f50;

@@ -19,6 +19,15 @@ pub const UNTEXTURED_PERIOD: f64 = 0.06;
 /// map, results/stability.md), inexact multigrid solves to ≈ their tolerance.
 pub const MASS_TOL: f64 = 1e-6;
 
+/// Contact: the ring is on the liner once Z (its apex's clearance above the plateau, µm) is at
+/// or below this, 1 nm, a few oil molecules: no continuum film (model.md §3's thin-film
+/// Reynolds model) is left to lubricate. Why not Z ≤ 0: the film iteration may halve the gap
+/// at most per iteration and each step's velocity guess at most halves Z, so a ring pushed
+/// into the liner approaches Z = 0 geometrically and never reaches it (a load 10⁴ times the
+/// paper's: Z = 4e-250 µm and f̄ = 7e241 after 30 ms); only guesses that happened to cross
+/// zero had reported contact before.
+pub const CONTACT_Z: f64 = 1e-3;
+
 /// Outcomes of one evaluation (model.md §6). Friction coefficients per eq. (11); Z and
 /// clearances in µm.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -106,7 +115,7 @@ pub enum SolveError {
         t: f64,
         source: FilmError,
     },
-    #[error("case {case}: the ring reached the liner (Z = {z:.4} µm ≤ 0) at t = {t:.5}; contact is outside the lubrication model")]
+    #[error("case {case}: the ring reached the liner (Z = {z:.2e} µm, under the {floor} µm a lubricating film needs) at t = {t:.5}; contact is outside the lubrication model", floor = CONTACT_Z)]
     Contact { case: String, t: f64, z: f64 },
     #[error("case {case}: {quantity} = {value} at t = {t:.5}: the run is numerically unstable (try the implicit coupling or a smaller dt)")]
     Unstable {
@@ -325,8 +334,10 @@ impl Transient {
         // texture period ago when its active set is the nearer (`PeriodGuess::guess`).
         match self.period_ago.guess(self.steps + 1, s.z) {
             Some((snap, z_shifted)) => {
+                // The same guard: a guess must not put the ring on the liner by itself
+                // (the ring's step a period ago may have been a fall).
                 if !explicit {
-                    z = z_shifted;
+                    z = z_shifted.max(0.5 * s.z);
                 }
                 self.state.assign(snap);
             }
@@ -371,7 +382,7 @@ impl Transient {
                 source,
             })?;
         self.period_ago.keep_factors(level, &mut self.solver);
-        if z <= 0.0 {
+        if z <= CONTACT_Z {
             return Err(SolveError::Contact {
                 case: self.case.label(),
                 t: t_new,
