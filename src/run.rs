@@ -21,11 +21,11 @@ pub const MASS_TOL: f64 = 1e-6;
 
 /// Contact: the ring is on the liner once Z (its apex's clearance above the plateau, µm) is at
 /// or below this, 1 nm, a few oil molecules: no continuum film (model.md §3's thin-film
-/// Reynolds model) is left to lubricate. Why not Z ≤ 0: the film iteration may halve the gap
-/// at most per iteration and each step's velocity guess at most halves Z, so a ring pushed
-/// into the liner approaches Z = 0 geometrically and never reaches it (a load 10⁴ times the
-/// paper's: Z = 4e-250 µm and f̄ = 7e241 after 30 ms); only guesses that happened to cross
-/// zero had reported contact before.
+/// Reynolds model) is left to lubricate. Why not Z ≤ 0: the film iteration closes the gap by
+/// at most half per iteration and each step's Z guesses are at least half the last Z, so a
+/// ring pushed into the liner approaches Z = 0 geometrically and never reaches it (a load 10⁴
+/// times the paper's: Z = 4e-250 µm and f̄ = 7e241 after 30 ms); only unguarded guesses that
+/// happened to cross zero had reported contact before.
 pub const CONTACT_Z: f64 = 1e-3;
 
 /// Outcomes of one evaluation (model.md §6). Friction coefficients per eq. (11); Z and
