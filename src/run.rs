@@ -322,26 +322,29 @@ impl Transient {
         let s = self.ring_state;
         let link = self.ring.link(&s, self.dt);
         let explicit = self.coupling == Coupling::Explicit;
-        // Initial guess: the velocity extrapolation, but never closer to the liner than half
-        // the current clearance (the iteration then moves Z as far as the film demands).
+        // Initial guess: the velocity extrapolation, or with the period-old state the ring's
+        // step of a period ago repeated; either never closer to the liner than half the
+        // current clearance (a guess must not put the ring on the liner by itself; the
+        // iteration then moves Z as far as the film demands).
         // Explicit coupling: Z⁺ = Z + dt·V + dt²/2·A, held fixed in the film solve.
         let mut z = if explicit {
             s.z + self.dt * s.v + 0.5 * self.dt * self.dt * s.a
         } else {
-            (s.z + self.dt * s.v).max(0.5 * s.z)
+            s.z + self.dt * s.v
         };
         // Initial guess of the film iteration: the previous time level, or the state one
         // texture period ago when its active set is the nearer (`PeriodGuess::guess`).
         match self.period_ago.guess(self.steps + 1, s.z) {
             Some((snap, z_shifted)) => {
-                // The same guard: a guess must not put the ring on the liner by itself
-                // (the ring's step a period ago may have been a fall).
                 if !explicit {
-                    z = z_shifted.max(0.5 * s.z);
+                    z = z_shifted;
                 }
                 self.state.assign(snap);
             }
             None => self.state.phi.copy_from_slice(&self.phi_old),
+        }
+        if !explicit {
+            z = z.max(0.5 * s.z);
         }
         if !z.is_finite() {
             return Err(SolveError::Unstable {
