@@ -1,7 +1,7 @@
 //! Speed against accuracy (Case I and Case III): error of f̄ against wall time per case over
 //! meshes, time steps, periodicity tolerances and solver variants.
 //!
-//!   cargo run --release --example speed -- run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid]
+//!   cargo run --release --example speed -- run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid] [APPROACH_N2]
 //!   cargo run --release --example speed -- report
 //!   cargo run --release --example speed -- finer-run CASE 2048x32 1e-4   # finer reference
 //!   cargo run --release --example speed -- finer    # tiers against it: results/speed_finer.md
@@ -51,6 +51,9 @@ fn run(args: &[String], out_path: &str) -> Result<(), String> {
             _ => return Err(format!("solver must be direct or multigrid, got {m}")),
         };
     }
+    if let Some(a) = args.get(5) {
+        num.approach_n2 = Some(a.parse().map_err(|_| "bad approach N2")?);
+    }
     let all = cases();
     let c = all
         .iter()
@@ -93,8 +96,9 @@ fn run(args: &[String], out_path: &str) -> Result<(), String> {
 /// those, the periodic tolerance closest to the tier's (the screening tiers moved to 1e-4
 /// after this study ran most settings at 1e-5).
 fn tier_name(n: &Numerics, case_runs: &[&Run]) -> Option<&'static str> {
-    let same =
-        |a: &Numerics, b: &Numerics| (a.n1, a.n2, a.dt, a.solver) == (b.n1, b.n2, b.dt, b.solver);
+    let same = |a: &Numerics, b: &Numerics| {
+        (a.n1, a.n2, a.dt, a.solver, a.approach_n2) == (b.n1, b.n2, b.dt, b.solver, b.approach_n2)
+    };
     let distance = |a: f64, b: f64| (a.ln() - b.ln()).abs();
     Fidelity::ALL
         .iter()
@@ -117,12 +121,14 @@ fn tier_name(n: &Numerics, case_runs: &[&Run]) -> Option<&'static str> {
 
 fn setting(n: &Numerics) -> String {
     format!(
-        "{}x{} dt={:.1e} ptol={:.0e} {}",
+        "{}x{} dt={:.1e} ptol={:.0e} {}{}",
         n.n1,
         n.n2,
         n.dt,
         n.periodic_tol,
-        n.solver.name()
+        n.solver.name(),
+        n.approach_n2
+            .map_or(String::new(), |a| format!(" approach N2={a}"))
     )
 }
 
@@ -135,6 +141,18 @@ fn load_runs(path: &str, convergence: bool) -> Result<Vec<Run>, String> {
         .filter(|l| !l.trim().is_empty())
         .map(|l| serde_json::from_str(l).map_err(|e| e.to_string()))
         .collect::<Result<_, _>>()?;
+    // A setting run again replaces its earlier line (the later run is of the later solver).
+    let mut i = 0;
+    while i < runs.len() {
+        if runs[i + 1..]
+            .iter()
+            .any(|r| r.case == runs[i].case && r.numerics == runs[i].numerics)
+        {
+            runs.remove(i);
+        } else {
+            i += 1;
+        }
+    }
     // The convergence study runs Case I on the tier meshes; its finest run is Case I's
     // reference here too (same case, same solver).
     if let (true, Ok(dir)) = (convergence, fs::read_dir("results/convergence")) {
@@ -220,7 +238,7 @@ fn finer() -> Result<(), String> {
 fn report() -> Result<(), String> {
     let runs = load_runs(RUNS, true)?;
     let mut csv = String::from("case,setting,n1,n2,dt,periodic_tol,solver,f_mean,c_min,err_f,err_c,wall_s,steps,periods,pareto\n");
-    let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh`. Error: relative to the finest run of the same case (first row of each table). Wall time: one core of the 2-core machine, from the start to the detected periodic regime. The references were run before the solver speed-ups of issue 3 (period-old guess, chord steps; answers unchanged to round-off), the other rows after; so the references' times are not comparable with them. ★ = Pareto-optimal in f̄ error and time (no other setting is both faster and more accurate); tier names mark the fidelity tiers.\n");
+    let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh`. Error: relative to the finest run of the same case (first row of each table). Wall time: one core of the 2-core machine (the two cases run at once, one per core), from the equilibrium start (the untextured force balance) to the detected periodic regime. The references were run before the solver speed-ups of issue 3 (answers unchanged to round-off), the other rows with the solver of the commit that wrote this file; so the references' times are not comparable with them. `approach N2=8`: the coarse approach of the `paper` and `fine` tiers (the ring's transient on 512×8 or 1024×8 first; the answer is the full mesh's). ★ = Pareto-optimal in f̄ error and time (no other setting is both faster and more accurate); tier names mark the fidelity tiers.\n");
     let mut series_data = Vec::new();
     for (ci, case) in ["case-I", "case-III"].iter().enumerate() {
         let mut rs: Vec<&Run> = runs.iter().filter(|r| r.case == *case).collect();
@@ -314,8 +332,8 @@ fn report() -> Result<(), String> {
                 Fidelity::ALL.iter().any(|f| {
                     let t = f.numerics();
                     let n = &p.3.numerics;
-                    (t.n1, t.n2, t.dt, t.periodic_tol, t.solver)
-                        == (n.n1, n.n2, n.dt, n.periodic_tol, n.solver)
+                    (t.n1, t.n2, t.dt, t.periodic_tol, t.solver, t.approach_n2)
+                        == (n.n1, n.n2, n.dt, n.periodic_tol, n.solver, n.approach_n2)
                 })
             })
             .map(|p| (p.0, 100.0 * p.1))
@@ -357,12 +375,12 @@ fn report() -> Result<(), String> {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let r = match args.first().map(String::as_str) {
-        Some("run") if (4..=6).contains(&args.len()) => run(&args[1..], RUNS),
+        Some("run") if (4..=7).contains(&args.len()) => run(&args[1..], RUNS),
         Some("finer-run") if args.len() == 4 => run(&args[1..], FINER),
         Some("report") => report(),
         Some("finer") => finer(),
         _ => Err(
-            "usage: speed run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid] | speed report | speed finer-run CASE N1xN2 DT | speed finer"
+            "usage: speed run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid] [APPROACH_N2] | speed report | speed finer-run CASE N1xN2 DT | speed finer"
                 .into(),
         ),
     };

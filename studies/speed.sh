@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Speed against accuracy for Case I and Case III (results/speed.{md,csv,png}).
 # Settings: meshes with dt refined together (the fidelity tiers), time steps at fixed mesh,
-# half the cells across (N2), periodic tolerances, and the solver variants.
+# half the cells across (N2), periodic tolerances, the solver variants and the coarse approach.
 # The references are the 1024×64, dt = 2e-4 runs (Case I from studies/convergence.sh).
-# Run one case per core: about 20 minutes on the 2-core machine.
+# Run one case per core: about 15 minutes on the 2-core machine (the references: hours).
+# `bash studies/speed.sh sweep`: the settings only, keeping the references in runs.jsonl.
 # `bash studies/speed.sh finer`: the tiers against 2048×32, dt = 1e-4 (results/speed_finer.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,6 +17,10 @@ settings=(
   "128x8 1.6e-3 1e-4" "256x16 8e-4 1e-4" "512x32 4e-4 1e-4" "256x16 8e-4 1e-6"
   "256x16 8e-4 1e-5 multigrid" "512x32 4e-4 1e-5 multigrid"
   "512x8 4e-4" "512x16 8e-4" "1024x8 4e-4" "1024x16 4e-4" "1024x16 2e-4" "1024x32 2e-4"
+  # The tiers as the product runs them: draft and fast at 1e-4, paper and fine with the
+  # coarse approach (N2 = 8 first).
+  "256x8 8e-4 1e-4" "512x8 4e-4 1e-4"
+  "512x32 4e-4 1e-5 direct 8" "512x32 4e-4 1e-4 direct 8" "1024x16 2e-4 1e-5 direct 8"
 )
 sweep() {
   for s in "${settings[@]}"; do
@@ -31,7 +36,9 @@ if [ "${1:-}" = finer ]; then
   $bin finer
   exit 0
 fi
-$bin run case-III 1024x64 2e-4
+if [ "${1:-}" != sweep ]; then
+  $bin run case-III 1024x64 2e-4
+fi
 sweep case-I &
 sweep case-III
 wait
