@@ -287,14 +287,10 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "M", default_value_t = 2.0e-9)]
     pub mass: f64,
     /// Relative tolerance of the periodic-regime test (estimated distance of the period-mean
-    /// friction and Z from their periodic limits).
-    #[arg(
-        long = "periodic-tol",
-        value_name = "TOL",
-        allow_hyphen_values = true,
-        default_value_t = 1e-5
-    )]
-    pub periodic_tol: f64,
+    /// friction and Z from their periodic limits) [default: the tier's: 1e-4 for draft and
+    /// fast, 1e-5 for paper and fine, as studies use them]
+    #[arg(long = "periodic-tol", value_name = "TOL", allow_hyphen_values = true)]
+    pub periodic_tol: Option<f64>,
     /// Give up after this much simulated time (ms) and report converged = false.
     #[arg(
         long = "t-max",
@@ -800,7 +796,7 @@ pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputErr
         n1: a.mesh.map_or(tier.n1, |m| m.0),
         n2: a.mesh.map_or(tier.n2, |m| m.1),
         dt: a.dt.unwrap_or(tier.dt),
-        periodic_tol: a.periodic_tol,
+        periodic_tol: a.periodic_tol.unwrap_or(tier.periodic_tol),
         t_max: a.t_max,
         solver: a.solver,
         solve_tol: a.solve_tol,

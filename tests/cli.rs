@@ -172,6 +172,8 @@ fn fidelity_tiers_set_mesh_and_step_unless_overridden() {
     let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
     assert_eq!(v["inputs"]["mesh"], "256x8");
     assert_eq!(v["inputs"]["numerics"]["dt"], 8e-4);
+    // The tier's periodic tolerance too, so that `simulate` reproduces a study's row.
+    assert_eq!(v["inputs"]["numerics"]["periodic_tol"], 1e-4);
     let (code, out, err) = texopt(&[
         "simulate",
         "--R",
@@ -186,6 +188,19 @@ fn fidelity_tiers_set_mesh_and_step_unless_overridden() {
     let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
     assert_eq!(v["inputs"]["mesh"], "64x4");
     assert_eq!(v["inputs"]["numerics"]["dt"], 8e-4);
+    let (code, out, err) = texopt(&[
+        "simulate",
+        "--R",
+        "0.8",
+        "--fidelity",
+        "fast",
+        "--periodic-tol",
+        "3e-6",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(v["inputs"]["numerics"]["periodic_tol"], 3e-6);
     // The paper tier approaches the periodic regime on 8 cells across unless told not to;
     // the other tiers do not.
     assert!(v["inputs"]["numerics"].get("approach_n2").is_none());
@@ -198,6 +213,7 @@ fn fidelity_tiers_set_mesh_and_step_unless_overridden() {
         assert_eq!(code, 0, "{err}");
         let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
         assert_eq!(v["inputs"]["mesh"], "512x32");
+        assert_eq!(v["inputs"]["numerics"]["periodic_tol"], 1e-5);
         assert_eq!(
             v["inputs"]["numerics"]
                 .get("approach_n2")
