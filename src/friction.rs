@@ -56,8 +56,25 @@ pub fn friction(
     state: &FilmState,
     model: &FrictionModel,
 ) -> Friction {
+    friction_thresholds(g, gap, z, hl, state, model, &[]).0
+}
+
+/// As [`friction`], also for the further shear thresholds `extra_theta_s`, in one pass over
+/// the ring: θ_s enters only the Couette term (eq. 9), so the Poiseuille and pressure terms
+/// are shared, and each threshold's Couette sum adds the same terms in the same order as
+/// its own pass would (the same bits).
+pub fn friction_thresholds(
+    g: &Grid,
+    gap: &Gap,
+    z: f64,
+    hl: &[f64],
+    state: &FilmState,
+    model: &FrictionModel,
+    extra_theta_s: &[f64],
+) -> (Friction, Vec<Friction>) {
     let n2 = g.n2;
     let (mut fc, mut fp, mut fpr) = (0.0, 0.0, 0.0);
+    let mut fc_extra = vec![0.0; extra_theta_s.len()];
     for i in 1..g.n1 {
         if !gap.ring[i] {
             continue;
@@ -66,8 +83,14 @@ pub fn friction(
             let k = i * n2 + j;
             let h = gap.h(g, k, z);
             let theta = state.phi[k] / h;
+            let shear = model.u * theta / h;
             if theta > model.theta_s {
-                fc += model.u * theta / h;
+                fc += shear;
+            }
+            for (sum, &theta_s) in fc_extra.iter_mut().zip(extra_theta_s) {
+                if theta > theta_s {
+                    *sum += shear;
+                }
             }
             let dpdx = (state.p[k + n2] - state.p[k - n2]) / (2.0 * g.dx);
             fp += 3.0 * h * dpdx;
@@ -76,9 +99,13 @@ pub fn friction(
         }
     }
     let w = g.dx * g.dy / g.width;
-    Friction {
+    let with_couette = |fc: f64| Friction {
         couette: friction_coefficient(fc * w, model.w_ps),
         poiseuille: friction_coefficient(fp * w, model.w_ps),
         pressure: friction_coefficient(fpr * w, model.w_ps),
-    }
+    };
+    (
+        with_couette(fc),
+        fc_extra.into_iter().map(with_couette).collect(),
+    )
 }
