@@ -1442,4 +1442,77 @@ mod tests {
         }
         assert!(slow_pair(&noisy).is_none());
     }
+
+    /// A transient of Case III's texture on a small mesh, `steps` steps in (two periods and
+    /// a bit: every phase slot has been placed once and served once).
+    fn case_iii_after(steps: usize) -> Transient {
+        let case =
+            CaseSpec::paper(3.2).with_texture(crate::case::Texture::circular(0.03, 0.06, 10.0));
+        let num = Numerics {
+            n1: 64,
+            n2: 4,
+            dt: 4e-3,
+            ..Numerics::default()
+        };
+        let mut t = Transient::new(&case, &num);
+        for _ in 0..steps {
+            t.step().expect("a coarse Case III steps");
+        }
+        t
+    }
+
+    #[test]
+    fn the_texture_kept_from_a_period_ago_is_the_texture_placed_now() {
+        let mut t = case_iii_after(0);
+        let n = t.steps_per_period;
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        for _ in 0..2 * n + 3 {
+            t.step().expect("a coarse Case III steps");
+            // The scene as placing the texture afresh at this step's phase gives it.
+            let mut fresh = t.scene.clone();
+            fresh.place((t.steps % n) as f64 * t.dt);
+            assert_eq!(bits(&t.scene.hl), bits(&fresh.hl), "step {}", t.steps);
+            assert_eq!(
+                bits(&t.scene.gap.base),
+                bits(&fresh.gap.base),
+                "step {}",
+                t.steps
+            );
+        }
+        // The kept phases served: every slot is filled.
+        assert!(t.placed.slots.iter().all(Option::is_some));
+    }
+
+    #[test]
+    fn friction_for_several_thresholds_in_one_pass_is_each_ones_own() {
+        let t = case_iii_after(20);
+        let z = t.ring_state.z;
+        let thresholds = [0.75, 0.5, 0.25, 0.05];
+        let model = t.friction_model();
+        let (own, extra) = friction_thresholds(
+            &t.scene.grid,
+            &t.scene.gap,
+            z,
+            &t.scene.hl,
+            &t.state,
+            &model,
+            &thresholds,
+        );
+        let alone = |theta_s: f64| {
+            crate::friction::friction(
+                &t.scene.grid,
+                &t.scene.gap,
+                z,
+                &t.scene.hl,
+                &t.state,
+                &FrictionModel { theta_s, ..model },
+            )
+        };
+        assert_eq!(own, alone(model.theta_s));
+        for (f, &theta_s) in extra.iter().zip(&thresholds) {
+            assert_eq!(*f, alone(theta_s), "θs = {theta_s}");
+        }
+        // The thresholds do differ here (a cavitated film under the ring).
+        assert_ne!(extra[0].couette, extra[3].couette);
+    }
 }
