@@ -1166,6 +1166,10 @@ fn motion_error(h: &[PeriodMeans]) -> f64 {
         } else if r <= 0.0 {
             d2.abs()
         } else {
+            // Growing changes say nothing of the tail, however small they are: read as any
+            // finite multiple of the change (10× to 100×), R = 0.8, 0.01 / 0.02 / 20 µm at
+            // `fast` stopped 1.2e-4 from its limit at a tolerance of 1e-4 (30 sampled study
+            // cases: 10 % fewer periods, the worst of them 7.4e-6 off as it is).
             f64::INFINITY
         };
         tail / scale
