@@ -24,6 +24,9 @@ use crate::run::Outcome;
 /// 4: contact once Z ≤ 1 nm (`run::CONTACT_Z`), not Z ≤ 0, which a ring pushed into the liner
 /// approached without ever reaching (a run that touched the liner in its transient and
 /// lifted off again used to report its periodic regime).
+/// (Kept at 4 by stop 17's jump rule, `run::JUMP_TOL`: it moves runs along another path to
+/// the same periodic regime, within the periodic tolerance and with the same statuses, so
+/// the answers cached before remain answers of this model to that tolerance.)
 pub const MODEL_VERSION: &str = "texopt-model-4";
 
 /// SQLite `application_id` of a texopt cache ("TXOP").

@@ -1040,9 +1040,11 @@ impl SlowMode {
 /// the window means, is below the tolerance at two window ends in a row, which for a damped
 /// oscillation comes well after the mode itself has decayed to the tolerance; weighed
 /// against 1e-4 the jump was refused where it would have paid (Case I at `fast`: 18 windows
-/// without it, 14 with it). Measured on 30 sampled study cases at `fast` (1e-4): periods
-/// 1153 → 982, wall time −16 %, every outcome within 4.5e-5 of a run to 1e-6 (7.4e-6
-/// before).
+/// without it, 14 with it), and a run could stop short of its tolerance (R = 0.8, 0.01 /
+/// 0.02 / 20 µm at `fast`: 1.2e-4 from its limit, 6.1e-6 with this rule). Measured on 30
+/// sampled study cases at `fast` (1e-4): periods 1037 → 982, the worst outcome 1.2e-4 →
+/// 4.5e-5 from runs to 1e-6; the 730-case paper + θs study: periods −1.7 %, wall time 22.1
+/// → 21.0 min, every status the same.
 const JUMP_TOL: f64 = 1e-5;
 
 /// Smallest |λ| the second mode of a pair must have for the pair to jump.
@@ -1178,10 +1180,9 @@ fn motion_error(h: &[PeriodMeans]) -> f64 {
         } else if r <= 0.0 {
             d2.abs()
         } else {
-            // Growing changes say nothing of the tail, however small they are: read as any
-            // finite multiple of the change (10× to 100×), R = 0.8, 0.01 / 0.02 / 20 µm at
-            // `fast` stopped 1.2e-4 from its limit at a tolerance of 1e-4 (30 sampled study
-            // cases: 10 % fewer periods, the worst of them 7.4e-6 off as it is).
+            // Growing changes say nothing of the tail, however small they are. (Reading them
+            // as 10× to 100× the change instead saved nothing at `fast`: 30 sampled study
+            // cases at 1e-4 took 1033–1035 periods against 1037.)
             f64::INFINITY
         };
         tail / scale
