@@ -41,7 +41,11 @@ pub struct BenchRow {
     pub name: String,
     pub label: String,
     pub fidelity: String,
+    /// The shortest of the repeats' wall times (s): the one least disturbed by whatever
+    /// else the machine ran.
     pub wall_time_s: f64,
+    /// Every repeat's wall time (s), in the order run.
+    pub wall_times_s: Vec<f64>,
     pub steps: usize,
     pub periods: usize,
     pub iterations_per_step: f64,
@@ -54,10 +58,14 @@ impl BenchRow {
     pub fn line(&self) -> String {
         let o = &self.outcome;
         format!(
-            "{:16} {:6} {:8.2} s  {:6} steps{} {:4} periods  {:5.2} it/step  {:7.3} ms/step  f̄ {:.5}  C_min {:.4} µm{}",
+            "{:16} {:6} {:8.2} s{}  {:6} steps{} {:4} periods  {:5.2} it/step  {:7.3} ms/step  f̄ {:.5}  C_min {:.4} µm{}",
             self.name,
             self.fidelity,
             self.wall_time_s,
+            match self.wall_times_s.len() {
+                0 | 1 => String::new(),
+                n => format!(" (best of {n})"),
+            },
             self.steps,
             if o.approach_steps > 0 {
                 format!(" ({} coarse)", o.approach_steps)
@@ -74,15 +82,45 @@ impl BenchRow {
     }
 }
 
-/// Runs one case at the given numerics.
-pub fn run_case(c: &BenchCase, fidelity: Fidelity, num: &Numerics) -> Result<BenchRow, SolveError> {
-    let res = simulate(&c.case, num, false)?;
-    let o = res.outcome;
+/// Runs one case at the given numerics `repeat` times (at least once). The repeats must give
+/// the same outcome to the bit (the solver is deterministic): a repeat that does not is an
+/// error, never an averaged number.
+pub fn run_case(
+    c: &BenchCase,
+    fidelity: Fidelity,
+    num: &Numerics,
+    repeat: usize,
+) -> Result<BenchRow, BenchError> {
+    let mut best: Option<Outcome> = None;
+    let mut wall_times_s = Vec::new();
+    for _ in 0..repeat.max(1) {
+        let o = simulate(&c.case, num, false)?.outcome;
+        wall_times_s.push(o.wall_time_s);
+        if let Some(b) = &best {
+            let same = |x: f64, y: f64| x.to_bits() == y.to_bits();
+            if !(same(o.f_mean, b.f_mean)
+                && same(o.z_mean, b.z_mean)
+                && same(o.c_min, b.c_min)
+                && o.steps == b.steps)
+            {
+                return Err(BenchError::NotRepeatable {
+                    name: c.name.to_string(),
+                    first: (b.f_mean, b.c_min, b.steps),
+                    again: (o.f_mean, o.c_min, o.steps),
+                });
+            }
+        }
+        if best.as_ref().is_none_or(|b| o.wall_time_s < b.wall_time_s) {
+            best = Some(o);
+        }
+    }
+    let o = best.expect("at least one run");
     Ok(BenchRow {
         name: c.name.to_string(),
         label: c.case.label(),
         fidelity: fidelity.name().to_string(),
         wall_time_s: o.wall_time_s,
+        wall_times_s,
         steps: o.steps,
         periods: o.periods,
         iterations_per_step: o.iterations_per_step,
@@ -93,4 +131,20 @@ pub fn run_case(c: &BenchCase, fidelity: Fidelity, num: &Numerics) -> Result<Ben
         },
         outcome: o,
     })
+}
+
+/// Why a benchmark case gave no row.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    #[error(transparent)]
+    Solve(#[from] SolveError),
+    #[error(
+        "{name}: a repeat gave another outcome (f̄ {:.17}, C_min {:.17}, {} steps, then f̄ {:.17}, C_min {:.17}, {} steps): the solver is not deterministic here, which is a bug; please report it",
+        first.0, first.1, first.2, again.0, again.1, again.2
+    )]
+    NotRepeatable {
+        name: String,
+        first: (f64, f64, usize),
+        again: (f64, f64, usize),
+    },
 }

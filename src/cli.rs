@@ -218,6 +218,10 @@ pub struct BenchArgs {
     /// before the tier's mesh takes over, or `off` [default: the tier's: 8 for paper and fine]
     #[arg(long = "approach-n2", value_name = "N2|off", value_parser = parse_approach)]
     pub approach_n2: Option<ApproachN2>,
+    /// Runs of each case: its row reports the shortest wall time and lists all (this VM's
+    /// timings vary by ±20 % from run to run; the outcomes must not vary at all).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub repeat: usize,
     /// Where to write the results (JSON).
     #[arg(long, value_name = "FILE", default_value = "results/bench.json")]
     pub out: PathBuf,
@@ -417,6 +421,11 @@ fn bench_cmd(a: &BenchArgs) -> Result<i32, CmdError> {
             )));
         }
     }
+    if a.repeat == 0 {
+        return Err(CmdError::Input(
+            "--repeat 0: each case must run at least once; give 1 or more".into(),
+        ));
+    }
     let dir = a
         .out
         .parent()
@@ -444,7 +453,7 @@ fn bench_cmd(a: &BenchArgs) -> Result<i32, CmdError> {
         .filter(|c| a.cases.is_empty() || a.cases.iter().any(|n| n == c.name))
     {
         eprintln!("running {} ({}) …", c.name, c.case.label());
-        match crate::bench::run_case(c, fidelity, &num) {
+        match crate::bench::run_case(c, fidelity, &num, a.repeat) {
             Ok(row) => {
                 println!("{}", row.line());
                 rows.push(row);
@@ -463,6 +472,7 @@ fn bench_cmd(a: &BenchArgs) -> Result<i32, CmdError> {
         "unix_time": secs,
         "threads_available": std::thread::available_parallelism().map_or(1, |n| n.get()),
         "threads_used": 1,
+        "repeat": a.repeat,
         "fidelity": fidelity.name(),
         "numerics": num,
         "cases": rows,
