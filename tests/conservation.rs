@@ -35,12 +35,13 @@ fn textured_step_conserves_mass_to_round_off() {
     assert!(worst <= 1e-10, "mass defect {worst:e}");
 }
 
-/// Every step's film solve ends at round-off in every node's balance, including the node
-/// past a flat ring's trailing edge, whose west face spans the ring film and the gap e
-/// (h_f ≈ 500 µm, a conductance ≈ 10⁸): there the clipping of a round-off negative pressure
-/// (≈ 1e-17) once showed as a residual of 1.4e-7 because it was measured after the clip.
+/// Every step's film solve ends within the solve tolerance (relative error 1e-8, film.rs
+/// `CHORD_CONFIRM`) in every node's balance, including the node past a flat ring's
+/// trailing edge, whose west face spans the ring film and the gap e (h_f ≈ 500 µm, a
+/// conductance ≈ 10⁸): there the clipping of a round-off negative pressure (≈ 1e-17) once
+/// showed as a residual of 1.4e-7 because it was measured after the clip.
 #[test]
-fn film_residual_stays_at_round_off_past_a_flat_ring_edge() {
+fn film_residual_stays_within_the_solve_tolerance_past_a_flat_ring_edge() {
     let case = CaseSpec::paper(f64::INFINITY).with_texture(Texture::circular(0.01, 0.06, 5.0));
     let num = Numerics {
         n1: 256,
@@ -56,7 +57,7 @@ fn film_residual_stays_at_round_off_past_a_flat_ring_edge() {
         .outcome;
     assert!(out.converged);
     assert!(
-        out.max_residual <= 1e-11,
+        out.max_residual <= 1e-8,
         "largest relative film residual {:e}",
         out.max_residual
     );

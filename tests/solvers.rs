@@ -54,8 +54,9 @@ fn the_period_old_guess_serves_a_creeping_ring() {
     let (without, z_without) = creeping_iterations(false, 150, 0.8);
     println!("iterations per step creeping: {with} with the guess, {without} without");
     assert!(with < 0.85 * without, "{with} vs {without}");
-    // Only the start of each iteration changed.
-    assert!(((z_with - z_without) / z_without).abs() < 1e-12);
+    // Only the start of each iteration changed: Z to the solve tolerance (film.rs
+    // `CHORD_CONFIRM`, 1e-8 relative).
+    assert!(((z_with - z_without) / z_without).abs() < 1e-8);
 }
 
 #[test]
@@ -115,7 +116,7 @@ fn the_period_old_guess_and_chord_steps_save_work_without_changing_the_answer() 
     // The film iteration of a step starts from the state one texture period earlier (same
     // texture position) once the ring is near where it was then, and the direct method
     // reuses its factors when the matrix has barely changed; the step's film problem has
-    // one solution, so only round-off may change.
+    // one solution, so the outcomes may change only within the solve tolerance.
     for case in [
         case_three(),
         CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0)),
@@ -164,18 +165,27 @@ fn the_period_old_guess_and_chord_steps_save_work_without_changing_the_answer() 
         // Without the period-old factors every step factors at least once.
         assert!(guessed_lu < 0.75, "{guessed_lu} factorisations per step");
         // With Z guessed from the ring's step a period ago, and a stop once what is left is
-        // at round-off, most steps near the periodic regime settle in one iteration (the
+        // within the solve tolerance, most steps near the periodic regime settle in one iteration (the
         // older rules needed a confirming one: exactly 2).
         assert!(guessed_it < 1.75, "{guessed_it} iterations per step");
         assert!(plain.converged && guessed.converged);
-        assert_eq!(plain.periods, guessed.periods);
+        // The same periodic regime: at this tight periodic tolerance (1e-7) the solve
+        // tolerance may move the window the test stops at by one.
+        assert!(
+            plain.periods.abs_diff(guessed.periods) <= 1,
+            "{} vs {} periods",
+            guessed.periods,
+            plain.periods
+        );
         let rel = |x: f64, y: f64| ((x - y) / y).abs();
         for (name, a, b) in [
             ("f_mean", guessed.f_mean, plain.f_mean),
             ("c_min", guessed.c_min, plain.c_min),
             ("z_mean", guessed.z_mean, plain.z_mean),
         ] {
-            assert!(rel(a, b) < 1e-12, "{name}: {a} vs {b}");
+            // To the solve tolerance (film.rs `CHORD_CONFIRM`, 1e-8 relative; measured
+            // ≤ 5e-11), whichever of the two windows the runs stopped at.
+            assert!(rel(a, b) < 1e-8, "{name}: {a} vs {b}");
         }
         assert!(
             guessed.iterations_per_step < 0.9 * plain.iterations_per_step,
@@ -191,7 +201,7 @@ fn a_matrix_frozen_at_the_factors_z_saves_elimination_without_changing_the_answe
     // With a wide band (N2 ≥ 16) an iteration that only switched nodes, Z having moved by
     // less than the chord drift, assembles its matrix at the factors' Z: the LU then keeps
     // every row before the first switched node. The step's solution is the same to
-    // round-off, and a confirming chord step keeps the residual at round-off.
+    // the solve tolerance (film.rs `CHORD_CONFIRM`, 1e-8 relative), as is the residual.
     let case = case_three();
     let num = Numerics {
         n1: 256,
@@ -219,13 +229,13 @@ fn a_matrix_frozen_at_the_factors_z_saves_elimination_without_changing_the_answe
         (rows_on as f64) < 0.95 * rows_off as f64,
         "{rows_on} vs {rows_off} rows eliminated"
     );
-    assert!(res_on <= 1e-11, "largest residual {res_on:e}");
+    assert!(res_on <= 1e-8, "largest residual {res_on:e}");
     let dz = z_on
         .iter()
         .zip(&z_off)
         .map(|(a, b)| ((a - b) / b).abs())
         .fold(0.0, f64::max);
-    assert!(dz < 1e-12, "Z differs by {dz:e} (relative)");
+    assert!(dz < 1e-8, "Z differs by {dz:e} (relative)");
     let pmax = t_off.state.p.iter().fold(0.0f64, |m, &p| m.max(p));
     let dp = t_on
         .state
@@ -234,7 +244,7 @@ fn a_matrix_frozen_at_the_factors_z_saves_elimination_without_changing_the_answe
         .zip(&t_off.state.p)
         .map(|(a, b)| (a - b).abs())
         .fold(0.0, f64::max);
-    assert!(dp <= 1e-10 * pmax, "p differs by {dp:e} (p_max {pmax:e})");
+    assert!(dp <= 1e-8 * pmax, "p differs by {dp:e} (p_max {pmax:e})");
     assert_eq!(t_on.state.pressurised, t_off.state.pressurised);
 }
 
