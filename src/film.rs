@@ -334,8 +334,8 @@ fn chord_drift(n2: usize) -> f64 {
 /// periodic regime a step's one chord solve through the period-old factors leaves ≈ 1e-9
 /// (drift ≈ 2e-5 times a correction ≈ 6e-5, Case III at 512×32), so a bound at round-off
 /// cost every such step a second substitution, whose correction (≈ 6e-11) moved no outcome
-/// beyond 1e-10. Measured: Case III at 512×32 from the paper's start, the last seven
-/// windows 2.0 → 1.0–1.5 iterations a step (f̄ and C_min within 1.4e-11); at `fast` 3.21 →
+/// beyond 1e-10. Measured: Case III at 512×32 from the paper's start, the last four
+/// windows 1.9–2.0 → 1.0–1.4 iterations a step (f̄ and C_min within 1.4e-11); at `fast` 3.21 →
 /// 2.46 iterations a step and 14 % fewer instructions (valgrind), f̄ within 4.5e-13; 30
 /// sampled study cases at `fast` 2.65 → 2.12 iterations a step, outcomes within 1.6e-10.
 const CHORD_CONFIRM: f64 = 1e-8;
