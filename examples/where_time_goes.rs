@@ -13,7 +13,7 @@ use std::cell::RefCell;
 use std::time::Instant;
 use texopt::bench::cases;
 use texopt::case::{Fidelity, Start};
-use texopt::run::{ApproachDone, Progress, Transient};
+use texopt::run::{run_transient_with, Progress, Transient};
 
 /// Tallies of the steps of one window.
 #[derive(Default)]
@@ -58,64 +58,49 @@ fn main() {
     );
     println!("| mesh | window ends at period | it/step | factorisations/step | rows eliminated/step | ms/step | Z̄ (µm) | f̄ | periodic error |");
     println!("|---|---|---|---|---|---|---|---|---|");
-    let started = Instant::now();
-    // Each stage runs through `run_with`'s callbacks: every step adds to the window's tally,
-    // every window end prints a row and starts a new tally.
-    let run_stage = |t: &mut Transient, num: &texopt::case::Numerics| {
-        let mesh = format!("{}×{}", num.n1, num.n2);
-        let tally = RefCell::new(Tally::default());
-        let mut last = Instant::now();
-        let result = t.run_with(
-            num,
-            false,
-            &mut |p: &Progress| {
-                let w = tally.take();
-                let n = w.steps.max(1) as f64;
-                println!(
-                    "| {mesh} | {} | {:.2} | {:.2} | {:.0} | {:.2} | {:.6} | {:.7} | {:.2e} |",
-                    p.period,
-                    w.iterations as f64 / n,
-                    w.factorisations as f64 / n,
-                    w.rows as f64 / n,
-                    1e3 * last.elapsed().as_secs_f64() / n,
-                    p.z_mean,
-                    p.f_mean,
-                    p.periodic_error
-                );
-                last = Instant::now();
-            },
-            &mut |t: &Transient| {
-                let mut w = tally.borrow_mut();
-                w.steps += 1;
-                w.iterations += t.last.iterations;
-                w.factorisations += t.last.factorisations;
-                w.rows += t.last.eliminated_rows;
-            },
-        );
-        result.unwrap_or_else(|e| {
+    // Every step adds to the window's tally, every window end (of either mesh) prints a row
+    // and starts a new tally.
+    let tally = RefCell::new(Tally::default());
+    let mut last = Instant::now();
+    let mesh = |t: &Transient| format!("{}×{}", t.scene.grid.n1, t.scene.grid.n2);
+    let current_mesh = RefCell::new(String::new());
+    let result = run_transient_with(
+        case,
+        &num,
+        false,
+        &[],
+        &mut |p: &Progress| {
+            let w = tally.take();
+            let n = w.steps.max(1) as f64;
+            println!(
+                "| {} | {} | {:.2} | {:.2} | {:.0} | {:.2} | {:.6} | {:.7} | {:.2e} |",
+                current_mesh.borrow(),
+                p.period,
+                w.iterations as f64 / n,
+                w.factorisations as f64 / n,
+                w.rows as f64 / n,
+                1e3 * last.elapsed().as_secs_f64() / n,
+                p.z_mean,
+                p.f_mean,
+                p.periodic_error
+            );
+            last = Instant::now();
+        },
+        &mut |t: &Transient| {
+            let mut w = tally.borrow_mut();
+            w.steps += 1;
+            w.iterations += t.last.iterations;
+            w.factorisations += t.last.factorisations;
+            w.rows += t.last.eliminated_rows;
+            *current_mesh.borrow_mut() = mesh(t);
+        },
+    );
+    let outcome = result
+        .unwrap_or_else(|e| {
             eprintln!("{e}");
             std::process::exit(1);
         })
-    };
-
-    let outcome = match num.approach_numerics(case) {
-        Some(mut coarse) => {
-            coarse.t_max = 0.5 * num.t_max;
-            let mut t = Transient::new(case, &coarse);
-            let r = run_stage(&mut t, &coarse);
-            let done = ApproachDone {
-                steps: r.outcome.steps,
-                periods: r.outcome.periods,
-                wall_time_s: r.outcome.wall_time_s,
-            };
-            let mut fine = t.refined(&num, done);
-            run_stage(&mut fine, &num).outcome
-        }
-        None => {
-            let mut t = Transient::new(case, &num);
-            run_stage(&mut t, &num).outcome
-        }
-    };
+        .outcome;
     println!(
         "\nf̄ = {:.17}, C_min = {:.17} µm, {} steps ({} coarse), {} periods, {:.1} s (with this table's bookkeeping)",
         outcome.f_mean,
@@ -123,6 +108,6 @@ fn main() {
         outcome.steps,
         outcome.approach_steps,
         outcome.periods,
-        started.elapsed().as_secs_f64()
+        outcome.wall_time_s
     );
 }

@@ -1199,6 +1199,7 @@ fn start_transient(
     num: &Numerics,
     series: Option<&mut Vec<SeriesRow>>,
     observe: &mut dyn FnMut(&Progress),
+    on_step: &mut dyn FnMut(&Transient),
 ) -> Result<Transient, SolveError> {
     let Some(mut coarse) = num.approach_numerics(case) else {
         return Ok(Transient::new(case, num));
@@ -1207,7 +1208,7 @@ fn start_transient(
     coarse.t_max = 0.5 * num.t_max;
     let began = Instant::now();
     let mut t = Transient::new(case, &coarse);
-    let r = match t.run_observed(&coarse, series.is_some(), observe) {
+    let r = match t.run_with(&coarse, series.is_some(), observe, on_step) {
         Ok(r) => r,
         // A coarse mesh may fail where the full one would not (a pocket it resolves poorly
         // closing the gap): then the full mesh runs from the start alone (the time spent
@@ -1240,10 +1241,30 @@ pub fn run_transient(
     extra_theta_s: &[f64],
     observe: &mut dyn FnMut(&Progress),
 ) -> Result<RunResult, SolveError> {
+    run_transient_with(
+        case,
+        num,
+        record_series,
+        extra_theta_s,
+        observe,
+        &mut |_| {},
+    )
+}
+
+/// As `run_transient`, also calling `on_step` with the state after every time step of either
+/// mesh (e.g. to tally the film solver's work, `examples/where_time_goes.rs`).
+pub fn run_transient_with(
+    case: &CaseSpec,
+    num: &Numerics,
+    record_series: bool,
+    extra_theta_s: &[f64],
+    observe: &mut dyn FnMut(&Progress),
+    on_step: &mut dyn FnMut(&Transient),
+) -> Result<RunResult, SolveError> {
     let mut series = record_series.then(Vec::new);
-    let mut t = start_transient(case, num, series.as_mut(), observe)?;
+    let mut t = start_transient(case, num, series.as_mut(), observe, on_step)?;
     t.extra_theta_s = extra_theta_s.to_vec();
-    let mut r = t.run_observed(num, record_series, observe)?;
+    let mut r = t.run_with(num, record_series, observe, on_step)?;
     if let (Some(mut all), Some(rows)) = (series, r.series.take()) {
         all.extend(rows);
         r.series = Some(all);
