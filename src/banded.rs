@@ -75,8 +75,13 @@ impl BandLu {
         self.a.resize(n * stride, 0.0);
         // The band rows from r0 on: the stencil's five entries (0.0 + v: the bits an
         // accumulation into a zeroed band gives, −0.0 included), zeros elsewhere.
-        for r in r0..n {
-            let row = &mut self.a[r * stride..(r + 1) * stride];
+        // j = r mod w, the row's x2 index, carried along (no division per row).
+        let mut j = r0 % w.max(1);
+        for (r, row) in self.a[r0 * stride..n * stride]
+            .chunks_exact_mut(stride)
+            .enumerate()
+            .map(|(t, row)| (r0 + t, row))
+        {
             row.fill(0.0);
             row[w] = 0.0 + s.c[r];
             if r >= w {
@@ -85,12 +90,13 @@ impl BandLu {
             if r + w < n {
                 row[2 * w] = 0.0 + s.e[r];
             }
-            if r % w > 0 {
+            if j > 0 {
                 row[w - 1] += s.s[r];
             }
-            if r % w + 1 < w {
+            if j + 1 < w {
                 row[w + 1] += s.n[r];
             }
+            j = if j + 1 == w { 0 } else { j + 1 };
         }
         self.valid = false;
         // Band widths of the tiers (8, 32) and of raised meshes get their own instance, in

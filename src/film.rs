@@ -449,6 +449,10 @@ pub struct FilmSolver {
     /// bands, `WIDE_BAND_N2`); on by default, off to show what it saves.
     pub freeze_z: bool,
     mg: LineMultigrid,
+    /// The Z at which `h` holds this solve's gap (None: not yet filled in this solve).
+    h_at: Option<f64>,
+    /// Whether `cx`, `cy` hold this solve's conductances away from the ring.
+    faces_fresh: bool,
     rhs1: Vec<f64>,
     rhs2: Vec<f64>,
     h: Vec<f64>,
@@ -477,7 +481,8 @@ struct Faces<'a> {
 /// The one stencil: −(discrete film equation) at interior node (i, j), i.e. the mass balance
 /// Σ_faces c·(p_ij − p_nb) + adv·(φ_ij − φ_{i−1,j}) + at·(φ_ij − φ_old,ij), with adv = u·dy
 /// and at = 2·dx·dy/dt. It is (−2)× [net outflow + cell-area·∂φ/∂t] of the cell. Every solver
-/// path (residual, Z-derivative, upwind sweeps, mass checks) evaluates this function.
+/// path (residual, Z-derivative, upwind sweeps, mass checks) evaluates it, through
+/// [`Column::balance`]; this is the same for one node.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn balance(
@@ -491,38 +496,120 @@ fn balance(
     i: usize,
     j: usize,
 ) -> f64 {
-    let n2 = g.n2;
-    let k = i * n2 + j;
-    let pk = p[k];
-    let mut r = f.cx[k - n2] * (pk - p[k - n2]) + f.cx[k] * (pk - p[k + n2]);
-    if j > 0 {
-        r += f.cy[i * (n2 - 1) + j - 1] * (pk - p[k - 1]);
-    }
-    if j + 1 < n2 {
-        r += f.cy[i * (n2 - 1) + j] * (pk - p[k + 1]);
-    }
-    r += adv * (phi[k] - phi[k - n2]);
-    r += at * phi[k];
-    if let Some(old) = phi_old {
-        r -= at * old[k];
-    }
-    r
+    Column::new(g, f, p, phi, phi_old, i).balance(adv, at, j)
 }
 
-fn face_conductances(g: &Grid, h: &[f64], cx: &mut Vec<f64>, cy: &mut Vec<f64>) {
+/// What the stencil reads around node column i (x1 position), sliced once for the column:
+/// a pass over a column then indexes slices of length N2 instead of the whole field (no
+/// bounds check per term), with the same arithmetic in the same order as node by node.
+struct Column<'a> {
+    /// Pressures of columns i − 1, i, i + 1.
+    p_w: &'a [f64],
+    p: &'a [f64],
+    p_e: &'a [f64],
+    /// Film content φ = hθ of columns i − 1 (upstream) and i, and φ at the old time level.
+    phi_w: &'a [f64],
+    phi: &'a [f64],
+    old: Option<&'a [f64]>,
+    /// Conductances of the x1 faces west and east of the column, and of its N2 − 1 x2 faces.
+    cx_w: &'a [f64],
+    cx_e: &'a [f64],
+    cy: &'a [f64],
+}
+
+impl<'a> Column<'a> {
+    #[inline(always)]
+    fn new(
+        g: &Grid,
+        f: &Faces<'a>,
+        p: &'a [f64],
+        phi: &'a [f64],
+        phi_old: Option<&'a [f64]>,
+        i: usize,
+    ) -> Self {
+        let n2 = g.n2;
+        let (w, c, e) = ((i - 1) * n2, i * n2, (i + 1) * n2);
+        Column {
+            p_w: &p[w..c],
+            p: &p[c..e],
+            p_e: &p[e..e + n2],
+            phi_w: &phi[w..c],
+            // Absent when the caller holds column i apart (`balance_with`).
+            phi: phi.get(c..e).unwrap_or(&[]),
+            old: phi_old.map(|o| &o[c..e]),
+            cx_w: &f.cx[w..c],
+            cx_e: &f.cx[c..e],
+            cy: &f.cy[i * (n2 - 1)..(i + 1) * (n2 - 1)],
+        }
+    }
+
+    /// The stencil at node (i, j) of this column (see [`balance`]).
+    #[inline(always)]
+    fn balance(&self, adv: f64, at: f64, j: usize) -> f64 {
+        self.balance_with(adv, at, j, self.phi[j])
+    }
+
+    /// The stencil at node (i, j) with φ_ij given (the column's own φ held apart).
+    #[inline(always)]
+    fn balance_with(&self, adv: f64, at: f64, j: usize, phi_j: f64) -> f64 {
+        let n2 = self.p.len();
+        let pk = self.p[j];
+        let mut r = self.cx_w[j] * (pk - self.p_w[j]) + self.cx_e[j] * (pk - self.p_e[j]);
+        if j > 0 {
+            r += self.cy[j - 1] * (pk - self.p[j - 1]);
+        }
+        if j + 1 < n2 {
+            r += self.cy[j] * (pk - self.p[j + 1]);
+        }
+        r += adv * (phi_j - self.phi_w[j]);
+        r += at * phi_j;
+        if let Some(old) = self.old {
+            r -= at * old[j];
+        }
+        r
+    }
+}
+
+/// Face conductances for the gap `h` into cx, cy. With `only_ring`, only the faces of node
+/// columns under the ring (where h depends on Z) are recomputed: the others must already
+/// hold this gap's (same texture position), which they then keep, the same bits.
+fn face_conductances(
+    g: &Grid,
+    h: &[f64],
+    only_ring: Option<&[bool]>,
+    cx: &mut Vec<f64>,
+    cy: &mut Vec<f64>,
+) {
     let (n1, n2) = (g.n1, g.n2);
     let (sx, sy) = (g.dy / g.dx, g.dx / g.dy);
-    cx.clear();
-    cx.extend((0..n1 * n2).map(|k| {
+    let ny = n2.saturating_sub(1);
+    let x_face = |k: usize| {
         let hf = 0.5 * (h[k] + h[k + n2]);
         hf * hf * hf * sx
-    }));
-    cy.clear();
+    };
+    let y_face = |k: usize| {
+        let hf = 0.5 * (h[k] + h[k + 1]);
+        hf * hf * hf * sy
+    };
+    let Some(ring) = only_ring else {
+        cx.clear();
+        cx.extend((0..n1 * n2).map(x_face));
+        cy.clear();
+        for i in 0..=n1 {
+            cy.extend((i * n2..i * n2 + ny).map(y_face));
+        }
+        return;
+    };
     for i in 0..=n1 {
-        for j in 0..n2.saturating_sub(1) {
-            let k = i * n2 + j;
-            let hf = 0.5 * (h[k] + h[k + 1]);
-            cy.push(hf * hf * hf * sy);
+        if i < n1 && (ring[i] || ring[i + 1]) {
+            for (k, c) in (i * n2..).zip(&mut cx[i * n2..(i + 1) * n2]) {
+                *c = x_face(k);
+            }
+        }
+        if ring[i] {
+            for (k, c) in (i * n2..).zip(&mut cy[i * ny..(i + 1) * ny]) {
+                *c = y_face(k);
+            }
         }
     }
 }
@@ -619,6 +706,7 @@ impl FilmSolver {
         let cutoff = !self.cavitation.is_elrod_adams();
         let inexact = self.method == Method::Multigrid;
         for i in lo..=hi {
+            let col = Column::new(g, &faces, &state.p, &state.phi, phi_old, i);
             for j in 0..n2 {
                 let k = i * n2 + j;
                 let r = (i - lo) * n2 + j;
@@ -628,7 +716,7 @@ impl FilmSolver {
                     (a.c[r], a.w[r], a.e[r], a.s[r], a.n[r]) = (1.0, 0.0, 0.0, 0.0, 0.0);
                     continue;
                 }
-                let f = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
+                let f = col.balance(adv, at, j);
                 self.y1.push(-f);
                 let cw = jfaces.cx[k - n2];
                 let ce = jfaces.cx[k];
@@ -740,6 +828,9 @@ impl FilmSolver {
         let bc = step.boundary;
         self.factorisations = 0;
         self.eliminated_rows = 0;
+        // A new problem: the texture has moved since `h` and the conductances were set.
+        self.h_at = None;
+        self.faces_fresh = false;
         // Factors not handed in for this problem serve only through their identical rows.
         if !std::mem::take(&mut self.inherited) {
             self.factors.of = None;
@@ -759,10 +850,27 @@ impl FilmSolver {
         self.finish(step, state, *z, iterations, cycles)
     }
 
+    /// The gap at Z into `self.h`, unless it holds that already (the iteration fills it at
+    /// the new Z to update the active set, and the next iteration starts there).
+    fn fill_h(&mut self, step: &Step, z: f64) {
+        if self.h_at.map(f64::to_bits) != Some(z.to_bits()) {
+            step.gap.fill(step.grid, z, &mut self.h);
+            self.h_at = Some(z);
+        }
+    }
+
+    /// The face conductances of `self.h`: all of them at a solve's first call, afterwards
+    /// only those under the ring (elsewhere h does not depend on Z).
+    fn refresh_faces(&mut self, step: &Step) {
+        let only_ring = self.faces_fresh.then_some(&step.gap.ring[..]);
+        face_conductances(step.grid, &self.h, only_ring, &mut self.cx, &mut self.cy);
+        self.faces_fresh = true;
+    }
+
     /// The gap at Z into `self.h` and its face conductances; a closed gap is an error.
     fn set_gap(&mut self, step: &Step, z: f64) -> Result<(), FilmError> {
         let g = step.grid;
-        step.gap.fill(g, z, &mut self.h);
+        self.fill_h(step, z);
         if let Some(k) = self.h.iter().position(|&h| h <= 0.0 || h.is_nan()) {
             return Err(FilmError::GapClosed {
                 h: self.h[k],
@@ -770,7 +878,7 @@ impl FilmSolver {
                 x2: g.y(k % g.n2),
             });
         }
-        face_conductances(g, &self.h, &mut self.cx, &mut self.cy);
+        self.refresh_faces(step);
         Ok(())
     }
 
@@ -890,7 +998,7 @@ impl FilmSolver {
                 });
                 if let Some(zf) = frozen_z {
                     step.gap.fill(g, zf, &mut self.jh);
-                    face_conductances(g, &self.jh, &mut self.jcx, &mut self.jcy);
+                    face_conductances(g, &self.jh, None, &mut self.jcx, &mut self.jcy);
                 }
                 // Residual F = balance(·) at the current iterate and the Newton matrix ∂F/∂x.
                 let fmax = self.assemble(step, state, (lo, hi), adv, at, frozen_z.is_some());
@@ -957,16 +1065,16 @@ impl FilmSolver {
                             &mut self.dcx,
                             &mut self.dcy,
                         );
-                        self.dphi.clear();
-                        for (i, &under) in ring.iter().enumerate() {
+                        // φ' is read (below) only in the columns that see Z and the one
+                        // upstream of them; only those are written.
+                        self.dphi.resize(ring.len() * n2, 0.0);
+                        let read = ring_cols.start.saturating_sub(1)..ring_cols.end.min(ring.len());
+                        for i in read {
                             let col = &state.pressurised[i * n2..(i + 1) * n2];
-                            self.dphi.extend(col.iter().map(|&pr| {
-                                if (pr || cutoff) && under {
-                                    1.0
-                                } else {
-                                    0.0
-                                }
-                            }));
+                            let out = &mut self.dphi[i * n2..(i + 1) * n2];
+                            for (d, &pr) in out.iter_mut().zip(col) {
+                                *d = if (pr || cutoff) && ring[i] { 1.0 } else { 0.0 };
+                            }
                         }
                         let dfaces = Faces {
                             cx: &self.dcx,
@@ -976,15 +1084,15 @@ impl FilmSolver {
                         // conductances of their faces, φ' there and upstream); elsewhere
                         // ∂F/∂Z is exactly zero.
                         self.rhs2.clear();
-                        for i in lo..=hi {
-                            let sees_z = ring_cols.contains(&i);
-                            for j in 0..n2 {
-                                let dropped = cutoff && !state.pressurised[i * n2 + j];
-                                self.rhs2.push(if dropped || !sees_z {
-                                    0.0
-                                } else {
-                                    balance(g, &dfaces, adv, at, &state.p, &self.dphi, None, i, j)
-                                });
+                        self.rhs2.resize(m1 * n2, 0.0);
+                        for i in ring_cols.start.max(lo)..ring_cols.end.min(hi + 1) {
+                            let col = Column::new(g, &dfaces, &state.p, &self.dphi, None, i);
+                            let out = &mut self.rhs2[(i - lo) * n2..(i - lo + 1) * n2];
+                            for (j, r) in out.iter_mut().enumerate() {
+                                // Under the cut-off a cavitated node's equation is dropped.
+                                if !cutoff || state.pressurised[i * n2 + j] {
+                                    *r = col.balance(adv, at, j);
+                                }
                             }
                         }
                         let mut y2 = std::mem::take(&mut self.y2);
@@ -1072,7 +1180,7 @@ impl FilmSolver {
             let eps = 1e-13;
             let p_eps = eps * pmax;
             let mut changes = 0;
-            step.gap.fill(g, *z, &mut self.h);
+            self.fill_h(step, *z);
             for k in interior.clone() {
                 let hk = self.h[k];
                 if state.pressurised[k] {
@@ -1148,10 +1256,15 @@ impl FilmSolver {
             cx: &self.cx,
             cy: &self.cy,
         };
+        let n2 = g.n2;
         for i in cols {
-            for j in 0..g.n2 {
-                let r = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
-                state.phi[i * g.n2 + j] -= r / (adv + at);
+            // A node's balance reads φ of its own node and the one upstream only, so the
+            // column's updates can follow its residuals.
+            let (done, rest) = state.phi.split_at_mut(i * n2);
+            let col = Column::new(g, &faces, &state.p, done, phi_old, i);
+            for (j, phi) in rest[..n2].iter_mut().enumerate() {
+                let r = col.balance_with(adv, at, j, *phi);
+                *phi -= r / (adv + at);
             }
         }
     }
@@ -1289,7 +1402,7 @@ impl FilmSolver {
         // cavitated set is left as solved (θ ≤ 1 + 1e-13, the switching threshold): clipping
         // it would remove mass where φ ≈ h is large (the flooded gap e upstream of the ring)
         // and break the exact discrete balance.
-        step.gap.fill(g, z, &mut self.h);
+        self.fill_h(step, z);
         for k in interior.clone() {
             if state.pressurised[k] || cutoff {
                 state.phi[k] = self.h[k];
@@ -1338,8 +1451,8 @@ impl FilmSolver {
     /// that node's balance.
     fn max_relative_residual(&mut self, step: &Step, state: &FilmState, z: f64) -> f64 {
         let g = step.grid;
-        step.gap.fill(g, z, &mut self.h);
-        face_conductances(g, &self.h, &mut self.cx, &mut self.cy);
+        self.fill_h(step, z);
+        self.refresh_faces(step);
         let faces = Faces {
             cx: &self.cx,
             cy: &self.cy,
@@ -1349,14 +1462,12 @@ impl FilmSolver {
         let phi_old = (step.inv_dt > 0.0).then_some(step.phi_old);
         let mut worst: f64 = 0.0;
         for i in 1..g.n1 {
+            let col = Column::new(g, &faces, &state.p, &state.phi, phi_old, i);
             for j in 0..g.n2 {
-                let k = g.idx(i, j);
-                let r = balance(g, &faces, adv, at, &state.p, &state.phi, phi_old, i, j);
-                let pscale = faces.cx[k - g.n2].max(faces.cx[k])
-                    * state.p[k]
-                        .abs()
-                        .max(state.p[k - g.n2].abs().max(state.p[k + g.n2].abs()));
-                let scale = pscale + (adv + at) * state.phi[k].abs() + adv * state.phi[k - g.n2];
+                let r = col.balance(adv, at, j);
+                let pscale = col.cx_w[j].max(col.cx_e[j])
+                    * col.p[j].abs().max(col.p_w[j].abs().max(col.p_e[j].abs()));
+                let scale = pscale + (adv + at) * col.phi[j].abs() + adv * col.phi_w[j];
                 if scale > 0.0 {
                     worst = worst.max(r.abs() / scale);
                 }
@@ -1399,9 +1510,19 @@ fn check_finite(g: &Grid, state: &FilmState, z: f64) -> Result<(), FilmError> {
             x2: f64::NAN,
         });
     }
-    if let Some(k) =
-        (g.n2..g.n1 * g.n2).find(|&k| !(state.p[k].is_finite() && state.phi[k].is_finite()))
-    {
+    // A value is not finite when its exponent bits are all set: one branch-free pass says
+    // whether there is any; only then is it looked for.
+    const EXPONENT: u64 = 0x7ff0_0000_0000_0000;
+    let bad = |x: f64| x.to_bits() & EXPONENT == EXPONENT;
+    let mut interior = g.n2..g.n1 * g.n2;
+    let any = state.p[interior.clone()]
+        .iter()
+        .zip(&state.phi[interior.clone()])
+        .fold(false, |a, (&p, &phi)| a | bad(p) | bad(phi));
+    if !any {
+        return Ok(());
+    }
+    if let Some(k) = interior.find(|&k| !(state.p[k].is_finite() && state.phi[k].is_finite())) {
         return Err(FilmError::NonFinite {
             quantity: if state.p[k].is_finite() {
                 "film content hθ"
