@@ -154,6 +154,11 @@ impl BandLu {
             let last_k1 = (k + 1 + w).min(n - 1);
             // Both pivots' rows span the full band (then last_k = k + w too).
             let full = W > 0 && last_k1 == k + 1 + W;
+            if full {
+                update_rows_full::<W>(a, k, r0, inv_k, inv_k1);
+                k += 2;
+                continue;
+            }
             let (head, tail) = a.split_at_mut((k + 2) * stride);
             // U rows k (columns k+1..=last_k) and k+1 (columns k+2..=last_k1).
             let uk = &head[k * stride + w + 1..k * stride + w + 1 + (last_k - k)];
@@ -177,10 +182,6 @@ impl BandLu {
                 // Columns k+2..=last_k take both pivots, columns up to last_k1 only k+1.
                 let both = if i <= last_k { last_k - k - 1 } else { 0 };
                 let x = &mut row[c1 + 1..c1 + 1 + (last_k1 - k - 1)];
-                if full {
-                    update_pair::<W>(x, l1, l2, &uk[1..], uk1);
-                    continue;
-                }
                 match (l1 != 0.0, l2 != 0.0) {
                     (true, true) => {
                         let (xb, xr) = x.split_at_mut(both);
@@ -306,6 +307,41 @@ fn dot2(a: &[f64], x: &[f64], y: &[f64]) -> (f64, f64) {
         q[l] += a * y;
     }
     ((p[0] + p[1]) + (p[2] + p[3]), (q[0] + q[1]) + (q[2] + q[3]))
+}
+
+/// The W rows below pivots k and k + 1 take both pivots' updates when both pivots' rows
+/// span the full band of width W (compile-time): the general path's operations in the same
+/// order, over rows of fixed length (2W + 1) so that no index is checked per row. Rows
+/// before r0 hold their final factors and are left alone.
+#[inline(always)]
+fn update_rows_full<const W: usize>(a: &mut [f64], k: usize, r0: usize, inv_k: f64, inv_k1: f64) {
+    let stride = 2 * W + 1;
+    let (head, tail) = a.split_at_mut((k + 2) * stride);
+    // U rows k (columns k+1..=k+W) and k+1 (columns k+2..=k+1+W).
+    let uk = &head[k * stride + W + 1..k * stride + 2 * W + 1];
+    let uk1 = &head[(k + 1) * stride + W + 1..(k + 1) * stride + 2 * W + 1];
+    let skip = r0.saturating_sub(k + 2);
+    for (t, row) in tail[..W * stride]
+        .chunks_exact_mut(stride)
+        .enumerate()
+        .skip(skip)
+    {
+        // Row k+2+t: column k+1 sits at c1 = W − 1 − t; pivot k reaches rows up to k + W.
+        let c1 = W - 1 - t;
+        let mut l1 = 0.0;
+        if t + 1 < W {
+            l1 = row[c1 - 1] * inv_k;
+            if l1 != 0.0 {
+                row[c1 - 1] = l1;
+                row[c1] -= l1 * uk[0];
+            }
+        }
+        let l2 = row[c1] * inv_k1;
+        if l2 != 0.0 {
+            row[c1] = l2;
+        }
+        update_pair::<W>(&mut row[c1 + 1..c1 + 1 + W], l1, l2, &uk[1..], uk1);
+    }
 }
 
 /// The row update of a pivot pair over a full band of width W (x: the W columns after
