@@ -167,18 +167,7 @@ impl BandLu {
                 let row = &mut tail[(i - k - 2) * stride..(i - k - 1) * stride];
                 // Column c of row i sits at c + w − i; column k+1 at c1.
                 let c1 = k + 1 + w - i;
-                let mut l1 = 0.0;
-                if i <= last_k {
-                    l1 = row[c1 - 1] * inv_k;
-                    if l1 != 0.0 {
-                        row[c1 - 1] = l1;
-                        row[c1] -= l1 * uk[0];
-                    }
-                }
-                let l2 = row[c1] * inv_k1;
-                if l2 != 0.0 {
-                    row[c1] = l2;
-                }
+                let (l1, l2) = multipliers(row, c1, i <= last_k, inv_k, inv_k1, uk[0]);
                 // Columns k+2..=last_k take both pivots, columns up to last_k1 only k+1.
                 let both = if i <= last_k { last_k - k - 1 } else { 0 };
                 let x = &mut row[c1 + 1..c1 + 1 + (last_k1 - k - 1)];
@@ -321,6 +310,34 @@ fn dot2(a: &[f64], x: &[f64], y: &[f64]) -> (f64, f64) {
     ((p[0] + p[1]) + (p[2] + p[3]), (q[0] + q[1]) + (q[2] + q[3]))
 }
 
+/// The multipliers of pivots k and k + 1 in a row whose column k + 1 sits at c1 (column k
+/// before it, when pivot k reaches the row), stored in place of the entries they eliminate;
+/// pivot k's update of column k + 1 is applied first, as a full factorisation does. A zero
+/// multiplier leaves the row as it is.
+#[inline(always)]
+fn multipliers(
+    row: &mut [f64],
+    c1: usize,
+    reaches_k: bool,
+    inv_k: f64,
+    inv_k1: f64,
+    uk_first: f64,
+) -> (f64, f64) {
+    let mut l1 = 0.0;
+    if reaches_k {
+        l1 = row[c1 - 1] * inv_k;
+        if l1 != 0.0 {
+            row[c1 - 1] = l1;
+            row[c1] -= l1 * uk_first;
+        }
+    }
+    let l2 = row[c1] * inv_k1;
+    if l2 != 0.0 {
+        row[c1] = l2;
+    }
+    (l1, l2)
+}
+
 /// The W rows below pivots k and k + 1 take both pivots' updates when both pivots' rows
 /// span the full band of width W (compile-time): the general path's operations in the same
 /// order, over rows of fixed length (2W + 1) so that no index is checked per row. Rows
@@ -340,18 +357,7 @@ fn update_rows_full<const W: usize>(a: &mut [f64], k: usize, r0: usize, inv_k: f
     {
         // Row k+2+t: column k+1 sits at c1 = W − 1 − t; pivot k reaches rows up to k + W.
         let c1 = W - 1 - t;
-        let mut l1 = 0.0;
-        if t + 1 < W {
-            l1 = row[c1 - 1] * inv_k;
-            if l1 != 0.0 {
-                row[c1 - 1] = l1;
-                row[c1] -= l1 * uk[0];
-            }
-        }
-        let l2 = row[c1] * inv_k1;
-        if l2 != 0.0 {
-            row[c1] = l2;
-        }
+        let (l1, l2) = multipliers(row, c1, t + 1 < W, inv_k, inv_k1, uk[0]);
         update_pair::<W>(&mut row[c1 + 1..c1 + 1 + W], l1, l2, &uk[1..], uk1);
     }
 }
