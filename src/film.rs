@@ -93,6 +93,36 @@ impl Gap {
         }
     }
 
+    /// Refills `out`, which holds this gap at another ring position, for `z`: only the
+    /// columns under the ring depend on Z (the same values as [`Gap::fill`]).
+    pub fn refill_ring(&self, grid: &Grid, z: f64, out: &mut [f64]) {
+        let n2 = grid.n2;
+        let cols = self.ring_columns();
+        let span = cols.start * n2..cols.end * n2;
+        for (i, (o, col)) in out[span.clone()]
+            .chunks_exact_mut(n2)
+            .zip(self.base[span].chunks_exact(n2))
+            .enumerate()
+        {
+            if self.ring[cols.start + i] {
+                for (o, b) in o.iter_mut().zip(col) {
+                    *o = b + z;
+                }
+            }
+        }
+    }
+
+    /// The node columns from the first under the ring to the last (empty without one).
+    pub fn ring_columns(&self) -> std::ops::Range<usize> {
+        match (
+            self.ring.iter().position(|&r| r),
+            self.ring.iter().rposition(|&r| r),
+        ) {
+            (Some(a), Some(b)) => a..b + 1,
+            _ => 0..0,
+        }
+    }
+
     /// The smallest gap without Z under the ring (∞ when no column lies under it).
     pub fn ring_min_base(&self, grid: &Grid) -> f64 {
         let n2 = grid.n2;
@@ -853,10 +883,13 @@ impl FilmSolver {
     /// The gap at Z into `self.h`, unless it holds that already (the iteration fills it at
     /// the new Z to update the active set, and the next iteration starts there).
     fn fill_h(&mut self, step: &Step, z: f64) {
-        if self.h_at.map(f64::to_bits) != Some(z.to_bits()) {
-            step.gap.fill(step.grid, z, &mut self.h);
-            self.h_at = Some(z);
+        match self.h_at {
+            Some(at) if at.to_bits() == z.to_bits() => {}
+            // This solve's gap at another Z: only the columns under the ring change.
+            Some(_) => step.gap.refill_ring(step.grid, z, &mut self.h),
+            None => step.gap.fill(step.grid, z, &mut self.h),
         }
+        self.h_at = Some(z);
     }
 
     /// The face conductances of `self.h`: all of them at a solve's first call, afterwards
@@ -870,8 +903,20 @@ impl FilmSolver {
     /// The gap at Z into `self.h` and its face conductances; a closed gap is an error.
     fn set_gap(&mut self, step: &Step, z: f64) -> Result<(), FilmError> {
         let g = step.grid;
+        // After this solve's first fill only the columns under the ring can change.
+        let span = if self.h_at.is_some() {
+            let cols = step.gap.ring_columns();
+            cols.start * g.n2..cols.end * g.n2
+        } else {
+            0..g.nodes()
+        };
         self.fill_h(step, z);
-        if let Some(k) = self.h.iter().position(|&h| h <= 0.0 || h.is_nan()) {
+        let closed = |h: &f64| *h <= 0.0 || h.is_nan();
+        if let Some(k) = self.h[span.clone()]
+            .iter()
+            .position(closed)
+            .map(|k| k + span.start)
+        {
             return Err(FilmError::GapClosed {
                 h: self.h[k],
                 x1: g.x(k / g.n2),
@@ -905,9 +950,9 @@ impl FilmSolver {
         let interior = n2..n1 * n2;
         let ring_min_base = step.gap.ring_min_base(g);
         // Node columns whose balance depends on Z: under the ring and one either side.
-        let ring_cols = match (ring.iter().position(|&r| r), ring.iter().rposition(|&r| r)) {
-            (Some(a), Some(b)) => a.saturating_sub(1)..b + 2,
-            _ => 0..0,
+        let ring_cols = match step.gap.ring_columns() {
+            c if c.is_empty() => 0..0,
+            c => c.start.saturating_sub(1)..c.end + 1,
         };
 
         let mut iterations = 0;
@@ -919,9 +964,13 @@ impl FilmSolver {
             iterations += 1;
             // Gap, conductances and their Z-derivatives at the current Z.
             self.set_gap(step, *z)?;
-            for k in interior.clone() {
-                if state.pressurised[k] || cutoff {
-                    state.phi[k] = self.h[k];
+            for ((phi, &pr), &h) in state.phi[interior.clone()]
+                .iter_mut()
+                .zip(&state.pressurised[interior.clone()])
+                .zip(&self.h[interior.clone()])
+            {
+                if pr || cutoff {
+                    *phi = h;
                 }
             }
 
@@ -1145,18 +1194,23 @@ impl FilmSolver {
                 }
                 debug_assert_eq!(self.y1.len(), m1 * n2);
                 let (mut dp, mut dphi, mut pmax) = (0.0f64, 0.0f64, 0.0f64);
-                for i in lo..=hi {
-                    for j in 0..n2 {
-                        let k = i * n2 + j;
-                        let d = self.y1[(i - lo) * n2 + j];
-                        if state.pressurised[k] {
-                            state.p[k] += d;
-                            dp = dp.max(d.abs());
-                            pmax = pmax.max(state.p[k].abs());
-                        } else if !cutoff {
-                            state.phi[k] += d;
-                            dphi = dphi.max(d.abs() / self.h[k]);
-                        }
+                // Nodes lo·n2.. in order, y1 indexed from 0.
+                let span = lo * n2..(hi + 1) * n2;
+                for ((((&d, &pr), p), phi), &h) in self
+                    .y1
+                    .iter()
+                    .zip(&state.pressurised[span.clone()])
+                    .zip(&mut state.p[span.clone()])
+                    .zip(&mut state.phi[span.clone()])
+                    .zip(&self.h[span])
+                {
+                    if pr {
+                        *p += d;
+                        dp = dp.max(d.abs());
+                        pmax = pmax.max(p.abs());
+                    } else if !cutoff {
+                        *phi += d;
+                        dphi = dphi.max(d.abs() / h);
                     }
                 }
                 correction = dphi.max(if pmax > 0.0 { dp / pmax } else { 0.0 });
@@ -1172,25 +1226,42 @@ impl FilmSolver {
             }
 
             // Active-set update: negative pressure → cavitated; over-full film → pressurised.
-            let pmax = interior
-                .clone()
-                .filter(|&k| state.pressurised[k])
-                .fold(0.0f64, |m, k| m.max(state.p[k]));
+            let pmax = state.pressurised[interior.clone()]
+                .iter()
+                .zip(&state.p[interior.clone()])
+                .filter(|(&pr, _)| pr)
+                .fold(0.0f64, |m, (_, &p)| m.max(p));
             // Switching thresholds at round-off.
             let eps = 1e-13;
             let p_eps = eps * pmax;
             let mut changes = 0;
             self.fill_h(step, *z);
-            for k in interior.clone() {
-                let hk = self.h[k];
-                if state.pressurised[k] {
-                    if state.p[k] < -p_eps {
-                        state.pressurised[k] = false;
-                        state.p[k] = 0.0;
-                        state.phi[k] = hk;
+            if !cutoff {
+                // Elrod–Adams: each node by itself (slices, no index per node).
+                let nodes = interior.clone();
+                for (((pr, p), phi), &hk) in state.pressurised[nodes.clone()]
+                    .iter_mut()
+                    .zip(&mut state.p[nodes.clone()])
+                    .zip(&mut state.phi[nodes.clone()])
+                    .zip(&self.h[nodes])
+                {
+                    if *pr {
+                        changes += usize::from(cavitate(pr, p, phi, hk, p_eps));
+                    } else if *phi > hk * (1.0 + eps) {
+                        *pr = true;
+                        *p = 0.0;
+                        *phi = hk;
                         changes += 1;
                     }
-                } else if cutoff {
+                }
+            }
+            // The cut-off's re-admission reads the neighbours (in node order, as above).
+            for k in interior.clone().filter(|_| cutoff) {
+                let hk = self.h[k];
+                if state.pressurised[k] {
+                    let (pr, p) = (&mut state.pressurised[k], &mut state.p[k]);
+                    changes += usize::from(cavitate(pr, p, &mut state.phi[k], hk, p_eps));
+                } else {
                     // Cut-off: a dropped node comes back when p = 0 leaves it a net inflow
                     // (the Reynolds equation would raise its pressure).
                     let faces = Faces {
@@ -1204,11 +1275,6 @@ impl FilmSolver {
                         state.pressurised[k] = true;
                         changes += 1;
                     }
-                } else if state.phi[k] > hk * (1.0 + eps) {
-                    state.pressurised[k] = true;
-                    state.p[k] = 0.0;
-                    state.phi[k] = hk;
-                    changes += 1;
                 }
             }
             check_finite(g, state, *z)?;
@@ -1475,6 +1541,19 @@ impl FilmSolver {
         }
         worst
     }
+}
+
+/// Active-set update of a pressurised node: a pressure below −p_eps releases it to the
+/// cavitated set (p = 0, φ = h to start from). Returns whether it switched.
+#[inline(always)]
+fn cavitate(pressurised: &mut bool, p: &mut f64, phi: &mut f64, h: f64, p_eps: f64) -> bool {
+    let switch = *p < -p_eps;
+    if switch {
+        *pressurised = false;
+        *p = 0.0;
+        *phi = h;
+    }
+    switch
 }
 
 /// Sum of the four face conductances of node (i, j): the diagonal ∂F/∂p_ij of the stencil.
