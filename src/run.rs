@@ -663,8 +663,12 @@ impl Transient {
 /// node, ≈ 3.5 % of a `fast` run, for fields that repeat every period.
 #[derive(Clone, Default)]
 struct PlacedTexture {
-    /// Slot k: h_L and the gap base at phase k·dt; empty when disabled.
+    /// Slot k: h_L and the gap base at phase k·dt; empty when disabled. The slot lent to
+    /// the scene holds the scene's spare arrays meanwhile.
     slots: Vec<Option<(Vec<f64>, Vec<f64>)>>,
+    /// The slot whose arrays the scene holds (exchanged, not copied: at 512×32 a copy is
+    /// 260 kB a step).
+    lent: Option<usize>,
 }
 
 /// Most memory the placed texture of a period may take (bytes): 512×32 with 150 steps a
@@ -681,15 +685,24 @@ impl PlacedTexture {
             } else {
                 Vec::new()
             },
+            lent: None,
         }
     }
 
     /// Places the texture of `scene` at phase `phase` (slot `slot` of the period).
     fn place(&mut self, scene: &mut Scene, slot: usize, phase: f64) {
+        let exchange = |(hl, base): &mut (Vec<f64>, Vec<f64>), scene: &mut Scene| {
+            std::mem::swap(hl, &mut scene.hl);
+            std::mem::swap(base, &mut scene.gap.base);
+        };
+        // The arrays the scene holds go back to their slot, the scene's own come back.
+        if let Some(Some(pair)) = self.lent.take().and_then(|j| self.slots.get_mut(j)) {
+            exchange(pair, scene);
+        }
         match self.slots.get_mut(slot) {
-            Some(Some((hl, base))) => {
-                scene.hl.copy_from_slice(hl);
-                scene.gap.base.copy_from_slice(base);
+            Some(Some(pair)) => {
+                exchange(pair, scene);
+                self.lent = Some(slot);
             }
             Some(empty) => {
                 scene.place(phase);
