@@ -737,46 +737,49 @@ impl FilmSolver {
         let inexact = self.method == Method::Multigrid;
         for i in lo..=hi {
             let col = Column::new(g, &faces, &state.p, &state.phi, phi_old, i);
+            // The matrix's conductances and the active set around column i, and its rows,
+            // as slices of length N2 (no index checked per entry).
+            let (cx_w, cx_e) = (&jfaces.cx[(i - 1) * n2..][..n2], &jfaces.cx[i * n2..][..n2]);
+            let cy = &jfaces.cy[i * (n2 - 1)..][..n2 - 1];
+            let pr_w = &state.pressurised[(i - 1) * n2..][..n2];
+            let pr = &state.pressurised[i * n2..][..n2];
+            let pr_e = &state.pressurised[(i + 1) * n2..][..n2];
+            let r0 = (i - lo) * n2;
+            let ac = &mut a.c[r0..][..n2];
+            let aw = &mut a.w[r0..][..n2];
+            let ae = &mut a.e[r0..][..n2];
+            let a_s = &mut a.s[r0..][..n2];
+            let an = &mut a.n[r0..][..n2];
             for j in 0..n2 {
-                let k = i * n2 + j;
-                let r = (i - lo) * n2 + j;
-                if cutoff && !state.pressurised[k] {
+                if cutoff && !pr[j] {
                     // Reynolds cut-off: p = 0 fixed, the equation dropped.
                     self.y1.push(0.0);
-                    (a.c[r], a.w[r], a.e[r], a.s[r], a.n[r]) = (1.0, 0.0, 0.0, 0.0, 0.0);
+                    (ac[j], aw[j], ae[j], a_s[j], an[j]) = (1.0, 0.0, 0.0, 0.0, 0.0);
                     continue;
                 }
                 let f = col.balance(adv, at, j);
                 self.y1.push(-f);
-                let cw = jfaces.cx[k - n2];
-                let ce = jfaces.cx[k];
-                let cs = if j > 0 {
-                    jfaces.cy[i * (n2 - 1) + j - 1]
-                } else {
-                    0.0
-                };
-                let cn = if j + 1 < n2 {
-                    jfaces.cy[i * (n2 - 1) + j]
-                } else {
-                    0.0
-                };
+                let cw = cx_w[j];
+                let ce = cx_e[j];
+                let cs = if j > 0 { cy[j - 1] } else { 0.0 };
+                let cn = if j + 1 < n2 { cy[j] } else { 0.0 };
                 let csum = cw + ce + cs + cn;
                 // Relative to the node's largest terms: its Poiseuille and Couette fluxes
                 // (read by the multigrid path only).
                 if inexact {
-                    let scale = csum * state.p[k].abs() + (adv + at) * state.phi[k].abs();
+                    let scale = csum * col.p[j].abs() + (adv + at) * col.phi[j].abs();
                     if scale > 0.0 {
                         fmax = fmax.max(f.abs() / scale);
                     }
                 }
                 // Diagonal: ∂F/∂p_ij = Σc on the pressurised set, ∂F/∂φ_ij = adv + at on the
                 // cavitated set.
-                a.c[r] = if state.pressurised[k] { csum } else { adv + at };
+                ac[j] = if pr[j] { csum } else { adv + at };
                 // Off-diagonals depend on the neighbour's unknown only: its pressure enters
                 // through −c, the upstream φ through −adv, downstream φ not at all.
-                a.w[r] = if i == lo {
+                aw[j] = if i == lo {
                     0.0
-                } else if state.pressurised[k - n2] {
+                } else if pr_w[j] {
                     -cw
                 } else if cutoff {
                     0.0
@@ -784,9 +787,9 @@ impl FilmSolver {
                     -adv
                 };
                 let coupled = |on: bool, c: f64| if on { -c } else { 0.0 };
-                a.e[r] = coupled(i < hi && state.pressurised[k + n2], ce);
-                a.s[r] = coupled(j > 0 && state.pressurised[k - 1], cs);
-                a.n[r] = coupled(j + 1 < n2 && state.pressurised[k + 1], cn);
+                ae[j] = coupled(i < hi && pr_e[j], ce);
+                a_s[j] = coupled(j > 0 && pr[j - 1], cs);
+                an[j] = coupled(j + 1 < n2 && pr[j + 1], cn);
             }
         }
         fmax
