@@ -613,33 +613,43 @@ fn face_conductances(
     let (n1, n2) = (g.n1, g.n2);
     let (sx, sy) = (g.dy / g.dx, g.dx / g.dy);
     let ny = n2.saturating_sub(1);
-    let x_face = |k: usize| {
-        let hf = 0.5 * (h[k] + h[k + n2]);
-        hf * hf * hf * sx
+    // A face between gaps a and b: h_f = (a + b)/2, conductance h_f³·s. Over slices of
+    // neighbouring nodes (no index checked per face).
+    let face = |a: f64, b: f64, s: f64| {
+        let hf = 0.5 * (a + b);
+        hf * hf * hf * s
     };
-    let y_face = |k: usize| {
-        let hf = 0.5 * (h[k] + h[k + 1]);
-        hf * hf * hf * sy
+    // x1 faces east of the nodes of columns `cols`, and x2 faces of column i, into `out`.
+    let x_faces = |cols: std::ops::Range<usize>, out: &mut [f64]| {
+        let (west, east) = (
+            &h[cols.start * n2..cols.end * n2],
+            &h[(cols.start + 1) * n2..],
+        );
+        for ((c, &a), &b) in out.iter_mut().zip(west).zip(east) {
+            *c = face(a, b, sx);
+        }
+    };
+    let y_faces = |i: usize, out: &mut [f64]| {
+        let col = &h[i * n2..(i + 1) * n2];
+        for ((c, &a), &b) in out.iter_mut().zip(col).zip(&col[1..]) {
+            *c = face(a, b, sy);
+        }
     };
     let Some(ring) = only_ring else {
-        cx.clear();
-        cx.extend((0..n1 * n2).map(x_face));
-        cy.clear();
+        cx.resize(n1 * n2, 0.0);
+        x_faces(0..n1, cx);
+        cy.resize((n1 + 1) * ny, 0.0);
         for i in 0..=n1 {
-            cy.extend((i * n2..i * n2 + ny).map(y_face));
+            y_faces(i, &mut cy[i * ny..(i + 1) * ny]);
         }
         return;
     };
     for i in 0..=n1 {
         if i < n1 && (ring[i] || ring[i + 1]) {
-            for (k, c) in (i * n2..).zip(&mut cx[i * n2..(i + 1) * n2]) {
-                *c = x_face(k);
-            }
+            x_faces(i..i + 1, &mut cx[i * n2..(i + 1) * n2]);
         }
         if ring[i] {
-            for (k, c) in (i * n2..).zip(&mut cy[i * ny..(i + 1) * ny]) {
-                *c = y_face(k);
-            }
+            y_faces(i, &mut cy[i * ny..(i + 1) * ny]);
         }
     }
 }
