@@ -193,12 +193,12 @@ fn row(r: &Run, name: &str, fr: f64, cr: f64) -> String {
     )
 }
 
-/// The fidelity tiers and the old reference against the finer 2048×32, dt = 1e-4 runs:
-/// results/speed_finer.md.
+/// The fidelity tiers and the old reference against the finest 2048-cell, dt = 1e-4 run of
+/// each case: results/speed_finer.md.
 fn finer() -> Result<(), String> {
     let runs = load_runs(RUNS, true)?;
     let finer = load_runs(FINER, false)?;
-    let mut md = String::from("# Fidelity tiers against a finer reference\n\nReproduce: `bash studies/speed.sh finer` (the two 2048×32 runs took 22 and 49 min, one per core, beside other work), then `cargo run --release --example speed -- finer`. Reference: 2048 cells along x1 and dt = 1e-4 (the issue asks for 2048×128; the speed study found N2 matters little: Case I at 1024×8 is within 0.07 % of 1024×64). Rows: the tiers as the speed study ran them with their own periodic tolerance and coarse approach, and the study's old reference 1024×64. Errors relative to the reference; times are one core of the 2-core machine (from the speed study; the 1024×64 and 2048×32 references were run before the solver speed-ups of issue 3, their times are not comparable).\n");
+    let mut md = String::from("# Fidelity tiers against a finer reference\n\nReproduce: `bash studies/speed.sh finer` (the two 2048×32 runs took 22 and 49 min, one per core, beside other work; Case III at 2048×64, with the coarse approach, 108 min on one core beside other work), then `cargo run --release --example speed -- finer`. Reference: the finest run of each case at 2048 cells along x1 and dt = 1e-4 (2048×64 where it was run, else 2048×32). The issue asks for 2048×128, out of reach (a 2048×128 step costs ≈ 1.5 s and more, ≈ 15 000 steps a case). A row `(finer, coarser N2)` is the same case at half the reference's N2: its difference from the reference is what doubling N2 changes at 2048 cells; if the N2 error at least halves with each doubling, 2048×128 lies within that difference of the reference. Rows: the tiers as the speed study ran them with their own periodic tolerance and coarse approach, and the study's old reference 1024×64. Errors relative to the reference; times are one core of the 2-core machine (from the speed study; the 1024×64 and 2048 references were run before the solver speed-ups of issue 3 or beside other work, their times are not comparable).\n");
     for case in ["case-I", "case-III"] {
         // The finest run of the case is the reference; coarser finer runs are rows.
         let Some(reference) = finer
