@@ -94,10 +94,10 @@ impl Gap {
     }
 
     /// Refills `out`, which holds this gap at another ring position, for `z`: only the
-    /// columns under the ring depend on Z (the same values as [`Gap::fill`]).
-    pub fn refill_ring(&self, grid: &Grid, z: f64, out: &mut [f64]) {
+    /// columns under the ring depend on Z (the same values as [`Gap::fill`]). `cols`:
+    /// [`Gap::ring_columns`], computed once by the caller.
+    pub fn refill_ring(&self, grid: &Grid, z: f64, cols: std::ops::Range<usize>, out: &mut [f64]) {
         let n2 = grid.n2;
-        let cols = self.ring_columns();
         let span = cols.start * n2..cols.end * n2;
         for (i, (o, col)) in out[span.clone()]
             .chunks_exact_mut(n2)
@@ -481,6 +481,8 @@ pub struct FilmSolver {
     mg: LineMultigrid,
     /// The Z at which `h` holds this solve's gap (None: not yet filled in this solve).
     h_at: Option<f64>,
+    /// This solve's node columns from the first under the ring to the last.
+    ring_span: std::ops::Range<usize>,
     /// Whether `cx`, `cy` hold this solve's conductances away from the ring.
     faces_fresh: bool,
     rhs1: Vec<f64>,
@@ -874,6 +876,7 @@ impl FilmSolver {
         // A new problem: the texture has moved since `h` and the conductances were set.
         self.h_at = None;
         self.faces_fresh = false;
+        self.ring_span = step.gap.ring_columns();
         // Factors not handed in for this problem serve only through their identical rows.
         if !std::mem::take(&mut self.inherited) {
             self.factors.of = None;
@@ -899,7 +902,9 @@ impl FilmSolver {
         match self.h_at {
             Some(at) if at.to_bits() == z.to_bits() => {}
             // This solve's gap at another Z: only the columns under the ring change.
-            Some(_) => step.gap.refill_ring(step.grid, z, &mut self.h),
+            Some(_) => step
+                .gap
+                .refill_ring(step.grid, z, self.ring_span.clone(), &mut self.h),
             None => step.gap.fill(step.grid, z, &mut self.h),
         }
         self.h_at = Some(z);
@@ -918,8 +923,7 @@ impl FilmSolver {
         let g = step.grid;
         // After this solve's first fill only the columns under the ring can change.
         let span = if self.h_at.is_some() {
-            let cols = step.gap.ring_columns();
-            cols.start * g.n2..cols.end * g.n2
+            self.ring_span.start * g.n2..self.ring_span.end * g.n2
         } else {
             0..g.nodes()
         };
@@ -963,7 +967,7 @@ impl FilmSolver {
         let interior = n2..n1 * n2;
         let ring_min_base = step.gap.ring_min_base(g);
         // Node columns whose balance depends on Z: under the ring and one either side.
-        let ring_cols = match step.gap.ring_columns() {
+        let ring_cols = match self.ring_span.clone() {
             c if c.is_empty() => 0..0,
             c => c.start.saturating_sub(1)..c.end + 1,
         };
