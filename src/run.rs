@@ -740,10 +740,14 @@ struct PeriodGuess {
     switched: Option<(usize, usize)>,
 }
 
-/// Most memory the kept factors of a period may take (bytes): 512×32 needs ≈ 0.9 GB for
-/// per = 0.06 (150 steps of ≈ 6 MB; a Case III run peaks at 0.98 GB resident), 512×8
-/// ≈ 50 MB; beyond it the later steps of a period go without.
-const PERIOD_FACTORS_MEMORY: usize = 1 << 30;
+/// Most memory the kept factors of a period may take (bytes): 512×32 needs ≈ 1.0 GB for
+/// per = 0.06 (150 steps of ≈ 6.4 MB: the band and the stencil it is of), 512×8 ≈ 50 MB;
+/// beyond it the later steps of a period go without. Why 1.5 GiB: at 1 GiB (until stop 21)
+/// Case III at `paper` kept factors for only ≈ 90 % of its steps, and the others factored
+/// every step of the settled windows (0.11 factorisations a step, 1160 rows eliminated);
+/// at 1.5 GiB 0.00–0.02 (0–10 rows), and the whole 512×32 stage eliminates 11 % fewer rows,
+/// for 1.03 GB resident instead of 0.94 GB.
+const PERIOD_FACTORS_MEMORY: usize = 3 << 29;
 
 /// Most memory the period's states may take (bytes); longer periods go without.
 const PERIOD_GUESS_MEMORY: usize = 256 << 20;
