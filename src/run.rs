@@ -1561,6 +1561,32 @@ mod tests {
     }
 
     #[test]
+    fn a_jump_keeps_the_states_of_the_last_period_as_guesses() {
+        let mut t = case_iii_after(0);
+        let n = t.steps_per_period;
+        let mut ends = Vec::new();
+        for _ in 0..3 {
+            for _ in 0..n {
+                t.step().expect("a coarse Case III steps");
+            }
+            ends.push(PeriodEnd::of(&t));
+        }
+        let mode = SlowMode {
+            alpha: 0.5,
+            beta: 0.0,
+        };
+        assert!(t.jump_to_limit([&ends[0], &ends[1], &ends[2]], mode));
+        // Every phase of the next period still has its state of a period ago (dropping them
+        // cost the period after a jump 2.5× the iterations).
+        assert!(t.period_ago.slots.iter().all(Option::is_some));
+        assert!(t.period_ago.z.iter().all(Option::is_some));
+        // And the run goes on from the jumped state.
+        for _ in 0..n {
+            t.step().expect("the period after a jump steps");
+        }
+    }
+
+    #[test]
     fn friction_for_several_thresholds_in_one_pass_is_each_ones_own() {
         let t = case_iii_after(20);
         let z = t.ring_state.z;
