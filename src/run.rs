@@ -1712,7 +1712,8 @@ mod tests {
             switched_held += differ(&before);
         }
         // The pockets’ cavities move with them: the carried guess is the nearer active set
-        // and needs fewer iterations (carried against the liner's motion, it would not).
+        // and needs fewer iterations (carrying the nodes outside the pockets instead, it
+        // would not: 410 against 406 switches, 120 against 120 iterations).
         assert!(
             switched_carried < switched_held,
             "{switched_carried} {switched_held}"
