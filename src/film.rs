@@ -500,6 +500,8 @@ pub struct FilmSolver {
     dphi: Vec<f64>,
     y1: Vec<f64>,
     y2: Vec<f64>,
+    /// y1 and y2 interleaved during their substitutions (`BandLu::solve2`).
+    pairs: Vec<[f64; 2]>,
 }
 
 /// Face conductances of the Poiseuille flux for the gap `h`: x1 faces h_f³·dy/dx and x2
@@ -1174,7 +1176,9 @@ impl FilmSolver {
                         let rhs2 = std::mem::take(&mut self.rhs2);
                         if y1_pending {
                             y2.copy_from_slice(&rhs2);
-                            self.factors.lu.solve2(&mut self.y1, &mut y2);
+                            self.factors
+                                .lu
+                                .solve2(&mut self.y1, &mut y2, &mut self.pairs);
                             y1_pending = false;
                         } else {
                             cycles +=
