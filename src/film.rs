@@ -370,6 +370,22 @@ fn chord_drift(n2: usize) -> f64 {
 /// sampled study cases at `fast` 2.65 → 2.12 iterations a step, outcomes within 1.6e-10.
 const CHORD_CONFIRM: f64 = 1e-8;
 
+/// Wide bands ([`WIDE_BAND_N2`]): period-old factors of the same range and active set serve
+/// chord steps up to this drift (instead of `chord_drift`'s 1e-4) in one solve, and then
+/// only under the tight bound: the first period to meet them stretched keeps them, the next
+/// one refreshes them. Why: while the ring still settles (at 512×32 after the hand-off from
+/// the coarse mesh), Z moves by ≈ 1e-3 of the clearance a period, and 712 of the 1762
+/// factorisations of Case III's 512×32 stage came at a step's first iteration only because
+/// of that drift, with the period-old factors of the very active set at hand. A chord step
+/// at drift δ cuts the error by δ, so two such steps do what a factorisation and its
+/// confirming step did. Kept stretched every period (a plain looser bound), factors grow
+/// old: the settled windows then needed 1.7–1.95 iterations a step instead of 1.0.
+/// Measured (Case III from the paper's start, windows 14–23 of its 512×32 stage, summed
+/// per-step means): rows eliminated 41 731 → 28 166, iterations 17.27 → 17.03; 1e-3: 33 435
+/// and 16.55; 1e-2: as 3e-3. At N2 = 8 (`fast`) it costs more iterations than the
+/// factorisations it saves (Case III 34.3 → 36.0 iterations, R = 51.2 30.7 → 33.0).
+const STRETCH_DRIFT: f64 = 3e-3;
+
 /// Fewest cells across (the band's half-width) from which a factorisation costs more than
 /// an iteration, so that the solver saves factorisations rather than iterations: a looser
 /// chord bound, and the Newton matrix frozen at the factors' Z when only the active set
@@ -446,6 +462,8 @@ struct FactoredFor {
     hi: usize,
     z: f64,
     active: Vec<bool>,
+    /// Whether these factors have served a solve under the stretched bound already.
+    stretched: bool,
 }
 
 impl Factors {
@@ -478,6 +496,9 @@ pub struct FilmSolver {
     /// Freeze the Newton matrix at the factors' Z when only the active set changed (wide
     /// bands, `WIDE_BAND_N2`); on by default, off to show what it saves.
     pub freeze_z: bool,
+    /// Let period-old factors serve once under the stretched chord bound (`STRETCH_DRIFT`;
+    /// wide bands). On by default; off for tests comparing the two.
+    pub stretch_chord: bool,
     mg: LineMultigrid,
     /// The Z at which `h` holds this solve's gap (None: not yet filled in this solve).
     h_at: Option<f64>,
@@ -704,6 +725,7 @@ impl FilmSolver {
             tol,
             method,
             freeze_z: true,
+            stretch_chord: true,
             ..Default::default()
         }
     }
@@ -974,6 +996,11 @@ impl FilmSolver {
             c => c.start.saturating_sub(1)..c.end + 1,
         };
 
+        // Period-old factors that have not served under the stretched bound yet may, for
+        // this whole solve (`STRETCH_DRIFT`).
+        let stretch = self.stretch_chord
+            && n2 >= WIDE_BAND_N2
+            && self.factors.of.as_ref().is_some_and(|f| !f.stretched);
         let mut iterations = 0;
         let mut cycles = 0;
         // What the last update did (multigrid: convergence is judged on the next residual).
@@ -1035,8 +1062,21 @@ impl FilmSolver {
                 // factorisation: the confirming one of a step, and near the periodic regime
                 // the first one too, with the factors of the same phase a period earlier.
                 let active = &state.pressurised[lo * n2..(hi + 1) * n2];
-                let chord = self.method == Method::Direct
+                let mut chord = self.method == Method::Direct
                     && self.factors.fit(lo, hi, active).is_some_and(drift_ok);
+                if !chord
+                    && stretch
+                    && self.method == Method::Direct
+                    && self
+                        .factors
+                        .fit(lo, hi, active)
+                        .is_some_and(|zf| drift(zf) <= STRETCH_DRIFT)
+                {
+                    chord = true;
+                    if let Some(f) = self.factors.of.as_mut() {
+                        f.stretched = true;
+                    }
+                }
                 // Frozen Z: when only the active set changed since the factors (Z within the
                 // chord drift), the matrix is assembled at their Z, so that it differs from
                 // theirs only in the rows around the switched nodes and the LU reuses every
@@ -1087,6 +1127,7 @@ impl FilmSolver {
                         hi,
                         z: frozen_z.unwrap_or(*z),
                         active: active.to_vec(),
+                        stretched: false,
                     });
                 }
                 // Newton correction from zero (the residual is the right-hand side).
