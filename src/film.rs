@@ -1062,17 +1062,16 @@ impl FilmSolver {
                 // factorisation: the confirming one of a step, and near the periodic regime
                 // the first one too, with the factors of the same phase a period earlier.
                 let active = &state.pressurised[lo * n2..(hi + 1) * n2];
-                let mut chord = self.method == Method::Direct
-                    && self.factors.fit(lo, hi, active).is_some_and(drift_ok);
-                if !chord
-                    && stretch
-                    && self.method == Method::Direct
-                    && self
-                        .factors
-                        .fit(lo, hi, active)
-                        .is_some_and(|zf| drift(zf) <= STRETCH_DRIFT)
-                {
-                    chord = true;
+                // The bound is `STRETCH_DRIFT` for factors that may be stretched this solve.
+                let bound = if stretch {
+                    STRETCH_DRIFT
+                } else {
+                    chord_drift(n2)
+                };
+                let fit_z = self.factors.fit(lo, hi, active);
+                let chord =
+                    self.method == Method::Direct && fit_z.is_some_and(|zf| drift(zf) <= bound);
+                if chord && fit_z.is_some_and(|zf| !drift_ok(zf)) {
                     if let Some(f) = self.factors.of.as_mut() {
                         f.stretched = true;
                     }
