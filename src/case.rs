@@ -483,13 +483,16 @@ impl Numerics {
     /// The numerics of the coarse approach to the periodic regime (`approach_n2`), if it
     /// applies to this case: N2 = approach_n2, raised where a pocket would span fewer than 2
     /// cells (as for `draft`), and still below this N2; periodic tolerance
-    /// `run::APPROACH_TOL`; no approach of its own.
+    /// `run::APPROACH_TOL`; no approach of its own; the direct solver whatever this mesh's
+    /// (on a narrow band it is the fastest measured; multigrid can pay only on wide bands,
+    /// results/speed.md, and the coarse run is only a start).
     pub fn approach_numerics(&self, case: &CaseSpec) -> Option<Numerics> {
         case.texture.as_ref()?;
         let mut coarse = Numerics {
             n2: self.approach_n2?,
             periodic_tol: crate::run::APPROACH_TOL.max(self.periodic_tol),
             approach_n2: None,
+            solver: Method::Direct,
             ..self.clone()
         };
         coarse.resolve_pockets(case, 2.0);
@@ -593,6 +596,23 @@ mod tests {
         assert!(s.contains("\"R\":\"inf\""));
         let back: CaseSpec = serde_json::from_str(&s).unwrap();
         assert_eq!(back, c);
+    }
+
+    #[test]
+    fn the_coarse_approach_runs_on_the_direct_solver_whatever_the_full_mesh_uses() {
+        let case = CaseSpec::paper(3.2).with_texture(Texture::circular(0.03, 0.06, 10.0));
+        for solver in [Method::Direct, Method::Multigrid, Method::GaussSeidel] {
+            let num = Numerics {
+                solver,
+                ..Fidelity::Paper.numerics_for(&case)
+            };
+            let coarse = num
+                .approach_numerics(&case)
+                .expect("the paper tier approaches");
+            assert_eq!(coarse.solver, Method::Direct);
+            assert_eq!((coarse.n1, coarse.n2, coarse.dt), (num.n1, 8, num.dt));
+            assert_eq!(coarse.approach_n2, None);
+        }
     }
 
     #[test]
