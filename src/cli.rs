@@ -352,6 +352,21 @@ pub struct SimulateArgs {
     /// Write the time series (t, Z, W_h, f and its three terms per step) as CSV to FILE.
     #[arg(long, value_name = "FILE")]
     pub series: Option<PathBuf>,
+    /// When stderr is not a terminal (a log, a batch job) or with --json: print the progress
+    /// line (period, t, f̄, Z̄, estimated periodic error) at the end of a period at most this
+    /// often, in seconds (0: every period). On a terminal without --json the line updates
+    /// in place at every period.
+    #[arg(long = "progress-every", value_name = "S", default_value_t = 10.0, value_parser = parse_seconds)]
+    pub progress_every: f64,
+}
+
+fn parse_seconds(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        _ => Err(format!(
+            "expected a number of seconds ≥ 0 (e.g. 10), got {s:?}"
+        )),
+    }
 }
 
 fn parse_radius(s: &str) -> Result<f64, String> {
@@ -851,14 +866,24 @@ fn simulate_cmd(a: &SimulateArgs) -> Result<i32, CmdError> {
         }
     }
 
+    // On a terminal the line is redrawn every period; elsewhere (or beside --json output) a
+    // plain line at most every `--progress-every` seconds, so that long runs in batch jobs
+    // show that they advance without flooding the log.
     let show = std::io::stderr().is_terminal() && !a.json;
+    let every = std::time::Duration::from_secs_f64(a.progress_every);
+    let began = std::time::Instant::now();
+    let mut last_line = began;
     let mut observe = |p: &Progress| {
+        let line = format!(
+            "  period {:4}  t = {:7.3}  f̄ = {:.5}  Z̄ = {:.4} µm  est. periodic error {:.1e}",
+            p.period, p.t, p.f_mean, p.z_mean, p.periodic_error
+        );
         if show {
-            eprint!(
-                "\r  period {:4}  t = {:7.3}  f̄ = {:.5}  Z̄ = {:.4} µm  est. periodic error {:.1e}   ",
-                p.period, p.t, p.f_mean, p.z_mean, p.periodic_error
-            );
+            eprint!("\r{line}   ");
             let _ = std::io::stderr().flush();
+        } else if last_line.elapsed() >= every {
+            last_line = std::time::Instant::now();
+            eprintln!("{line}  ({:.0} s)", began.elapsed().as_secs_f64());
         }
     };
     let result = if transient {

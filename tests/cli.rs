@@ -128,6 +128,8 @@ fn bad_inputs_are_refused_with_exit_2_and_a_message_naming_the_parameter() {
         (with_tex(&["--cycles", "0"]), "cycles"),
         (with_tex(&["--approach-n2", "0"]), "--approach-n2"),
         (with_tex(&["--approach-n2", "coarse"]), "--approach-n2"),
+        (with_tex(&["--progress-every", "-1"]), "--progress-every"),
+        (with_tex(&["--progress-every", "soon"]), "--progress-every"),
         (
             to(&["bench", "--case", "case-IV", "--out", s]),
             "no such benchmark case",
@@ -393,4 +395,34 @@ fn json_and_series_deliver_the_promised_fields() {
         "--json",
     ]);
     assert_eq!(code, 0, "{err}");
+}
+
+#[test]
+fn progress_reaches_a_log_at_the_rate_asked() {
+    // The tests' stderr is a pipe, as in a batch job: no in-place line, plain lines instead.
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "simulate", "--R", "3.2", "--l1", "0.03", "--per", "0.06", "--depth", "10", "--mesh",
+            "64x4", "--json",
+        ];
+        args.extend_from_slice(extra);
+        let (code, out, err) = texopt(&args);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(out.trim()).expect("one JSON object");
+        (v["periods"].as_u64().unwrap(), err)
+    };
+    // Every period (one period a window here: per = 0.06): one line each, the last at the
+    // run's final period; the JSON on stdout stays one object.
+    let (periods, err) = run(&["--progress-every", "0"]);
+    let lines: Vec<&str> = err.lines().filter(|l| l.contains("period")).collect();
+    assert_eq!(lines.len() as u64, periods, "{err}");
+    let last: u64 = lines[lines.len() - 1]
+        .split_whitespace()
+        .nth(1)
+        .and_then(|x| x.parse().ok())
+        .expect("a period number");
+    assert_eq!(last, periods);
+    // The default (a line at most every 10 s): a run of a fraction of a second prints none.
+    let (_, err) = run(&[]);
+    assert!(!err.contains("period"), "{err}");
 }
