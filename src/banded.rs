@@ -41,10 +41,35 @@ impl BandLu {
     /// full factorisation. Rows are compared on the stencil (5 numbers), not on the band.
     /// Returns the number of rows eliminated (those not kept).
     pub fn factor(&mut self, s: &Stencil5) -> Result<usize, SingularPivot> {
+        let r0 = self.shared_rows(s);
+        // The operator factored: its rows before r0 are already those of `s`.
+        self.orig.reshape(s.m1, s.n2);
+        for (o, v) in self
+            .orig
+            .coefficients_mut()
+            .into_iter()
+            .zip(s.coefficients())
+        {
+            o[r0..].copy_from_slice(&v[r0..]);
+        }
+        self.factor_orig_from(r0)
+    }
+
+    /// `factor`, taking the operator instead of copying it: `s` is left holding the one
+    /// factored before (of any shape), for the caller to overwrite. The same factors, bit
+    /// for bit; for a caller that assembles a whole new operator every time (the film
+    /// solver), it saves copying five arrays per factorisation.
+    pub fn factor_taking(&mut self, s: &mut Stencil5) -> Result<usize, SingularPivot> {
+        let r0 = self.shared_rows(s);
+        std::mem::swap(&mut self.orig, s);
+        self.factor_orig_from(r0)
+    }
+
+    /// Leading rows `s` shares bit for bit with the operator of the factors at hand (none
+    /// when they are invalid or of another band); a reused row must also have seen the same
+    /// (untruncated) elimination updates, hence the margin before the end.
+    fn shared_rows(&self, s: &Stencil5) -> usize {
         let (n, w) = (s.len(), s.n2);
-        let stride = 2 * w + 1;
-        // Rows before r0 are unchanged; a reused row must also have seen the same
-        // (untruncated) elimination updates, hence the margin before the end.
         let mut r0 = 0;
         if self.valid && w == self.w {
             let limit = n.min(self.n).saturating_sub(w + 1);
@@ -60,29 +85,28 @@ impl BandLu {
                 r0 += 1;
             }
         }
+        r0
+    }
+
+    /// Factors `orig`, whose rows before r0 are those of the factors at hand.
+    fn factor_orig_from(&mut self, r0: usize) -> Result<usize, SingularPivot> {
+        let s = &self.orig;
+        let (n, w) = (s.len(), s.n2);
+        let stride = 2 * w + 1;
         self.n = n;
         self.w = w;
-        // The operator factored: its rows before r0 are already those of `s`.
-        self.orig.reshape(s.m1, s.n2);
-        for (o, v) in self
-            .orig
-            .coefficients_mut()
-            .into_iter()
-            .zip(s.coefficients())
-        {
-            o[r0..].copy_from_slice(&v[r0..]);
-        }
         self.a.resize(n * stride, 0.0);
         // The band rows from r0 on: the stencil's five entries (0.0 + v: the bits an
         // accumulation into a zeroed band gives, −0.0 included), zeros elsewhere.
         // j = r mod w, the row's x2 index, carried along (no division per row).
         let mut j = r0 % w.max(1);
+        // One fill for all the rows (per row it was a library call of a few dozen bytes).
+        self.a[r0 * stride..n * stride].fill(0.0);
         for (r, row) in self.a[r0 * stride..n * stride]
             .chunks_exact_mut(stride)
             .enumerate()
             .map(|(t, row)| (r0 + t, row))
         {
-            row.fill(0.0);
             row[w] = 0.0 + s.c[r];
             if r >= w {
                 row[0] = 0.0 + s.w[r];

@@ -761,16 +761,19 @@ impl FilmSolver {
                 cy: &self.cy,
             }
         };
-        let active = self.mg.fine_active_mut();
-        active.clear();
-        active.extend_from_slice(&state.pressurised[lo * n2..(hi + 1) * n2]);
+        let inexact = self.method == Method::Multigrid;
+        // The multigrid hierarchy reads the active set beside the operator; the band LU not.
+        if inexact {
+            let active = self.mg.fine_active_mut();
+            active.clear();
+            active.extend_from_slice(&state.pressurised[lo * n2..(hi + 1) * n2]);
+        }
         let a = self.mg.fine_mut();
         // Every entry is written below.
         a.reshape(hi - lo + 1, n2);
         self.y1.clear();
         let mut fmax: f64 = 0.0;
         let cutoff = !self.cavitation.is_elrod_adams();
-        let inexact = self.method == Method::Multigrid;
         for i in lo..=hi {
             let col = Column::new(g, &faces, &state.p, &state.phi, phi_old, i);
             // The matrix's conductances and the active set around column i, and its rows,
@@ -836,14 +839,15 @@ impl FilmSolver {
         match self.method {
             Method::Direct | Method::Reference | Method::GaussSeidel => {
                 self.factors.of = None;
-                let rows =
-                    self.factors
-                        .lu
-                        .factor(self.mg.fine())
-                        .map_err(|e| FilmError::Singular {
-                            row: e.row,
-                            pivot: e.value,
-                        })?;
+                // The operator is taken, not copied: the next assembly writes every entry.
+                let rows = self
+                    .factors
+                    .lu
+                    .factor_taking(self.mg.fine_mut())
+                    .map_err(|e| FilmError::Singular {
+                        row: e.row,
+                        pivot: e.value,
+                    })?;
                 self.eliminated_rows += rows;
                 Ok(())
             }
@@ -1129,30 +1133,28 @@ impl FilmSolver {
                         stretched: false,
                     });
                 }
-                // Newton correction from zero (the residual is the right-hand side).
-                let rhs1 = std::mem::take(&mut self.y1);
-                let mut y1 = std::mem::take(&mut self.rhs1);
-                y1.clear();
-                y1.resize(rhs1.len(), 0.0);
-                // Inexact Newton (each solve cuts the residual by tol.inner); if the set keeps
-                // flickering, solve accurately (an inexact iterate can flip nodes where p ≈ 0
-                // and θ ≈ 1 back and forth).
-                let (rel, max_cycles) = if iterations > 8 {
-                    (self.tol.residual, 4 * self.tol.cycles)
-                } else {
-                    (self.tol.inner, self.tol.cycles)
-                };
-                // Direct: the solve waits for y2's right-hand side, so both substitutions
-                // run together (BandLu::solve2).
+                // Newton correction: y1 holds −F, the right-hand side. Direct: solved in place,
+                // once y2's right-hand side is there too, both substitutions together
+                // (BandLu::solve2). Multigrid: from zero.
                 let direct = self.method != Method::Multigrid;
                 let mut y1_pending = direct;
-                if direct {
-                    y1.copy_from_slice(&rhs1);
-                } else {
+                if !direct {
+                    let rhs1 = std::mem::take(&mut self.y1);
+                    let mut y1 = std::mem::take(&mut self.rhs1);
+                    y1.clear();
+                    y1.resize(rhs1.len(), 0.0);
+                    // Inexact Newton (each solve cuts the residual by tol.inner); if the set
+                    // keeps flickering, solve accurately (an inexact iterate can flip nodes
+                    // where p ≈ 0 and θ ≈ 1 back and forth).
+                    let (rel, max_cycles) = if iterations > 8 {
+                        (self.tol.residual, 4 * self.tol.cycles)
+                    } else {
+                        (self.tol.inner, self.tol.cycles)
+                    };
                     cycles += self.solve_linear(&mut y1, &rhs1, max_cycles, rel);
+                    self.y1 = y1;
+                    self.rhs1 = rhs1;
                 }
-                self.y1 = y1;
-                self.rhs1 = rhs1;
 
                 if let Some(link) = step.ring {
                     // Sensitivity y2 = (∂F/∂x)⁻¹ ∂F/∂Z. It sets only the rate of the Z
@@ -1203,29 +1205,29 @@ impl FilmSolver {
                                 }
                             }
                         }
-                        let mut y2 = std::mem::take(&mut self.y2);
-                        // Multigrid: start from the last sensitivity on the same range (the
-                        // solver falls back to zero when that guess is worse).
-                        let warm = self.method == Method::Multigrid
-                            && y2.len() == self.rhs2.len()
-                            && y2_range == Some((lo, hi));
-                        if !warm {
-                            y2.clear();
-                            y2.resize(self.rhs2.len(), 0.0);
-                        }
-                        let rhs2 = std::mem::take(&mut self.rhs2);
                         if y1_pending {
-                            y2.copy_from_slice(&rhs2);
+                            // Direct: solved in place (rhs2 gets y2's old buffer, which the
+                            // next refresh clears).
+                            std::mem::swap(&mut self.rhs2, &mut self.y2);
                             self.factors
                                 .lu
-                                .solve2(&mut self.y1, &mut y2, &mut self.pairs);
+                                .solve2(&mut self.y1, &mut self.y2, &mut self.pairs);
                             y1_pending = false;
                         } else {
+                            let mut y2 = std::mem::take(&mut self.y2);
+                            // Multigrid: start from the last sensitivity on the same range
+                            // (the solver falls back to zero when that guess is worse).
+                            let warm = y2.len() == self.rhs2.len() && y2_range == Some((lo, hi));
+                            if !warm {
+                                y2.clear();
+                                y2.resize(self.rhs2.len(), 0.0);
+                            }
+                            let rhs2 = std::mem::take(&mut self.rhs2);
                             cycles +=
                                 self.solve_linear(&mut y2, &rhs2, self.tol.cycles, self.tol.inner);
+                            self.rhs2 = rhs2;
+                            self.y2 = y2;
                         }
-                        self.rhs2 = rhs2;
-                        self.y2 = y2;
                         y2_range = Some((lo, hi));
                     }
                     debug_assert!(!y1_pending);
