@@ -601,4 +601,36 @@ mod tests {
         reused.factor(&s).unwrap();
         assert_eq!(bits(&reused.a), bits(&fresh(&s).a));
     }
+
+    #[test]
+    fn taking_the_operator_gives_the_copied_ones_factors_and_reuse() {
+        // The film solver's use: each operator assembled into the buffer the last one left.
+        let (copying, taking) = (&mut BandLu::default(), &mut BandLu::default());
+        let mut buffer = Stencil5::default();
+        let sequence = [
+            (12, 25, 0.0),
+            (12, 25, 0.37),
+            (12, 0, 0.1),
+            (9, 5, 0.2),
+            (12, 30, 0.3),
+        ];
+        for (n_x, from, bump) in sequence {
+            let s = laplacian(n_x, 4, from, bump);
+            buffer.reshape(s.m1, s.n2);
+            for (b, v) in buffer.coefficients_mut().into_iter().zip(s.coefficients()) {
+                b.copy_from_slice(v);
+            }
+            let kept = copying.factor(&s).unwrap();
+            assert_eq!(
+                taking.factor_taking(&mut buffer).unwrap(),
+                kept,
+                "rows eliminated"
+            );
+            assert_eq!(
+                bits(&taking.a),
+                bits(&copying.a),
+                "{n_x} columns, from {from}"
+            );
+        }
+    }
 }
