@@ -870,7 +870,9 @@ fn simulate_cmd(a: &SimulateArgs) -> Result<i32, CmdError> {
     // plain line at most every `--progress-every` seconds, so that long runs in batch jobs
     // show that they advance without flooding the log.
     let show = std::io::stderr().is_terminal() && !a.json;
-    let every = std::time::Duration::from_secs_f64(a.progress_every);
+    // Beyond what a Duration holds (1e300 s): never, as far as a run can tell.
+    let every = std::time::Duration::try_from_secs_f64(a.progress_every)
+        .unwrap_or(std::time::Duration::MAX);
     let began = std::time::Instant::now();
     let mut last_line = began;
     let mut observe = |p: &Progress| {
