@@ -734,7 +734,16 @@ fn optimise_cmd(a: &OptimiseArgs) -> Result<i32, CmdError> {
 }
 
 fn cache_cmd(a: &CacheArgs) -> Result<i32, CmdError> {
-    let cache = open_cache(a.cache.as_deref())?;
+    // Inspecting or clearing must not create a cache (nor its directories): a mistyped path
+    // would otherwise show an empty cache as if it were the one meant.
+    let path = crate::cache::path_from(a.cache.as_deref());
+    if !path.exists() {
+        return Err(CmdError::Input(format!(
+            "no cache at {}: nothing has been evaluated there yet (`texopt study` and `texopt optimise` create it); check --cache or $TEXOPT_CACHE",
+            path.display()
+        )));
+    }
+    let cache = open_cache(Some(&path))?;
     let other = |e: crate::cache::CacheError| CmdError::Other(e.to_string());
     match &a.action {
         CacheAction::Stats => {

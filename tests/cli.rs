@@ -429,3 +429,15 @@ fn progress_reaches_a_log_at_the_rate_asked() {
         assert!(!err.contains("period") && !err.contains("panic"), "{err}");
     }
 }
+
+#[test]
+fn cache_commands_refuse_a_missing_cache_and_create_nothing() {
+    let dir = scratch("no-such-dir");
+    let path = dir.join("c.sqlite");
+    for action in ["stats", "export", "clear"] {
+        let (code, _, err) = texopt(&["cache", action, "--cache", path.to_str().unwrap()]);
+        assert_eq!(code, 2, "{action}: {err}");
+        assert!(err.contains("no cache at"), "{action}: {err}");
+        assert!(!dir.exists(), "{action} created {}", dir.display());
+    }
+}
