@@ -26,13 +26,15 @@ pub struct Steady {
 pub enum SteadyError {
     #[error("{0}")]
     Film(#[from] FilmError),
-    #[error("no force balance for Z in [{lo:.3e}, {hi:.3e}] µm (load there {w_lo:.3e} … {w_hi:.3e}, W_ps = {w_ps:.3e}); the film cannot carry the ring (starved inlet?)")]
+    #[error("no force balance for Z in [{lo:.3e}, {hi:.3e}] µm (load there {w_lo:.3e} … {w_hi:.3e}, W_ps = {w_ps:.3e}); the film cannot carry the ring: {hint}")]
     NoBracket {
         lo: f64,
         hi: f64,
         w_lo: f64,
         w_hi: f64,
         w_ps: f64,
+        /// The likely cause, for the user.
+        hint: &'static str,
     },
 }
 
@@ -81,6 +83,11 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
                 w_lo: flo + case.w_ps,
                 w_hi: fhi + case.w_ps,
                 w_ps: case.w_ps,
+                hint: if case.r.is_infinite() {
+                    "a flat ring on a plain liner has no converging wedge to build pressure"
+                } else {
+                    "is the inlet starved (--d-oil)?"
+                },
             });
         }
         if flo < 0.0 {
@@ -146,4 +153,25 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
         p: state.p.clone(),
         theta,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_flat_plain_ring_is_refused_with_its_reason() {
+        // Parallel surfaces build no steady pressure: no Z balances the load, and the error
+        // says why instead of guessing at the inlet.
+        match solve_untextured(&CaseSpec::paper(f64::INFINITY), 128) {
+            Err(SteadyError::NoBracket {
+                hint, w_hi, w_ps, ..
+            }) => {
+                assert!(hint.contains("flat ring"), "{hint}");
+                assert!(w_hi < 1e-2 * w_ps, "load {w_hi} against {w_ps}");
+            }
+            other => panic!("expected no force balance, got {other:?}"),
+        }
+        assert!(solve_untextured(&CaseSpec::paper(0.8), 128).is_ok());
+    }
 }
