@@ -560,6 +560,17 @@ fn study_cmd(a: &StudyArgs) -> Result<i32, CmdError> {
         }
         return Ok(0);
     }
+    // A report directory that cannot be made stops the study now, not after its simulations.
+    if !a.no_report {
+        let dir = std::path::Path::new(&study.report.dir);
+        directory_can_be_made(dir).map_err(|why| {
+            CmdError::Input(format!(
+                "{}: the report directory {} cannot be made: {why}; change [report] dir, or run with --no-report",
+                a.file.display(),
+                dir.display()
+            ))
+        })?;
+    }
     let cache = open_cache(a.cache.as_deref())?;
     eprintln!("cache {}", cache.path().display());
     install_ctrl_c();
@@ -682,12 +693,13 @@ fn optimise_cmd(a: &OptimiseArgs) -> Result<i32, CmdError> {
             )));
         }
     }
-    if out_dir.exists() && !out_dir.is_dir() {
-        return Err(CmdError::Input(format!(
-            "--out {}: exists and is not a directory",
+    // A directory that cannot be made stops the search now, not after its simulations.
+    directory_can_be_made(&out_dir).map_err(|why| {
+        CmdError::Input(format!(
+            "--out {}: cannot create it: {why}; choose another directory",
             out_dir.display()
-        )));
-    }
+        ))
+    })?;
     let overrides = crate::study::NumericsOverride {
         n1: a.mesh.map(|m| m.0),
         n2: a.mesh.map(|m| m.1),
@@ -731,6 +743,26 @@ fn optimise_cmd(a: &OptimiseArgs) -> Result<i32, CmdError> {
         );
     }
     Ok(0)
+}
+
+/// Whether `dir` is, or could be made as, a directory, without making anything (bad input
+/// must leave no trace): its nearest existing ancestor must be a directory. (Permissions are
+/// left to the write itself.)
+fn directory_can_be_made(dir: &std::path::Path) -> Result<(), String> {
+    let mut p = dir;
+    loop {
+        if p.exists() {
+            return if p.is_dir() {
+                Ok(())
+            } else {
+                Err(format!("{} is not a directory", p.display()))
+            };
+        }
+        match p.parent() {
+            Some(q) if !q.as_os_str().is_empty() => p = q,
+            _ => return Ok(()),
+        }
+    }
 }
 
 fn cache_cmd(a: &CacheArgs) -> Result<i32, CmdError> {

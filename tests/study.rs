@@ -410,3 +410,21 @@ fn failed_cases_are_stored_as_failures_and_not_retried_unless_asked() {
         "retried on request: {out}"
     );
 }
+
+#[test]
+fn a_report_directory_that_cannot_be_made_stops_the_study_before_it_runs() {
+    let dir = scratch("blocked");
+    let blocker = dir.join("a-file");
+    std::fs::write(&blocker, "").unwrap();
+    let study = small_study(&dir, "[0.8]", "");
+    let text = std::fs::read_to_string(&study).unwrap().replace(
+        &dir.join("out").display().to_string(),
+        &blocker.join("out").display().to_string(),
+    );
+    std::fs::write(&study, text).unwrap();
+    let cache = dir.join("c.sqlite");
+    let (code, _, err) = run_study(&study, &cache);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("report directory"), "{err}");
+    assert!(!cache.exists(), "the study ran: its cache was made");
+}
