@@ -441,33 +441,3 @@ fn cache_commands_refuse_a_missing_cache_and_create_nothing() {
         assert!(!dir.exists(), "{action} created {}", dir.display());
     }
 }
-
-#[test]
-fn an_output_directory_that_cannot_be_made_stops_optimise_before_it_runs() {
-    let blocker = scratch("a-file");
-    std::fs::write(&blocker, "").unwrap();
-    let cache = scratch("optimise-blocked.sqlite");
-    let out = blocker.join("report");
-    let (code, _, err) = texopt(&[
-        "optimise",
-        "--R",
-        "5",
-        "--out",
-        out.to_str().unwrap(),
-        "--cache",
-        cache.to_str().unwrap(),
-        // A small search, so that a broken check costs seconds, not the default search.
-        "--particles",
-        "2",
-        "--iterations",
-        "1",
-        "--mesh",
-        "64x4",
-    ]);
-    assert_eq!(code, 2, "{err}");
-    assert!(
-        err.contains("--out") && err.contains("cannot create"),
-        "{err}"
-    );
-    assert!(!cache.exists(), "the search ran: its cache was made");
-}

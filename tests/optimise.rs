@@ -199,6 +199,29 @@ fn bad_optimiser_inputs_are_refused_with_exit_2_and_nothing_written() {
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
     assert!(!cache.exists());
+    // An --out that cannot be made (under a file) stops it before the search, not after
+    // (a small search, so that a broken check costs seconds).
+    let blocker = dir.join("a-file");
+    std::fs::write(&blocker, "").unwrap();
+    let blocked = blocker.join("report");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_texopt"))
+        .args([
+            "optimise",
+            "--R",
+            "5",
+            "--particles",
+            "2",
+            "--iterations",
+            "1",
+        ])
+        .args(["--mesh", "64x4", "--out", blocked.to_str().unwrap()])
+        .args(["--cache", cache.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("cannot create"), "{err}");
+    assert!(!cache.exists(), "the search ran: its cache was made");
 }
 
 /// A search killed (SIGKILL) mid-way and started again with the same flags resumes through
