@@ -880,11 +880,8 @@ impl PeriodGuess {
             return;
         };
         let differ = |s: &Option<(FilmState, f64)>, shift: TextureShift| {
-            s.as_ref().map(|(s, _)| {
-                (0..state.pressurised.len())
-                    .filter(|&m| s.pressurised[shift.source(grid, hl, m)] != state.pressurised[m])
-                    .count()
-            })
+            s.as_ref()
+                .map(|(s, _)| shift.switches(grid, hl, &s.pressurised, &state.pressurised))
         };
         self.switched = differ(&self.slots[k], TextureShift::NONE)
             .zip(differ(&self.slots[(k + n - 1) % n], shift));
@@ -938,6 +935,26 @@ impl TextureShift {
         } else {
             m
         }
+    }
+
+    /// How many nodes m are in another set in `now` than their source was in `before`
+    /// (`before[source(m)] != now[m]`). Counted over slices, without a branch per node:
+    /// counted node by node it was ≈ 3.7 % of a settled 512×32 step.
+    fn switches(self, g: &Grid, hl: &[f64], before: &[bool], now: &[bool]) -> usize {
+        let differ = |a: &[bool], b: &[bool]| a.iter().zip(b).filter(|(x, y)| x != y).count();
+        let back = self.columns * g.n2;
+        // Nodes that may take a source upstream (see `source`): [lo, hi).
+        let (lo, hi) = (back + g.n2, (g.n1 * g.n2).min(now.len()));
+        if back == 0 || lo >= hi {
+            return differ(before, now);
+        }
+        let shifted = now[lo..hi]
+            .iter()
+            .zip(&hl[lo..hi])
+            .zip(before[lo..hi].iter().zip(&before[lo - back..hi - back]))
+            .filter(|((&x, &h), (&own, &up))| x != if h > 0.0 { up } else { own })
+            .count();
+        differ(&before[..lo], &now[..lo]) + shifted + differ(&before[hi..], &now[hi..])
     }
 
     /// Carries `state` (the previous time level) with the texture placed now (`hl`), in
@@ -1673,6 +1690,31 @@ mod tests {
         // And the run goes on from the jumped state.
         for _ in 0..n {
             t.step().expect("the period after a jump steps");
+        }
+    }
+
+    #[test]
+    fn switches_counted_over_slices_are_those_node_by_node() {
+        // Two levels of a coarse Case III a few steps apart: sets that differ in and out of
+        // the pockets.
+        let mut t = case_iii_after(3);
+        let before = t.state.pressurised.clone();
+        for _ in 0..4 {
+            t.step().expect("a coarse Case III steps");
+        }
+        let (g, hl, now) = (&t.scene.grid, &t.scene.hl, &t.state.pressurised);
+        assert!(hl.iter().any(|&h| h > 0.0) && hl.iter().any(|&h| h <= 0.0));
+        for columns in [0, 1, 3, g.n1, g.n1 + 1] {
+            let shift = TextureShift { columns };
+            let by_node = (0..now.len())
+                .filter(|&m| before[shift.source(g, hl, m)] != now[m])
+                .count();
+            assert!(columns > 1 || by_node > 0, "the sets must differ somewhere");
+            assert_eq!(
+                shift.switches(g, hl, &before, now),
+                by_node,
+                "{columns} columns"
+            );
         }
     }
 
