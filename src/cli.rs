@@ -222,9 +222,40 @@ pub struct BenchArgs {
     /// timings vary by ±20 % from run to run; the outcomes must not vary at all).
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub repeat: usize,
-    /// Where to write the results (JSON).
-    #[arg(long, value_name = "FILE", default_value = "results/bench.json")]
-    pub out: PathBuf,
+    /// Where to write the results (JSON) [default: results/bench.json for the benchmark
+    /// itself (every case, `paper`, the direct solver, the paper's start, the tier's
+    /// approach); any other run, results/bench-<what differs>.json (git-ignored), so that
+    /// a partial or variant run never replaces the committed benchmark]
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
+
+impl BenchArgs {
+    /// The file the results go to: `--out`, else the default above.
+    fn out_path(&self) -> PathBuf {
+        if let Some(out) = &self.out {
+            return out.clone();
+        }
+        let mut tags = Vec::new();
+        if self.fidelity != Fidelity::Paper {
+            tags.push(self.fidelity.name().to_string());
+        }
+        if self.solver != Method::Direct {
+            tags.push(self.solver.name().to_string());
+        }
+        if self.start == Start::Equilibrium {
+            tags.push("from-equilibrium".into());
+        }
+        if let Some(ApproachN2(n2)) = self.approach_n2 {
+            tags.push(n2.map_or("approach-off".into(), |n| format!("approach-{n}")));
+        }
+        tags.extend(self.cases.iter().cloned());
+        let name = match tags.is_empty() {
+            true => "bench.json".to_string(),
+            false => format!("bench-{}.json", tags.join("-")),
+        };
+        PathBuf::from("results").join(name)
+    }
 }
 
 /// Units: lengths along the liner in cm, gaps and depths in µm, time in ms (L/U), friction
@@ -441,15 +472,15 @@ fn bench_cmd(a: &BenchArgs) -> Result<i32, CmdError> {
             "--repeat 0: each case must run at least once; give 1 or more".into(),
         ));
     }
-    let dir = a
-        .out
+    let out = a.out_path();
+    let dir = out
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(std::path::Path::new("."));
     if !dir.is_dir() {
         return Err(CmdError::Input(format!(
             "--out {}: the directory {} does not exist; create it or choose another path",
-            a.out.display(),
+            out.display(),
             dir.display()
         )));
     }
@@ -493,11 +524,11 @@ fn bench_cmd(a: &BenchArgs) -> Result<i32, CmdError> {
         "cases": rows,
     });
     std::fs::write(
-        &a.out,
+        &out,
         serde_json::to_string_pretty(&report).unwrap_or_default(),
     )
-    .map_err(|e| CmdError::Other(format!("could not write --out {}: {e}", a.out.display())))?;
-    eprintln!("wrote {}", a.out.display());
+    .map_err(|e| CmdError::Other(format!("could not write --out {}: {e}", out.display())))?;
+    eprintln!("wrote {}", out.display());
     Ok(if failed > 0 { 1 } else { 0 })
 }
 

@@ -441,3 +441,31 @@ fn cache_commands_refuse_a_missing_cache_and_create_nothing() {
         assert!(!dir.exists(), "{action} created {}", dir.display());
     }
 }
+
+#[test]
+fn a_partial_bench_run_never_replaces_the_benchmark_file() {
+    // Run where a committed benchmark sits: a partial run writes its own file beside it.
+    let dir = scratch("bench-default-out");
+    std::fs::create_dir_all(dir.join("results")).unwrap();
+    let committed = dir.join("results/bench.json");
+    std::fs::write(&committed, "{\"committed\": true}").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_texopt"))
+        .args(["bench", "--fidelity", "draft", "--case", "untextured-R0.8"])
+        .current_dir(&dir)
+        .output()
+        .expect("run texopt");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let own = dir.join("results/bench-draft-untextured-R0.8.json");
+    assert!(
+        err.contains("wrote results/bench-draft-untextured-R0.8.json"),
+        "{err}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(own).unwrap()).unwrap();
+    assert_eq!(v["cases"].as_array().unwrap().len(), 1);
+    assert_eq!(
+        std::fs::read_to_string(&committed).unwrap(),
+        "{\"committed\": true}"
+    );
+}
