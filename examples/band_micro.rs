@@ -1,6 +1,9 @@
 //! The band LU's kernels on their own, at the film's sizes: a factorisation, and the
 //! two-right-hand-side substitution with the factors in cache and cycling through 24 sets
-//! (as a settled run reads a period-old set from memory each step). Each figure is the best
+//! (as a settled run reads a period-old set from memory each step). Beside them, the O(N)
+//! building blocks an iterative film solver would spend per step instead: one application
+//! of the operator (what a Gauss–Seidel-type sweep costs at least), and the line multigrid's
+//! setup and one V-cycle (`multigrid::LineMultigrid`). Each figure is the best
 //! of 20 rounds (this VM's neighbours steal up to half its time, so a mean would measure
 //! them).
 //!
@@ -8,7 +11,7 @@
 //! tier's range in Case III; 360 8 for the `fast` tier).
 use std::time::Instant;
 use texopt::banded::BandLu;
-use texopt::multigrid::Stencil5;
+use texopt::multigrid::{LineMultigrid, Stencil5};
 
 /// A film-like operator: upwind Couette coupling (west), Poiseuille conductances varying
 /// along and across, diagonally dominant (an M-matrix, as the film's Newton matrix).
@@ -94,5 +97,34 @@ fn main() {
         "{m1}x{n2} ({n} rows), ms per call, best of 20: factor {f:.3}, solve2 {c:.3} \
          (factors in cache), {y:.3} (cycling through {} sets)",
         sets.len()
+    );
+
+    // The O(N) blocks, best of 20: [apply, multigrid setup, V-cycle].
+    let mut mg = LineMultigrid::default();
+    *mg.fine_mut() = ops[0].clone();
+    let mut best = [f64::INFINITY; 3];
+    for _ in 0..20 {
+        fill(&mut b1, &mut b2);
+        let t = [
+            time_ms(10, || {
+                for _ in 0..10 {
+                    ops[0].apply(&b1, &mut b2);
+                }
+            }),
+            time_ms(1, || mg.setup().expect("an M-matrix")),
+            time_ms(10, || {
+                for _ in 0..10 {
+                    mg.vcycle(&mut b2, &b1);
+                }
+            }),
+        ];
+        for (b, t) in best.iter_mut().zip(t) {
+            *b = b.min(t);
+        }
+    }
+    let [a, s, v] = best;
+    println!(
+        "{m1}x{n2}, ms per call, best of 20: operator applied once {a:.4}, line multigrid \
+         setup {s:.3}, one V-cycle {v:.3}"
     );
 }
