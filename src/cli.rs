@@ -222,10 +222,13 @@ pub struct BenchArgs {
     /// timings vary by ±20 % from run to run; the outcomes must not vary at all).
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub repeat: usize,
-    /// Where to write the results (JSON) [default: results/bench.json for the benchmark
-    /// itself (every case, `paper`, the direct solver, the paper's start, the tier's
-    /// approach); any other run, results/bench-<what differs>.json (git-ignored), so that
-    /// a partial or variant run never replaces the committed benchmark]
+    /// Where to write the results (JSON) [default: results/bench.json, or
+    /// results/bench-<what differs>.json for a partial or variant run]
+    ///
+    /// results/bench.json is the benchmark itself: every case, `paper`, the direct solver,
+    /// the paper's start, the tier's approach. Any other run goes to
+    /// results/bench-<what differs>.json (git-ignored, e.g. bench-fast-case-III.json), so
+    /// that it never replaces the committed benchmark.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
 }
