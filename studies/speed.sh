@@ -6,7 +6,7 @@
 # Run one case per core: about 15 minutes on the 2-core machine (the references: hours).
 # `bash studies/speed.sh sweep`: the settings only, keeping the references in runs.jsonl.
 # `bash studies/speed.sh finer`: the tiers against 2048 cells along x1, dt = 1e-4: 2048×32
-# for both cases, 2048×64 for Case III (results/speed_finer.md).
+# and 2048×64 for both cases (results/speed_finer.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --example speed
@@ -34,9 +34,11 @@ if [ "${1:-}" = finer ]; then
   $bin finer-run case-I 2048x32 1e-4 &
   $bin finer-run case-III 2048x32 1e-4
   wait
-  # The finest: N2 = 64 for Case III (the case N2 moves most), with the coarse approach
-  # (2048×8 first; ≈ 1 h on one core beside other work).
+  # The finest: N2 = 64, with the coarse approach (2048×8 first), one case per core (Case
+  # III took 108 min beside other work in stop 20, Case I 32 min in stop 25).
+  $bin finer-run case-I 2048x64 1e-4 1e-5 direct 8 &
   $bin finer-run case-III 2048x64 1e-4 1e-5 direct 8
+  wait
   $bin finer
   exit 0
 fi
