@@ -19,7 +19,7 @@ use std::path::Path;
 use texopt::bench::cases;
 use texopt::case::{Fidelity, Numerics};
 use texopt::film::Method;
-use texopt::plot::{self, Chart, Scale, Series};
+use texopt::plot::{self, Chart, Scale, Series, Style};
 use texopt::run::{simulate, Outcome};
 
 #[derive(serde::Serialize, serde::Deserialize, Clone)]
@@ -262,6 +262,7 @@ fn report() -> Result<(), String> {
     let mut csv = String::from("case,setting,n1,n2,dt,periodic_tol,solver,f_mean,c_min,err_f,err_c,wall_s,steps,periods,pareto\n");
     let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh`. Error: relative to the finest run of the same case (first row of each table). Wall time: one core of the 2-core machine (the two cases run at once, one per core), from the equilibrium start (the untextured force balance) to the detected periodic regime. The references were run before the solver speed-ups of issue 3 (answers unchanged to round-off), the other rows with the solver of the commit that wrote this file; so the references' times are not comparable with them. `approach N2=8`: the coarse approach of the `paper` and `fine` tiers (the ring's transient on 512×8 or 1024×8 first; the answer is the full mesh's). ★ = Pareto-optimal in f̄ error and time (no other setting is both faster and more accurate); tier names mark the fidelity tiers.\n");
     let mut series_data = Vec::new();
+    let mut tier_rings = Vec::new();
     for (ci, case) in ["case-I", "case-III"].iter().enumerate() {
         let mut rs: Vec<&Run> = runs.iter().filter(|r| r.case == *case).collect();
         if rs.is_empty() {
@@ -360,20 +361,33 @@ fn report() -> Result<(), String> {
             })
             .map(|p| (p.0, 100.0 * p.1))
             .collect();
-        series_data.push((format!("{case}: fidelity tiers"), tiers, true, 5));
-        series_data.push((format!("{case}: all settings"), all_pts, true, 2 * ci));
-        series_data.push((format!("{case}: Pareto front"), front, false, 2 * ci + 1));
+        // Tiers last, as rings around their settings' points (drawn first, they were hidden).
+        series_data.push((
+            format!("{case}: all settings"),
+            all_pts,
+            Style::Markers,
+            2 * ci,
+        ));
+        series_data.push((
+            format!("{case}: Pareto front"),
+            front,
+            Style::Line,
+            2 * ci + 1,
+        ));
+        tier_rings.extend(tiers);
     }
+    series_data.push((
+        "fidelity tiers (draft, fast, paper, fine)".into(),
+        tier_rings,
+        Style::Rings,
+        5,
+    ));
     let series: Vec<Series> = series_data
         .iter()
-        .map(|(n, p, m, c)| Series {
+        .map(|(n, p, style, c)| Series {
             name: n.clone(),
             points: p,
-            style: if *m {
-                plot::Style::Markers
-            } else {
-                plot::Style::Line
-            },
+            style: *style,
             colour: *c,
         })
         .collect();

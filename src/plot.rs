@@ -25,6 +25,9 @@ pub enum Style {
     Faint,
     /// A thick line with triangles at the points: the reference.
     Thick,
+    /// Open rings around points: marks chosen members of a set drawn before them (the
+    /// point underneath stays visible).
+    Rings,
 }
 
 /// Axis scaling.
@@ -120,6 +123,16 @@ pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
                         if named {
                             a.label(s.name.clone())
                                 .legend(move |(x, y)| Circle::new((x + 10, y), 4, c.filled()));
+                        }
+                    }
+                    Style::Rings => {
+                        let a = ctx
+                            .draw_series(pts.map(|p| Circle::new(p, 8, c.stroke_width(2))))
+                            .map_err(|e| err(&e))?;
+                        if named {
+                            a.label(s.name.clone()).legend(move |(x, y)| {
+                                Circle::new((x + 10, y), 7, c.stroke_width(2))
+                            });
                         }
                     }
                     Style::Line | Style::Thick => {
