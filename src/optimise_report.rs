@@ -524,16 +524,18 @@ fn write(dir: &Path, r: &Report, s: &Settings) -> Result<(), String> {
             style: Style::Markers,
             colour: 3,
         },
+        // The front and the best design drawn to stand out from the cloud of evaluations
+        // (as a thin line and a dot they were lost in it).
         Series {
             name: format!("Pareto front at {}", r.report_fidelity),
             points: &front,
-            style: Style::Line,
+            style: Style::Thick,
             colour: 0,
         },
         Series {
             name: "best friction".into(),
             points: &best,
-            style: Style::Markers,
+            style: Style::Rings,
             colour: 5,
         },
         Series {

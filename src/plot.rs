@@ -23,7 +23,7 @@ pub enum Style {
     /// A thin grey line with small crosses at the points: one of many members of a family
     /// (legend entry only when named).
     Faint,
-    /// A thick line with triangles at the points: the reference.
+    /// A thick line with triangles at the points: the reference, or the result.
     Thick,
     /// Open rings around points: marks chosen members of a set drawn before them (the
     /// point underneath stays visible).
