@@ -55,7 +55,21 @@ fn range(v: impl Iterator<Item = f64>, scale: Scale) -> (f64, f64) {
         return (0.0, 1.0);
     }
     match scale {
-        Scale::Log => (lo / 1.5, hi * 1.5),
+        Scale::Log => {
+            // plotters ticks a log axis from its first power of ten up: start the axis at
+            // one when that would otherwise leave over half a decade unlabelled.
+            let lo = lo / 1.5;
+            let decade = 10f64.powf(lo.log10().ceil());
+            // (Just below the power of ten, so that round-off cannot drop its tick.)
+            let lo = if (decade / lo).log10() > 0.5 {
+                decade / 10.0 * 0.999
+            } else if decade / lo < 1.001 {
+                decade * 0.999
+            } else {
+                lo
+            };
+            (lo, hi * 1.5)
+        }
         Scale::Linear => {
             let pad = 0.05 * (hi - lo).max(1e-12 * hi.abs().max(1.0));
             (lo - pad, hi + pad)
@@ -68,18 +82,146 @@ fn tick(v: f64) -> String {
     if v == 0.0 {
         return "0".into();
     }
-    let a = v.abs();
-    if (1e-3..1e5).contains(&a) {
-        let digits = (3 - a.log10().floor() as i32).max(0) as usize;
-        let s = format!("{v:.digits$}");
+    let trim = |s: &str| {
         if s.contains('.') {
             s.trim_end_matches('0').trim_end_matches('.').to_string()
         } else {
-            s
+            s.to_string()
         }
+    };
+    let a = v.abs();
+    if (1e-3..1e5).contains(&a) {
+        let digits = (3 - a.log10().floor() as i32).max(0) as usize;
+        trim(&format!("{v:.digits$}"))
     } else {
-        format!("{v:.2e}")
+        // "2e-4", not "2.00e-4": crowded log axes need short labels.
+        let s = format!("{v:.2e}");
+        match s.split_once('e') {
+            Some((m, e)) => format!("{}e{e}", trim(m)),
+            None => s,
+        }
     }
+}
+
+/// A tick label on a log axis spanning `decades`: over a decade or more only 1, 2 and 5
+/// times a power of ten are labelled (plotters puts a tick at every digit, whose labels
+/// then run into each other).
+fn log_tick(v: f64, decades: f64) -> String {
+    if decades >= 1.0 && v > 0.0 {
+        let mantissa = v / 10f64.powf(v.log10().floor());
+        if ![1.0, 2.0, 5.0, 10.0]
+            .iter()
+            .any(|m| (mantissa - m).abs() < 1e-6 * m)
+        {
+            return String::new();
+        }
+    }
+    tick(v)
+}
+
+/// Font, inner margin and symbol width of plotters' series labels (its defaults, which
+/// `xy` keeps), to know the legend's size before it is drawn.
+const LEGEND_FONT: (&str, f64) = ("sans-serif", 12.0);
+const LEGEND_MARGIN: i32 = 10;
+const LEGEND_SYMBOL: i32 = 30;
+/// Gap plotters leaves between the legend and the plotting area's edge.
+const LEGEND_INSET: i32 = 5;
+
+/// The legend's size in pixels for these labels, as plotters lays it out.
+fn legend_size(names: &[&str]) -> Result<(i32, i32), String> {
+    let font: TextStyle = LEGEND_FONT.into_font().into();
+    let mut text = MultiLineText::<_, &str>::new((0, 0), &font);
+    for n in names {
+        text.push_line(*n);
+    }
+    let (w, h) = text
+        .estimate_dimension()
+        .map_err(|e| format!("legend text: {e}"))?;
+    Ok((w + LEGEND_SYMBOL + 2 * LEGEND_MARGIN, h + 2 * LEGEND_MARGIN))
+}
+
+/// What each series puts on the plotting area, in its pixels: (x, y, weight), the points
+/// and samples every few pixels along drawn lines. The family's faint lines weigh less
+/// than the series a chart is about.
+fn ink(series: &[Series], to_px: impl Fn((f64, f64)) -> (i32, i32)) -> Vec<(i32, i32, u32)> {
+    let mut out = Vec::new();
+    for s in series {
+        let weight = if s.style == Style::Faint { 1 } else { 4 };
+        let px: Vec<(i32, i32)> = s
+            .points
+            .iter()
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+            .map(|&p| to_px(p))
+            .collect();
+        out.extend(px.iter().map(|&(x, y)| (x, y, weight)));
+        if matches!(s.style, Style::Line | Style::Thick | Style::Faint) {
+            for seg in px.windows(2) {
+                let (a, b) = (seg[0], seg[1]);
+                let n = ((b.0 - a.0).abs().max((b.1 - a.1).abs()) / 3).max(1);
+                for k in 1..n {
+                    let t = k as f64 / n as f64;
+                    let x = a.0 as f64 + t * (b.0 - a.0) as f64;
+                    let y = a.1 as f64 + t * (b.1 - a.1) as f64;
+                    out.push((x.round() as i32, y.round() as i32, weight));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The legend position, among plotters' nine, whose box covers the least ink (`ink`) on a
+/// plotting area of `area` pixels; ties go to the first in reading preference (corners,
+/// right before left, top before bottom).
+fn least_covered(
+    ink: &[(i32, i32, u32)],
+    legend: (i32, i32),
+    area: (i32, i32),
+) -> SeriesLabelPosition {
+    use SeriesLabelPosition::*;
+    let (lw, lh) = legend;
+    let (aw, ah) = area;
+    let candidates = [
+        UpperRight,
+        UpperLeft,
+        LowerRight,
+        LowerLeft,
+        MiddleRight,
+        MiddleLeft,
+        UpperMiddle,
+        LowerMiddle,
+        MiddleMiddle,
+    ];
+    // The same layout as plotters' `SeriesLabelPosition` (private there).
+    let corner = |p: &SeriesLabelPosition| -> (i32, i32) {
+        let x = match p {
+            UpperLeft | MiddleLeft | LowerLeft => LEGEND_INSET,
+            UpperMiddle | MiddleMiddle | LowerMiddle => (aw - lw) / 2,
+            _ => aw - lw - LEGEND_INSET,
+        };
+        let y = match p {
+            UpperLeft | UpperMiddle | UpperRight => LEGEND_INSET,
+            MiddleLeft | MiddleMiddle | MiddleRight => (ah - lh) / 2,
+            _ => ah - lh - LEGEND_INSET,
+        };
+        (x, y)
+    };
+    // A marker reaches a few pixels beyond its point.
+    let pad = 4;
+    let covered = |p: &SeriesLabelPosition| -> u64 {
+        let (x0, y0) = corner(p);
+        ink.iter()
+            .filter(|&&(x, y, _)| {
+                x >= x0 - pad && x <= x0 + lw + pad && y >= y0 - pad && y <= y0 + lh + pad
+            })
+            .map(|&(_, _, w)| w as u64)
+            .sum()
+    };
+    // `min_by_key` keeps the first of equal minima, i.e. the preferred one.
+    candidates
+        .into_iter()
+        .min_by_key(covered)
+        .unwrap_or(UpperRight)
 }
 
 /// Writes an x–y chart of the series to `path` (PNG, 900×600).
@@ -90,6 +232,11 @@ pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
     let all = || series.iter().flat_map(|s| s.points.iter());
     let (x0, x1) = range(all().map(|p| p.0), chart.x_scale);
     let (y0, y1) = range(all().map(|p| p.1), chart.y_scale);
+    let label = |v: f64, scale: Scale, decades: f64| match scale {
+        Scale::Linear => tick(v),
+        Scale::Log => log_tick(v, decades),
+    };
+    let (x_decades, y_decades) = ((x1 / x0).log10(), (y1 / y0).log10());
     let palette = [&BLUE, &RED, &GREEN, &MAGENTA, &CYAN, &BLACK, &YELLOW];
     let mut builder = ChartBuilder::on(&root);
     builder
@@ -103,8 +250,8 @@ pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
             ctx.configure_mesh()
                 .x_desc(chart.x_label)
                 .y_desc(chart.y_label)
-                .x_label_formatter(&|v| tick(*v))
-                .y_label_formatter(&|v| tick(*v))
+                .x_label_formatter(&|v| label(*v, chart.x_scale, x_decades))
+                .y_label_formatter(&|v| label(*v, chart.y_scale, y_decades))
                 .draw()
                 .map_err(|e| err(&e))?;
             for s in series {
@@ -171,7 +318,22 @@ pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
                     }
                 }
             }
+            // The legend goes where it hides the least of what was drawn (a fixed corner
+            // covered the untextured line in Fig. 6).
+            let base = ctx.plotting_area().get_base_pixel();
+            let (w, h) = ctx.plotting_area().dim_in_pixel();
+            let ink = ink(series, |p| {
+                let b = ctx.backend_coord(&p);
+                (b.0 - base.0, b.1 - base.1)
+            });
+            let names: Vec<&str> = series
+                .iter()
+                .filter(|s| !s.name.is_empty())
+                .map(|s| s.name.as_str())
+                .collect();
+            let position = least_covered(&ink, legend_size(&names)?, (w as i32, h as i32));
             ctx.configure_series_labels()
+                .position(position)
                 .background_style(WHITE.mix(0.8))
                 .border_style(BLACK)
                 .draw()
@@ -194,4 +356,78 @@ pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
     }
     root.present().map_err(|e| err(&e))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(p: SeriesLabelPosition) -> String {
+        format!("{p:?}")
+    }
+
+    #[test]
+    fn the_legend_goes_to_the_emptiest_place() {
+        let (area, legend) = ((800, 500), (200, 80));
+        // Nothing drawn: the first preference.
+        assert_eq!(at(least_covered(&[], legend, area)), "UpperRight");
+        // A rising line fills the upper right and lower left: upper left is free.
+        let rising: Vec<_> = (0..800).map(|x| (x, 500 - x * 500 / 800, 4)).collect();
+        assert_eq!(at(least_covered(&rising, legend, area)), "UpperLeft");
+        // Faint family everywhere but the lower right, key series crossing the upper left:
+        // the box goes over nothing rather than over a few faint marks or the key series.
+        let mut ink: Vec<_> = (0..800)
+            .flat_map(|x| (0..500).step_by(10).map(move |y| (x, y, 1)))
+            .filter(|&(x, y, _)| !(x > 550 && y > 380))
+            .collect();
+        ink.extend((0..800).map(|x| (x, 40, 4)));
+        assert_eq!(at(least_covered(&ink, legend, area)), "LowerRight");
+    }
+
+    #[test]
+    fn tick_labels_are_short() {
+        let got: Vec<String> = [0.0, 2e-4, 2.5e-4, 0.001, 0.0015, 1.0, 12.5, 3e5]
+            .into_iter()
+            .map(tick)
+            .collect();
+        assert_eq!(
+            got,
+            ["0", "2e-4", "2.5e-4", "0.001", "0.0015", "1", "12.5", "3e5"]
+        );
+    }
+
+    #[test]
+    fn log_axes_over_a_decade_label_one_two_five() {
+        let labels: Vec<String> = [1e-4, 2e-4, 3e-4, 5e-4, 9.99999e-4, 1e-3, 4e-3]
+            .into_iter()
+            .map(|v| log_tick(v, 1.5))
+            .collect();
+        assert_eq!(labels, ["1e-4", "2e-4", "", "5e-4", "", "0.001", ""]);
+        // Within a decade every tick keeps its label.
+        assert_eq!(log_tick(3e-4, 0.5), "3e-4");
+    }
+
+    #[test]
+    fn a_log_axis_starts_where_its_ticks_can_label_it() {
+        // 0.35 / 1.5 = 0.23 would leave 0.23–1 without a tick: the axis starts just below 0.1.
+        let (lo, hi) = range([0.35, 9.0].into_iter(), Scale::Log);
+        assert!(
+            (lo - 0.0999).abs() < 1e-12 && (hi - 13.5).abs() < 1e-12,
+            "{lo} {hi}"
+        );
+        // 0.15 / 1.5 = 0.1 to round-off, which plotters may take for 1's decade.
+        let (lo, _) = range([0.15, 9.0].into_iter(), Scale::Log);
+        assert!((lo - 0.0999).abs() < 1e-12, "{lo}");
+        // 0.07 / 1.5 = 0.047 is within half a decade of 0.1: kept.
+        let (lo, _) = range([0.07, 0.5].into_iter(), Scale::Log);
+        assert!((lo - 0.07 / 1.5).abs() < 1e-12, "{lo}");
+    }
+
+    #[test]
+    fn the_legend_size_grows_with_its_labels() {
+        let one = legend_size(&["a"]).unwrap();
+        let two = legend_size(&["a", "a much longer label"]).unwrap();
+        assert!(two.0 > one.0 && two.1 > one.1, "{one:?} {two:?}");
+        assert!(one.0 >= LEGEND_SYMBOL + 2 * LEGEND_MARGIN);
+    }
 }
