@@ -13,6 +13,16 @@ pub struct Series<'a> {
     pub colour: usize,
 }
 
+impl Series<'_> {
+    /// The points that are drawn (a failed case's NaN is left out, not plotted).
+    fn drawn(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.points
+            .iter()
+            .copied()
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+    }
+}
+
 /// How a series is drawn.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Style {
@@ -147,12 +157,7 @@ fn ink(series: &[Series], to_px: impl Fn((f64, f64)) -> (i32, i32)) -> Vec<(i32,
     let mut out = Vec::new();
     for s in series {
         let weight = if s.style == Style::Faint { 1 } else { 4 };
-        let px: Vec<(i32, i32)> = s
-            .points
-            .iter()
-            .filter(|p| p.0.is_finite() && p.1.is_finite())
-            .map(|&p| to_px(p))
-            .collect();
+        let px: Vec<(i32, i32)> = s.drawn().map(&to_px).collect();
         out.extend(px.iter().map(|&(x, y)| (x, y, weight)));
         if matches!(s.style, Style::Line | Style::Thick | Style::Faint) {
             for seg in px.windows(2) {
@@ -256,11 +261,7 @@ pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
                 .map_err(|e| err(&e))?;
             for s in series {
                 let c = palette[s.colour % palette.len()];
-                let pts = s
-                    .points
-                    .iter()
-                    .copied()
-                    .filter(|p| p.0.is_finite() && p.1.is_finite());
+                let pts = s.drawn();
                 let named = !s.name.is_empty();
                 match s.style {
                     Style::Markers => {
