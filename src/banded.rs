@@ -18,6 +18,36 @@ pub struct BandLu {
     orig: Stencil5,
     /// Whether `a` holds complete factors of `orig`.
     valid: bool,
+    /// Whether some rows of `a` were taken from single-precision kept factors
+    /// ([`BandLu::factor_taking_reusing`]): the factors are then those of `orig` to ≈ 1e-7
+    /// relative, not to round-off.
+    rounded: bool,
+}
+
+/// Band LU factors kept for later solves: a copy of a [`BandLu`]'s factors (the film keeps
+/// one per step of a texture period, run.rs), in double precision or, to halve the memory,
+/// in single. Solves with single factors read them widened and sum in double, so they solve
+/// the factored matrix to ≈ 1e-7 relative: as a chord step through factors of a nearby
+/// matrix does, which is all the film asks of kept factors.
+#[derive(Debug, Default, Clone)]
+pub struct KeptLu {
+    n: usize,
+    w: usize,
+    band: KeptBand,
+    /// The operator the factors are of, to find the rows a new one shares with it.
+    orig: Stencil5,
+}
+
+#[derive(Debug, Clone)]
+enum KeptBand {
+    Double(Vec<f64>),
+    Single(Vec<f32>),
+}
+
+impl Default for KeptBand {
+    fn default() -> Self {
+        KeptBand::Double(Vec::new())
+    }
 }
 
 /// A zero or non-finite pivot: the matrix is singular (should not happen for an M-matrix).
@@ -42,6 +72,7 @@ impl BandLu {
     /// Returns the number of rows eliminated (those not kept).
     pub fn factor(&mut self, s: &Stencil5) -> Result<usize, SingularPivot> {
         let r0 = self.shared_rows(s);
+        self.rounded &= r0 > 0;
         // The operator factored: its rows before r0 are already those of `s`.
         self.orig.reshape(s.m1, s.n2);
         for (o, v) in self
@@ -60,32 +91,64 @@ impl BandLu {
     /// for bit; for a caller that assembles a whole new operator every time (the film
     /// solver), it saves copying five arrays per factorisation.
     pub fn factor_taking(&mut self, s: &mut Stencil5) -> Result<usize, SingularPivot> {
-        let r0 = self.shared_rows(s);
+        self.factor_taking_reusing(s, None)
+    }
+
+    /// `factor_taking`, which may also take the leading rows `s` shares with `kept`'s
+    /// operator from those factors (when they share more rows than the factors at hand): the
+    /// film's factors of the same texture phase a period ago share the rows the texture alone
+    /// sets. Rows from double-precision kept factors are the same bits as eliminating them;
+    /// from single ones they are widened, and the factors are then [`BandLu::rounded`].
+    pub fn factor_taking_reusing(
+        &mut self,
+        s: &mut Stencil5,
+        kept: Option<&KeptLu>,
+    ) -> Result<usize, SingularPivot> {
+        let own = self.shared_rows(s);
+        let from_kept = kept.map_or(0, |k| k.shared_rows(s));
         std::mem::swap(&mut self.orig, s);
-        self.factor_orig_from(r0)
+        match kept {
+            Some(k) if from_kept > own => {
+                let rows = ..from_kept * (2 * k.w + 1);
+                self.a.resize(self.orig.len() * (2 * k.w + 1), 0.0);
+                match &k.band {
+                    KeptBand::Double(b) => self.a[rows].copy_from_slice(&b[rows]),
+                    KeptBand::Single(b) => {
+                        for (a, &v) in self.a[rows].iter_mut().zip(&b[rows]) {
+                            *a = f64::from(v);
+                        }
+                    }
+                }
+                self.rounded = k.rounded();
+                self.factor_orig_from(from_kept)
+            }
+            _ => {
+                // Rows kept from the factors at hand keep their precision.
+                self.rounded &= own > 0;
+                self.factor_orig_from(own)
+            }
+        }
+    }
+
+    /// The half band width (cells across) of the factors.
+    pub fn half_band(&self) -> usize {
+        self.w
+    }
+
+    /// Whether the factors are those of their operator only to ≈ 1e-7 (rows taken from
+    /// single-precision kept factors), not to round-off.
+    pub fn rounded(&self) -> bool {
+        self.rounded
     }
 
     /// Leading rows `s` shares bit for bit with the operator of the factors at hand (none
-    /// when they are invalid or of another band); a reused row must also have seen the same
-    /// (untruncated) elimination updates, hence the margin before the end.
+    /// when they are invalid or of another band).
     fn shared_rows(&self, s: &Stencil5) -> usize {
-        let (n, w) = (s.len(), s.n2);
-        let mut r0 = 0;
-        if self.valid && w == self.w {
-            let limit = n.min(self.n).saturating_sub(w + 1);
-            let o = &self.orig;
-            let same = |x: f64, y: f64| x.to_bits() == y.to_bits();
-            while r0 < limit
-                && same(s.c[r0], o.c[r0])
-                && same(s.w[r0], o.w[r0])
-                && same(s.e[r0], o.e[r0])
-                && same(s.s[r0], o.s[r0])
-                && same(s.n[r0], o.n[r0])
-            {
-                r0 += 1;
-            }
+        if self.valid {
+            shared_rows(&self.orig, self.n, self.w, s)
+        } else {
+            0
         }
-        r0
     }
 
     /// Factors `orig`, whose rows before r0 are those of the factors at hand.
@@ -215,78 +278,202 @@ impl BandLu {
 
     /// Solves A x = b in place (after `factor`).
     pub fn solve(&self, b: &mut [f64]) {
-        let (n, w) = (self.n, self.w);
-        let stride = 2 * w + 1;
-        for i in 0..n {
-            let first = i.saturating_sub(w);
-            let row = &self.a[i * stride..(i + 1) * stride];
-            let l = &row[first + w - i..w];
-            b[i] -= dot(l, &b[first..i]);
-        }
-        for i in (0..n).rev() {
-            let last = (i + w).min(n - 1);
-            let row = &self.a[i * stride..(i + 1) * stride];
-            let u = &row[w + 1..w + 1 + (last - i)];
-            b[i] = (b[i] - dot(u, &b[i + 1..=last])) / row[w];
-        }
+        solve_in(&self.a, self.n, self.w, b);
     }
 
     /// Solves A x = b1 and A x = b2 in place together (each row of the factors is read
     /// once for both): the same arithmetic as two `solve` calls, so the same bits. `work`
     /// holds the two right-hand sides interleaved while they are solved (see [`dot_pairs`]).
     pub fn solve2(&self, b1: &mut [f64], b2: &mut [f64], work: &mut Vec<[f64; 2]>) {
-        let n = self.n;
-        assert!(b1.len() >= n && b2.len() >= n);
-        work.clear();
-        work.extend(b1[..n].iter().zip(&b2[..n]).map(|(&x, &y)| [x, y]));
-        match self.w {
-            8 => self.solve_pairs::<8>(work),
-            16 => self.solve_pairs::<16>(work),
-            24 => self.solve_pairs::<24>(work),
-            32 => self.solve_pairs::<32>(work),
-            _ => self.solve_pairs::<0>(work),
+        solve2_in(&self.a, self.n, self.w, b1, b2, work);
+    }
+}
+
+impl KeptLu {
+    /// Keeps a copy of `lu`'s factors (complete ones; otherwise keeps none), in single
+    /// precision when `single`. Reuses this copy's memory.
+    pub fn keep(&mut self, lu: &BandLu, single: bool) {
+        let len = lu.n * (2 * lu.w + 1);
+        let valid = lu.valid && lu.a.len() >= len;
+        (self.n, self.w) = if valid { (lu.n, lu.w) } else { (0, 0) };
+        let a = &lu.a[..if valid { len } else { 0 }];
+        match (&mut self.band, single) {
+            (KeptBand::Single(b), true) => {
+                b.clear();
+                b.extend(a.iter().map(|&v| v as f32));
+            }
+            (KeptBand::Double(b), false) => {
+                b.clear();
+                b.extend_from_slice(a);
+            }
+            (band, true) => *band = KeptBand::Single(a.iter().map(|&v| v as f32).collect()),
+            (band, false) => *band = KeptBand::Double(a.to_vec()),
         }
-        for ((x, y), &[u, v]) in b1.iter_mut().zip(b2.iter_mut()).zip(work.iter()) {
-            (*x, *y) = (u, v);
+        self.orig.reshape(lu.orig.m1, lu.orig.n2);
+        for (o, v) in self
+            .orig
+            .coefficients_mut()
+            .into_iter()
+            .zip(lu.orig.coefficients())
+        {
+            o.copy_from_slice(v);
         }
     }
 
-    /// `solve2` on interleaved right-hand sides, with the band width W known at compile
-    /// time (0: only at run time): rows spanning the full band take dot products of fixed
-    /// length (the same sums in the same order, so the same bits).
-    fn solve_pairs<const W: usize>(&self, xy: &mut [[f64; 2]]) {
-        let (n, w) = (self.n, self.w);
-        debug_assert!(W == 0 || W == w);
-        let stride = 2 * w + 1;
-        // With W known, rows whose band lies whole inside the matrix (i ≥ W forward,
-        // i + W < n backward) are taken as fixed-length chunks: no index checked per row.
-        let full_from = if W > 0 { W.min(n) } else { n };
-        for i in 0..full_from {
-            let first = i.saturating_sub(w);
-            let row = &self.a[i * stride..(i + 1) * stride];
-            let d = dot_pairs(&row[first + w - i..w], &xy[first..i]);
+    /// Whether these factors are single precision (they solve their matrix to ≈ 1e-7).
+    pub fn rounded(&self) -> bool {
+        matches!(self.band, KeptBand::Single(_))
+    }
+
+    /// Memory held by the factors and the operator they are of (bytes).
+    pub fn bytes(&self) -> usize {
+        let band = match &self.band {
+            KeptBand::Double(b) => 8 * b.capacity(),
+            KeptBand::Single(b) => 4 * b.capacity(),
+        };
+        band + 8 * 5 * self.orig.c.capacity()
+    }
+
+    /// Solves A x = b in place with the kept factors.
+    pub fn solve(&self, b: &mut [f64]) {
+        match &self.band {
+            KeptBand::Double(a) => solve_in(a, self.n, self.w, b),
+            KeptBand::Single(a) => solve_in(a, self.n, self.w, b),
+        }
+    }
+
+    /// [`BandLu::solve2`] with the kept factors.
+    pub fn solve2(&self, b1: &mut [f64], b2: &mut [f64], work: &mut Vec<[f64; 2]>) {
+        match &self.band {
+            KeptBand::Double(a) => solve2_in(a, self.n, self.w, b1, b2, work),
+            KeptBand::Single(a) => solve2_in(a, self.n, self.w, b1, b2, work),
+        }
+    }
+
+    fn shared_rows(&self, s: &Stencil5) -> usize {
+        shared_rows(&self.orig, self.n, self.w, s)
+    }
+}
+
+/// Leading rows `s` shares bit for bit with `orig`, the n × (half band w) operator of some
+/// complete factors (none when the band differs); a reused row must also have seen the same
+/// (untruncated) elimination updates, hence the margin before the end.
+fn shared_rows(orig: &Stencil5, n_orig: usize, w_orig: usize, s: &Stencil5) -> usize {
+    let (n, w) = (s.len(), s.n2);
+    let mut r0 = 0;
+    if w == w_orig && n_orig > 0 {
+        let limit = n.min(n_orig).saturating_sub(w + 1);
+        let o = orig;
+        let same = |x: f64, y: f64| x.to_bits() == y.to_bits();
+        while r0 < limit
+            && same(s.c[r0], o.c[r0])
+            && same(s.w[r0], o.w[r0])
+            && same(s.e[r0], o.e[r0])
+            && same(s.s[r0], o.s[r0])
+            && same(s.n[r0], o.n[r0])
+        {
+            r0 += 1;
+        }
+    }
+    r0
+}
+
+/// A stored factor entry: the arithmetic is in f64 whatever the storage.
+trait Entry: Copy {
+    fn widen(self) -> f64;
+}
+
+impl Entry for f64 {
+    #[inline(always)]
+    fn widen(self) -> f64 {
+        self
+    }
+}
+
+impl Entry for f32 {
+    #[inline(always)]
+    fn widen(self) -> f64 {
+        f64::from(self)
+    }
+}
+
+/// Forward and back substitution through the n × (half band w) factors `a`.
+fn solve_in<T: Entry>(a: &[T], n: usize, w: usize, b: &mut [f64]) {
+    let stride = 2 * w + 1;
+    for i in 0..n {
+        let first = i.saturating_sub(w);
+        let row = &a[i * stride..(i + 1) * stride];
+        let l = &row[first + w - i..w];
+        b[i] -= dot(l, &b[first..i]);
+    }
+    for i in (0..n).rev() {
+        let last = (i + w).min(n - 1);
+        let row = &a[i * stride..(i + 1) * stride];
+        let u = &row[w + 1..w + 1 + (last - i)];
+        b[i] = (b[i] - dot(u, &b[i + 1..=last])) / row[w].widen();
+    }
+}
+
+/// Two substitutions at once (see [`BandLu::solve2`]).
+fn solve2_in<T: Entry>(
+    a: &[T],
+    n: usize,
+    w: usize,
+    b1: &mut [f64],
+    b2: &mut [f64],
+    work: &mut Vec<[f64; 2]>,
+) {
+    assert!(b1.len() >= n && b2.len() >= n);
+    work.clear();
+    work.extend(b1[..n].iter().zip(&b2[..n]).map(|(&x, &y)| [x, y]));
+    match w {
+        8 => solve_pairs::<T, 8>(a, n, w, work),
+        16 => solve_pairs::<T, 16>(a, n, w, work),
+        24 => solve_pairs::<T, 24>(a, n, w, work),
+        32 => solve_pairs::<T, 32>(a, n, w, work),
+        _ => solve_pairs::<T, 0>(a, n, w, work),
+    }
+    for ((x, y), &[u, v]) in b1.iter_mut().zip(b2.iter_mut()).zip(work.iter()) {
+        (*x, *y) = (u, v);
+    }
+}
+
+/// `solve2` on interleaved right-hand sides, with the band width W known at compile
+/// time (0: only at run time): rows spanning the full band take dot products of fixed
+/// length (the same sums in the same order, so the same bits).
+fn solve_pairs<T: Entry, const W: usize>(a: &[T], n: usize, w: usize, xy: &mut [[f64; 2]]) {
+    debug_assert!(W == 0 || W == w);
+    let stride = 2 * w + 1;
+    // With W known, rows whose band lies whole inside the matrix (i ≥ W forward,
+    // i + W < n backward) are taken as fixed-length chunks: no index checked per row.
+    let full_from = if W > 0 { W.min(n) } else { n };
+    for i in 0..full_from {
+        let first = i.saturating_sub(w);
+        let row = &a[i * stride..(i + 1) * stride];
+        let d = dot_pairs(&row[first + w - i..w], &xy[first..i]);
+        xy[i] = [xy[i][0] - d[0], xy[i][1] - d[1]];
+    }
+    if W > 0 {
+        let rows = a[full_from * stride..n * stride].chunks_exact(2 * W + 1);
+        for (i, row) in (full_from..).zip(rows) {
+            let d = dot_pairs(&row[..W], &xy[i - W..i]);
             xy[i] = [xy[i][0] - d[0], xy[i][1] - d[1]];
         }
-        if W > 0 {
-            let rows = self.a[full_from * stride..n * stride].chunks_exact(2 * W + 1);
-            for (i, row) in (full_from..).zip(rows) {
-                let d = dot_pairs(&row[..W], &xy[i - W..i]);
-                xy[i] = [xy[i][0] - d[0], xy[i][1] - d[1]];
-            }
-        }
-        let full_to = if W > 0 { n.saturating_sub(W) } else { 0 };
-        for i in (full_to..n).rev() {
-            let last = (i + w).min(n - 1);
-            let row = &self.a[i * stride..(i + 1) * stride];
-            let d = dot_pairs(&row[w + 1..w + 1 + (last - i)], &xy[i + 1..=last]);
-            xy[i] = [(xy[i][0] - d[0]) / row[w], (xy[i][1] - d[1]) / row[w]];
-        }
-        if W > 0 {
-            let rows = self.a[..full_to * stride].chunks_exact(2 * W + 1);
-            for (i, row) in rows.enumerate().rev() {
-                let d = dot_pairs(&row[W + 1..], &xy[i + 1..i + 1 + W]);
-                xy[i] = [(xy[i][0] - d[0]) / row[W], (xy[i][1] - d[1]) / row[W]];
-            }
+    }
+    let full_to = if W > 0 { n.saturating_sub(W) } else { 0 };
+    for i in (full_to..n).rev() {
+        let last = (i + w).min(n - 1);
+        let row = &a[i * stride..(i + 1) * stride];
+        let d = dot_pairs(&row[w + 1..w + 1 + (last - i)], &xy[i + 1..=last]);
+        let piv = row[w].widen();
+        xy[i] = [(xy[i][0] - d[0]) / piv, (xy[i][1] - d[1]) / piv];
+    }
+    if W > 0 {
+        let rows = a[..full_to * stride].chunks_exact(2 * W + 1);
+        for (i, row) in rows.enumerate().rev() {
+            let d = dot_pairs(&row[W + 1..], &xy[i + 1..i + 1 + W]);
+            let piv = row[W].widen();
+            xy[i] = [(xy[i][0] - d[0]) / piv, (xy[i][1] - d[1]) / piv];
         }
     }
 }
@@ -296,17 +483,17 @@ impl BandLu {
 /// substitution's row i waits on row i + 1 from its first term). Four sums let the terms
 /// proceed in parallel; the order is fixed, so the result is deterministic.
 #[inline]
-fn dot(a: &[f64], x: &[f64]) -> f64 {
+fn dot<T: Entry>(a: &[T], x: &[f64]) -> f64 {
     let mut acc = [0.0f64; 4];
     let (ac, ar) = a.split_at(a.len() & !3);
     let (xc, xr) = x.split_at(ac.len());
     for (a4, x4) in ac.chunks_exact(4).zip(xc.chunks_exact(4)) {
         for l in 0..4 {
-            acc[l] += a4[l] * x4[l];
+            acc[l] += a4[l].widen() * x4[l];
         }
     }
     for (l, (a, x)) in ar.iter().zip(xr).enumerate() {
-        acc[l] += a * x;
+        acc[l] += a.widen() * x;
     }
     (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
@@ -319,17 +506,19 @@ fn dot(a: &[f64], x: &[f64]) -> f64 {
 /// 360 × 32 (`examples/band_micro.rs`) a substitution with the factors in cache takes
 /// ≈ 15–25 % less time, ≈ 5–15 % less when they come from memory.
 #[inline(always)]
-fn dot_pairs(a: &[f64], xy: &[[f64; 2]]) -> [f64; 2] {
+fn dot_pairs<T: Entry>(a: &[T], xy: &[[f64; 2]]) -> [f64; 2] {
     let mut acc = [[0.0f64; 2]; 4];
     let (ac, ar) = a.split_at(a.len() & !3);
     let (xc, xr) = xy.split_at(ac.len());
     for (a4, x4) in ac.chunks_exact(4).zip(xc.chunks_exact(4)) {
         for l in 0..4 {
-            acc[l][0] += a4[l] * x4[l][0];
-            acc[l][1] += a4[l] * x4[l][1];
+            let a = a4[l].widen();
+            acc[l][0] += a * x4[l][0];
+            acc[l][1] += a * x4[l][1];
         }
     }
     for (l, (a, x)) in ar.iter().zip(xr).enumerate() {
+        let a = a.widen();
         acc[l][0] += a * x[0];
         acc[l][1] += a * x[1];
     }
@@ -631,6 +820,82 @@ mod tests {
                 bits(&copying.a),
                 "{n_x} columns, from {from}"
             );
+        }
+    }
+
+    #[test]
+    fn kept_factors_solve_as_the_band_lu_double_to_the_bit_single_to_1e_7() {
+        for (nx, ny) in [(7, 8), (5, 16), (4, 32), (6, 4)] {
+            let s = laplacian(nx, ny, 0, 0.0);
+            let n = s.len();
+            let x: Vec<f64> = (0..n)
+                .map(|k| 1.0 + 0.5 * (k as f64 * 0.37).sin())
+                .collect();
+            let mut b = vec![0.0; n];
+            s.apply(&x, &mut b);
+            let mut lu = BandLu::default();
+            lu.factor(&s).unwrap();
+            let (mut e1, mut e2) = (b.clone(), b.iter().map(|v| -v).collect::<Vec<_>>());
+            lu.solve2(&mut e1, &mut e2, &mut Vec::new());
+            for single in [false, true] {
+                let mut kept = KeptLu::default();
+                kept.keep(&lu, single);
+                assert_eq!(kept.rounded(), single);
+                let (mut k1, mut k2) = (b.clone(), b.iter().map(|v| -v).collect::<Vec<_>>());
+                kept.solve2(&mut k1, &mut k2, &mut Vec::new());
+                let mut k = b.clone();
+                kept.solve(&mut k);
+                assert_eq!(bits(&k), bits(&k1), "{nx}x{ny} single {single}");
+                if single {
+                    for (i, (a, e)) in k1.iter().zip(&x).enumerate() {
+                        assert!(
+                            (a - e).abs() < 1e-6 * e.abs(),
+                            "{nx}x{ny} row {i}: {a} vs {e}"
+                        );
+                    }
+                    assert!(bits(&k1) != bits(&e1), "single factors solved to the bit?");
+                } else {
+                    assert_eq!(bits(&k1), bits(&e1), "{nx}x{ny}");
+                    assert_eq!(bits(&k2), bits(&e2), "{nx}x{ny}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn refactoring_takes_the_rows_it_shares_with_kept_factors() {
+        let (nx, ny) = (12, 8);
+        let old = laplacian(nx, ny, 41, 0.0);
+        let new = laplacian(nx, ny, 41, 0.37);
+        let mut lu = BandLu::default();
+        lu.factor(&old).unwrap();
+        let mut fresh = BandLu::default();
+        fresh.factor(&new).unwrap();
+        for single in [false, true] {
+            let mut kept = KeptLu::default();
+            kept.keep(&lu, single);
+            // Factors at hand of another matrix (nothing shared), the kept ones lent.
+            let mut other = BandLu::default();
+            other.factor(&laplacian(nx, ny, 0, 0.2)).unwrap();
+            let mut op = new.clone();
+            let rows = other.factor_taking_reusing(&mut op, Some(&kept)).unwrap();
+            assert_eq!(rows, nx * ny - 41, "single {single}: rows eliminated");
+            assert_eq!(other.rounded(), single);
+            if single {
+                // The widened rows are the single-precision ones, the rest re-eliminated.
+                let x: Vec<f64> = (0..nx * ny).map(|k| 1.5 + (k as f64 * 0.3).cos()).collect();
+                let mut b = vec![0.0; nx * ny];
+                new.apply(&x, &mut b);
+                other.solve(&mut b);
+                for (a, e) in b.iter().zip(&x) {
+                    assert!((a - e).abs() < 1e-6 * e.abs(), "{a} vs {e}");
+                }
+                // A full refactorisation (nothing shared) is exact again.
+                other.factor(&laplacian(nx, ny, 0, 0.5)).unwrap();
+                assert!(!other.rounded());
+            } else {
+                assert_eq!(bits(&other.a), bits(&fresh.a), "double: the fresh factors");
+            }
         }
     }
 }

@@ -28,7 +28,9 @@ use crate::run::Outcome;
 /// the same periodic regime, within the periodic tolerance and with the same statuses, so
 /// the answers cached before remain answers of this model to that tolerance. Kept at 4 too
 /// by stop 18's film stop at 1e-8 relative, `film::CHORD_CONFIRM`: outcomes moved by
-/// ≤ 1.6e-10, far inside every tolerance.)
+/// ≤ 1.6e-10, far inside every tolerance; and by stop 27's single-precision kept factors at
+/// wide bands, `film::KeptFactors`: `paper`/`fine` outcomes within ≈ 1e-11, `fast` and
+/// `draft` the same bits.)
 pub const MODEL_VERSION: &str = "texopt-model-4";
 
 /// SQLite `application_id` of a texopt cache ("TXOP").

@@ -618,8 +618,9 @@ fn study_cmd(a: &StudyArgs) -> Result<i32, CmdError> {
     let stop = if a.cached_only { &stop_now } else { &STOP };
     let (sum, results) = crate::sweep::run(&study.jobs, &cache, &opt, stop)
         .map_err(|e| CmdError::Other(e.to_string()))?;
+    let threads = if jobs == 1 { "thread" } else { "threads" };
     let note = format!(
-        "{} cases: {} from the cache, {} computed in {} simulations, {} failed, {} not run; {:.1} s wall time with {jobs} worker threads",
+        "{} cases: {} from the cache, {} computed in {} simulations, {} failed, {} not run; {:.1} s wall time with {jobs} worker {threads}",
         sum.cases, sum.cached, sum.computed, sum.simulations, sum.failed, sum.not_run, sum.wall_time_s
     );
     println!("{note}");

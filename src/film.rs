@@ -21,7 +21,7 @@
 //! The ring position Z enters as one more unknown (bordered system, Schur complement), so
 //! the Newmark coupling of model.md §4 is implicit and converged inside the same iteration.
 
-use crate::banded::BandLu;
+use crate::banded::{BandLu, KeptLu};
 use crate::multigrid::LineMultigrid;
 
 /// The mesh: n1 cells along x1 over [0, length] (vertex-centred, n1 + 1 nodes) and n2 cells
@@ -370,6 +370,12 @@ fn chord_drift(n2: usize) -> f64 {
 /// sampled study cases at `fast` 2.65 → 2.12 iterations a step, outcomes within 1.6e-10.
 const CHORD_CONFIRM: f64 = 1e-8;
 
+/// Relative error of single-precision kept factors ([`KeptFactors`]), counted as a matrix
+/// drift by the stopping rule: f32 rounding (6e-8) of factors whose elimination hardly grows
+/// (M-matrices), with a margin. Beside the chord drifts of 1e-5–1e-4 the rule meets anyway it
+/// changes few decisions, and it keeps the solve's stated accuracy honest.
+const ROUNDED_FACTORS: f64 = 1e-6;
+
 /// Wide bands ([`WIDE_BAND_N2`]): period-old factors of the same range and active set serve
 /// chord steps up to this drift (instead of `chord_drift`'s 1e-4) in one solve, and then
 /// only under the tight bound: the first period to meet them stretched keeps them, the next
@@ -445,12 +451,30 @@ pub struct SolveStats {
 }
 
 /// Band LU factors of a film matrix and what they were factored for, so that they can serve
-/// later solves: a chord step inside the iteration, or the same texture phase one period
-/// later (the transient keeps one per step of a period, run.rs).
+/// later solves: chord steps inside the iteration, and their leading rows the next
+/// factorisation.
 #[derive(Debug, Default, Clone)]
-pub struct Factors {
+struct Factors {
     lu: BandLu,
     of: Option<FactoredFor>,
+}
+
+/// Factors kept from a solve for the film problem of the same texture phase one period later
+/// (the transient keeps one per step of a period, run.rs): there they serve chord steps and
+/// lend their leading rows to a factorisation. Wide bands ([`WIDE_BAND_N2`]) keep them in
+/// single precision: half the memory (at 512×32 ≈ 0.5 GB instead of 1 GB a period, which this
+/// VM's kernel takes ≈ 2 s a GB to hand out) and half the bytes a substitution reads.
+#[derive(Debug, Default, Clone)]
+pub struct KeptFactors {
+    lu: KeptLu,
+    of: Option<FactoredFor>,
+}
+
+impl KeptFactors {
+    /// Memory held (bytes).
+    pub fn bytes(&self) -> usize {
+        self.lu.bytes() + self.of.as_ref().map_or(0, |f| f.active.len())
+    }
 }
 
 /// The film problem factors were computed for: node columns lo..=hi, the active set over
@@ -464,18 +488,16 @@ struct FactoredFor {
     active: Vec<bool>,
     /// Whether these factors have served a solve under the stretched bound already.
     stretched: bool,
+    /// Whether they are those of their matrix only to ≈ 1e-7 (single precision, whole or in
+    /// part): the stopping rule then counts `ROUNDED_FACTORS` as a drift.
+    rounded: bool,
 }
 
-impl Factors {
-    /// Memory held (bytes).
-    pub fn bytes(&self) -> usize {
-        self.lu.bytes() + self.of.as_ref().map_or(0, |f| f.active.len())
-    }
-
-    /// Whether these factors are of the matrix of range lo..=hi with active set `active`.
+impl FactoredFor {
+    /// Whether these factors are of the matrix of range lo..=hi with active set `active`:
+    /// then their Z.
     fn fit(&self, lo: usize, hi: usize, active: &[bool]) -> Option<f64> {
-        let f = self.of.as_ref()?;
-        (f.lo == lo && f.hi == hi && f.active == active).then_some(f.z)
+        (self.lo == lo && self.hi == hi && self.active == active).then_some(self.z)
     }
 }
 
@@ -485,10 +507,13 @@ pub struct FilmSolver {
     pub tol: Tolerance,
     pub method: Method,
     pub cavitation: Cavitation,
+    /// The factors of the solver's last factorisation: of this solve once it has factored,
+    /// else of another problem, serving only through their bit-identical leading rows.
     factors: Factors,
-    /// Whether `factors` were handed in for this very film problem's geometry (the same
-    /// texture phase one period earlier, [`FilmSolver::inherit_factors`]); otherwise
-    /// only their bit-identical leading rows are reused.
+    /// Factors handed in for this very film problem's geometry (the same texture phase one
+    /// period earlier, [`FilmSolver::inherit_factors`]): they serve chord steps until this
+    /// solve factors. Else (`inherited` false) only their leading rows can serve.
+    kept: KeptFactors,
     inherited: bool,
     /// Factorisations in the current solve and the rows they eliminated.
     factorisations: usize,
@@ -499,6 +524,9 @@ pub struct FilmSolver {
     /// Let period-old factors serve once under the stretched chord bound (`STRETCH_DRIFT`;
     /// wide bands). On by default; off for tests comparing the two.
     pub stretch_chord: bool,
+    /// Keep factors for later solves in single precision at wide bands ([`KeptFactors`]).
+    /// On by default; off for tests comparing the two.
+    pub single_kept: bool,
     mg: LineMultigrid,
     /// The Z at which `h` holds this solve's gap (None: not yet filled in this solve).
     h_at: Option<f64>,
@@ -726,6 +754,7 @@ impl FilmSolver {
             method,
             freeze_z: true,
             stretch_chord: true,
+            single_kept: true,
             ..Default::default()
         }
     }
@@ -840,10 +869,12 @@ impl FilmSolver {
             Method::Direct | Method::Reference | Method::GaussSeidel => {
                 self.factors.of = None;
                 // The operator is taken, not copied: the next assembly writes every entry.
+                // Kept factors lent for this problem share the rows the texture alone sets.
+                let kept = self.kept.of.is_some().then_some(&self.kept.lu);
                 let rows = self
                     .factors
                     .lu
-                    .factor_taking(self.mg.fine_mut())
+                    .factor_taking_reusing(self.mg.fine_mut(), kept)
                     .map_err(|e| FilmError::Singular {
                         row: e.row,
                         pivot: e.value,
@@ -872,20 +903,41 @@ impl FilmSolver {
         }
     }
 
-    /// Exchanges the solver's factors with `other`, which must be of the film problem the next
-    /// [`Self::solve`] is given up to Z (same grid, texture phase, time step and boundary
-    /// data): that solve may then use them for chord steps. (Factors of any other problem
-    /// would still serve only through their bit-identical leading rows.)
-    pub fn inherit_factors(&mut self, other: &mut Factors) {
-        std::mem::swap(&mut self.factors, other);
+    /// Exchanges the solver's kept factors with `other`, which must be of the film problem
+    /// the next [`Self::solve`] is given up to Z (same grid, texture phase, time step and
+    /// boundary data): that solve may then use them for chord steps. (Factors of any other
+    /// problem would still serve only through their bit-identical leading rows.)
+    pub fn inherit_factors(&mut self, other: &mut KeptFactors) {
+        std::mem::swap(&mut self.kept, other);
         self.inherited = true;
     }
 
-    /// Exchanges the solver's factors with `other` (to keep them for later: they serve a
-    /// later solve only through [`Self::inherit_factors`]).
-    pub fn swap_factors(&mut self, other: &mut Factors) {
-        std::mem::swap(&mut self.factors, other);
+    /// Puts the factors of the last solve's last iteration into `slot` (reusing its memory),
+    /// to keep them for a later solve ([`Self::inherit_factors`]): the solve's own if it
+    /// factored, else those it was lent (exchanged back). Wide bands keep single precision.
+    pub fn keep_factors(&mut self, slot: &mut KeptFactors) {
+        match &self.factors.of {
+            Some(of) => {
+                let single = self.single_kept && self.factors.lu.half_band() >= WIDE_BAND_N2;
+                slot.lu.keep(&self.factors.lu, single);
+                slot.of = Some(FactoredFor {
+                    rounded: of.rounded || single,
+                    ..of.clone()
+                });
+            }
+            None => std::mem::swap(&mut self.kept, slot),
+        }
         self.inherited = false;
+    }
+
+    /// The factors at hand for a chord step: this solve's own once it has factored, else
+    /// the kept ones it was lent.
+    fn at_hand(&self) -> Option<&FactoredFor> {
+        self.factors.of.as_ref().or(self.kept.of.as_ref())
+    }
+
+    fn at_hand_mut(&mut self) -> Option<&mut FactoredFor> {
+        self.factors.of.as_mut().or(self.kept.of.as_mut())
     }
 
     /// Solves one film problem in place. `state` holds the initial guess (normally the
@@ -905,9 +957,11 @@ impl FilmSolver {
         self.h_at = None;
         self.faces_fresh = false;
         self.ring_span = step.gap.ring_columns();
-        // Factors not handed in for this problem serve only through their identical rows.
+        // The own factors are of an earlier problem, and kept ones not handed in for this
+        // one are too: they serve only through their identical rows.
+        self.factors.of = None;
         if !std::mem::take(&mut self.inherited) {
-            self.factors.of = None;
+            self.kept.of = None;
         }
         for j in 0..g.n2 {
             let (k0, kn) = (g.idx(0, j), g.idx(g.n1, j));
@@ -1004,7 +1058,7 @@ impl FilmSolver {
         // this whole solve (`STRETCH_DRIFT`).
         let stretch = self.stretch_chord
             && n2 >= WIDE_BAND_N2
-            && self.factors.of.as_ref().is_some_and(|f| !f.stretched);
+            && self.at_hand().is_some_and(|f| !f.stretched);
         let mut iterations = 0;
         let mut cycles = 0;
         // What the last update did (multigrid: convergence is judged on the next residual).
@@ -1052,6 +1106,8 @@ impl FilmSolver {
             // it was a chord or frozen one, and the relative size of its correction.
             let mut z_matrix: Option<f64> = None;
             let mut chorded = false;
+            // Whether the factors this iteration solves with are rounded (single precision).
+            let mut rounded = false;
             let mut correction: f64 = 0.0;
             if !empty {
                 let m1 = hi - lo + 1;
@@ -1072,11 +1128,11 @@ impl FilmSolver {
                 } else {
                     chord_drift(n2)
                 };
-                let fit_z = self.factors.fit(lo, hi, active);
+                let fit_z = self.at_hand().and_then(|f| f.fit(lo, hi, active));
                 let chord =
                     self.method == Method::Direct && fit_z.is_some_and(|zf| drift(zf) <= bound);
                 if chord && fit_z.is_some_and(|zf| !drift_ok(zf)) {
-                    if let Some(f) = self.factors.of.as_mut() {
+                    if let Some(f) = self.at_hand_mut() {
                         f.stretched = true;
                     }
                 }
@@ -1086,7 +1142,7 @@ impl FilmSolver {
                 // row before the first of them (at the current Z every row under the ring
                 // would differ). Pays where a factorisation is dear against the confirming
                 // chord step it may cost (wide bands).
-                let frozen_z = match &self.factors.of {
+                let frozen_z = match self.at_hand() {
                     Some(f)
                         if !chord
                             && self.freeze_z
@@ -1103,7 +1159,7 @@ impl FilmSolver {
                 };
                 chorded = chord || frozen_z.is_some();
                 z_matrix = Some(if chord {
-                    self.factors.of.as_ref().map_or(*z, |f| f.z)
+                    self.at_hand().map_or(*z, |f| f.z)
                 } else {
                     frozen_z.unwrap_or(*z)
                 });
@@ -1131,8 +1187,10 @@ impl FilmSolver {
                         z: frozen_z.unwrap_or(*z),
                         active: active.to_vec(),
                         stretched: false,
+                        rounded: self.factors.lu.rounded(),
                     });
                 }
+                rounded = self.at_hand().is_some_and(|f| f.rounded);
                 // Newton correction: y1 holds −F, the right-hand side. Direct: solved in place,
                 // once y2's right-hand side is there too, both substitutions together
                 // (BandLu::solve2). Multigrid: from zero.
@@ -1209,9 +1267,12 @@ impl FilmSolver {
                             // Direct: solved in place (rhs2 gets y2's old buffer, which the
                             // next refresh clears).
                             std::mem::swap(&mut self.rhs2, &mut self.y2);
-                            self.factors
-                                .lu
-                                .solve2(&mut self.y1, &mut self.y2, &mut self.pairs);
+                            let (y1, y2, pairs) = (&mut self.y1, &mut self.y2, &mut self.pairs);
+                            if self.factors.of.is_some() {
+                                self.factors.lu.solve2(y1, y2, pairs);
+                            } else {
+                                self.kept.lu.solve2(y1, y2, pairs);
+                            }
                             y1_pending = false;
                         } else {
                             let mut y2 = std::mem::take(&mut self.y2);
@@ -1253,7 +1314,11 @@ impl FilmSolver {
                 }
                 if y1_pending {
                     // No ring: y1 alone.
-                    self.factors.lu.solve(&mut self.y1);
+                    if self.factors.of.is_some() {
+                        self.factors.lu.solve(&mut self.y1);
+                    } else {
+                        self.kept.lu.solve(&mut self.y1);
+                    }
                 }
                 debug_assert_eq!(self.y1.len(), m1 * n2);
                 let (mut dp, mut dphi, mut pmax) = (0.0f64, 0.0f64, 0.0f64);
@@ -1348,9 +1413,11 @@ impl FilmSolver {
             // relative error at the final Z (c: the drift of chord or frozen factors, or a
             // Newton step's own Z change) times this iteration's change, in Z and in p, φ.
             let exact = empty || self.method != Method::Multigrid;
-            let settled = (dz.abs() <= self.tol.z_abs && !chorded)
+            // Rounded factors add their own relative error to c (`ROUNDED_FACTORS`).
+            let settled = (dz.abs() <= self.tol.z_abs && !chorded && !rounded)
                 || z_matrix.is_some_and(|zm| {
-                    let c = 3.0 * (*z - zm).abs() / (*z + ring_min_base);
+                    let c = 3.0 * (*z - zm).abs() / (*z + ring_min_base)
+                        + if rounded { ROUNDED_FACTORS } else { 0.0 };
                     c * dz.abs() <= self.tol.z_abs && c * correction <= CHORD_CONFIRM
                 });
             if exact && changes == 0 && settled {

@@ -7,7 +7,7 @@ use std::time::Instant;
 use crate::case::{CaseSpec, Coupling, Numerics, Start};
 use crate::dynamics::{Ring, RingState};
 use crate::film::{
-    Boundary, Factors, FilmError, FilmSolver, FilmState, Grid, Method, SolveStats, Step,
+    Boundary, FilmError, FilmSolver, FilmState, Grid, KeptFactors, Method, SolveStats, Step,
 };
 use crate::friction::{friction_thresholds, Friction, FrictionModel};
 use crate::scene::Scene;
@@ -192,6 +192,11 @@ pub struct ApproachDone {
 }
 
 impl Transient {
+    /// Memory the factors kept for the next period's solves take (bytes).
+    pub fn kept_factor_bytes(&self) -> usize {
+        self.period_ago.factor_bytes
+    }
+
     /// The paper's initial state (model.md §4): Z = z0, Z' = v0. The paper leaves the initial
     /// film open; texopt floods the gap upstream of the ring (θ = 1 for x1 < a) and lays a
     /// film of d_oil elsewhere (θ = min(1, d_oil/h)), nothing pressurised. Why: with a flooded
@@ -751,7 +756,7 @@ struct PeriodGuess {
     slots: Vec<Option<(FilmState, f64)>>,
     /// Slot n mod len: the film-matrix factors of time level n's last iteration (direct
     /// method), lent to the solve one period later; empty when disabled.
-    factors: Vec<Option<Factors>>,
+    factors: Vec<Option<KeptFactors>>,
     /// Memory the kept factors take (bytes, as measured when each slot was filled).
     factor_bytes: usize,
     /// Slot n mod (len + 1): Z of time level n, one level further back than the states, for
@@ -763,13 +768,14 @@ struct PeriodGuess {
     switched: Option<(usize, usize)>,
 }
 
-/// Most memory the kept factors of a period may take (bytes): 512×32 needs ≈ 1.0 GB for
-/// per = 0.06 (150 steps of ≈ 6.4 MB: the band and the stencil it is of), 512×8 ≈ 50 MB;
-/// beyond it the later steps of a period go without. Why 1.5 GiB: at 1 GiB (until stop 21)
-/// Case III at `paper` kept factors for only ≈ 90 % of its steps, and the others factored
-/// every step of the settled windows (0.11 factorisations a step, 1160 rows eliminated);
-/// at 1.5 GiB 0.00–0.02 (0–10 rows), and the whole 512×32 stage eliminates 11 % fewer rows,
-/// for 1.03 GB resident instead of 0.94 GB.
+/// Most memory the kept factors of a period may take (bytes): 512×32 needs ≈ 0.55 GB for
+/// per = 0.06 (150 steps of ≈ 3.7 MB: the band in single precision and the stencil it is of;
+/// 1.0 GB in double until stop 27), 512×8 ≈ 50 MB (double); beyond it the later steps of a
+/// period go without. Why 1.5 GiB: at 1 GiB (until stop 21, double) Case III at `paper` kept
+/// factors for only ≈ 90 % of its steps, and the others factored every step of the settled
+/// windows (0.11 factorisations a step, 1160 rows eliminated); at 1.5 GiB 0.00–0.02 (0–10
+/// rows), and the whole 512×32 stage eliminated 11 % fewer rows. Finer meshes (1024×64:
+/// ≈ 37 MB a step) keep what fits.
 const PERIOD_FACTORS_MEMORY: usize = 3 << 29;
 
 /// Most memory the period's states may take (bytes); longer periods go without.
@@ -821,10 +827,10 @@ impl PeriodGuess {
             return;
         };
         match slot {
-            Some(f) => solver.swap_factors(f),
+            Some(f) => solver.keep_factors(f),
             None if self.factor_bytes <= PERIOD_FACTORS_MEMORY => {
-                let mut f = Factors::default();
-                solver.swap_factors(&mut f);
+                let mut f = KeptFactors::default();
+                solver.keep_factors(&mut f);
                 self.factor_bytes += f.bytes();
                 *slot = Some(f);
             }
