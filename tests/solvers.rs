@@ -258,6 +258,7 @@ fn same_answer(on: &WideRun, off: &WideRun) {
             .zip(&off.z)
             .map(|(a, b)| ((a - b) / b).abs())
             .fold(0.0, f64::max);
+    println!("largest Z difference {dz:e} (relative)");
     assert!(dz < 1e-8, "Z differs by {dz:e} (relative)");
     let (p_on, p_off) = (&on.tr.state.p, &off.tr.state.p);
     let pmax = p_off.iter().fold(0.0f64, |m, &p| m.max(p));
