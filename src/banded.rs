@@ -24,11 +24,12 @@ pub struct BandLu {
     rounded: bool,
 }
 
-/// Band LU factors kept for later solves: a copy of a [`BandLu`]'s factors (the film keeps
-/// one per step of a texture period, run.rs), in double precision or, to halve the memory,
-/// in single. Solves with single factors read them widened and sum in double, so they solve
-/// the factored matrix to ≈ 1e-7 relative: as a chord step through factors of a nearby
-/// matrix does, which is all the film asks of kept factors.
+/// Band LU factors kept for later solves (the film keeps one set per step of a texture
+/// period, run.rs): a [`BandLu`]'s own, exchanged without a copy ([`KeptLu::exchange`]), or,
+/// to halve the memory, a single-precision copy ([`KeptLu::keep_single`]). Solves with single
+/// factors read them widened and sum in double, so they solve the factored matrix to ≈ 1e-7
+/// relative: as a chord step through factors of a nearby matrix does, which is all the film
+/// asks of kept factors. Invariant: n > 0 exactly when complete factors of `orig` are held.
 #[derive(Debug, Default, Clone)]
 pub struct KeptLu {
     n: usize,
@@ -36,6 +37,8 @@ pub struct KeptLu {
     band: KeptBand,
     /// The operator the factors are of, to find the rows a new one shares with it.
     orig: Stencil5,
+    /// Double factors holding rows taken from single ones ([`BandLu::rounded`]).
+    rounded_rows: bool,
 }
 
 #[derive(Debug, Clone)]
@@ -290,25 +293,23 @@ impl BandLu {
 }
 
 impl KeptLu {
-    /// Keeps a copy of `lu`'s factors (complete ones; otherwise keeps none), in single
-    /// precision when `single`. Reuses this copy's memory.
-    pub fn keep(&mut self, lu: &BandLu, single: bool) {
+    /// Keeps a single-precision copy of `lu`'s factors (complete ones; otherwise none),
+    /// reusing this copy's memory.
+    pub fn keep_single(&mut self, lu: &BandLu) {
         let len = lu.n * (2 * lu.w + 1);
         let valid = lu.valid && lu.a.len() >= len;
         (self.n, self.w) = if valid { (lu.n, lu.w) } else { (0, 0) };
-        let a = &lu.a[..if valid { len } else { 0 }];
-        match (&mut self.band, single) {
-            (KeptBand::Single(b), true) => {
+        let a = lu.a[..if valid { len } else { 0 }]
+            .iter()
+            .map(|&v| v as f32);
+        match &mut self.band {
+            KeptBand::Single(b) => {
                 b.clear();
-                b.extend(a.iter().map(|&v| v as f32));
+                b.extend(a);
             }
-            (KeptBand::Double(b), false) => {
-                b.clear();
-                b.extend_from_slice(a);
-            }
-            (band, true) => *band = KeptBand::Single(a.iter().map(|&v| v as f32).collect()),
-            (band, false) => *band = KeptBand::Double(a.to_vec()),
+            band => *band = KeptBand::Single(a.collect()),
         }
+        self.rounded_rows = false;
         self.orig.reshape(lu.orig.m1, lu.orig.n2);
         for (o, v) in self
             .orig
@@ -320,9 +321,34 @@ impl KeptLu {
         }
     }
 
+    /// Exchanges the factors held here with `lu`'s, in double precision and without a copy:
+    /// these keep `lu`'s (if complete), and `lu` takes the double ones held here, the same
+    /// bits and valid for their operator (single or no factors leave `lu` with none).
+    pub fn exchange(&mut self, lu: &mut BandLu) {
+        let held = match &mut self.band {
+            KeptBand::Double(b) if self.n > 0 => Some(std::mem::take(b)),
+            _ => None,
+        };
+        let (held_n, held_w, held_rounded) = (self.n, self.w, self.rounded_rows);
+        (self.n, self.w) = if lu.valid { (lu.n, lu.w) } else { (0, 0) };
+        self.rounded_rows = lu.rounded;
+        std::mem::swap(&mut self.orig, &mut lu.orig);
+        let valid = held.is_some();
+        self.band = KeptBand::Double(std::mem::replace(&mut lu.a, held.unwrap_or_default()));
+        (lu.n, lu.w) = if valid { (held_n, held_w) } else { (0, 0) };
+        lu.valid = valid;
+        lu.rounded = valid && held_rounded;
+    }
+
     /// Whether these factors are single precision (they solve their matrix to ≈ 1e-7).
-    pub fn rounded(&self) -> bool {
+    pub fn is_single(&self) -> bool {
         matches!(self.band, KeptBand::Single(_))
+    }
+
+    /// Whether these factors solve their matrix only to ≈ 1e-7 (single precision, whole or
+    /// in part).
+    pub fn rounded(&self) -> bool {
+        self.is_single() || self.rounded_rows
     }
 
     /// Memory held by the factors and the operator they are of (bytes).
@@ -839,7 +865,14 @@ mod tests {
             lu.solve2(&mut e1, &mut e2, &mut Vec::new());
             for single in [false, true] {
                 let mut kept = KeptLu::default();
-                kept.keep(&lu, single);
+                if single {
+                    kept.keep_single(&lu);
+                } else {
+                    // Exchanged: the band LU takes what the kept set held (nothing here).
+                    let mut own = lu.clone();
+                    kept.exchange(&mut own);
+                    assert!(!own.valid && own.a.is_empty());
+                }
                 assert_eq!(kept.rounded(), single);
                 let (mut k1, mut k2) = (b.clone(), b.iter().map(|v| -v).collect::<Vec<_>>());
                 kept.solve2(&mut k1, &mut k2, &mut Vec::new());
@@ -873,7 +906,11 @@ mod tests {
         fresh.factor(&new).unwrap();
         for single in [false, true] {
             let mut kept = KeptLu::default();
-            kept.keep(&lu, single);
+            if single {
+                kept.keep_single(&lu);
+            } else {
+                kept.exchange(&mut lu.clone());
+            }
             // Factors at hand of another matrix (nothing shared), the kept ones lent.
             let mut other = BandLu::default();
             other.factor(&laplacian(nx, ny, 0, 0.2)).unwrap();
@@ -897,5 +934,33 @@ mod tests {
                 assert_eq!(bits(&other.a), bits(&fresh.a), "double: the fresh factors");
             }
         }
+    }
+
+    #[test]
+    fn exchanging_kept_factors_moves_them_whole_both_ways() {
+        let (a, b) = (laplacian(6, 8, 0, 0.0), laplacian(6, 8, 20, 0.3));
+        let (mut fa, mut fb) = (BandLu::default(), BandLu::default());
+        fa.factor(&a).unwrap();
+        fb.factor(&b).unwrap();
+        let (bits_a, bits_b) = (bits(&fa.a), bits(&fb.a));
+        let mut kept = KeptLu::default();
+        kept.exchange(&mut fa); // kept: a's factors; fa: none
+        assert!(!fa.valid);
+        kept.exchange(&mut fb); // kept: b's; fb: a's
+        assert!(fb.valid && !fb.rounded());
+        assert_eq!(bits(&fb.a), bits_a);
+        assert_eq!(
+            fb.shared_rows(&a),
+            a.len() - a.n2 - 1,
+            "a's operator came along"
+        );
+        kept.exchange(&mut fa); // kept: none; fa: b's
+        assert!(fa.valid && kept.n == 0);
+        assert_eq!(bits(&fa.a), bits_b);
+        // Single factors are not exchanged: the band LU is left with none.
+        kept.keep_single(&fb);
+        let mut fc = fb.clone();
+        kept.exchange(&mut fc);
+        assert!(!fc.valid);
     }
 }

@@ -908,7 +908,16 @@ impl FilmSolver {
     /// boundary data): that solve may then use them for chord steps. (Factors of any other
     /// problem would still serve only through their bit-identical leading rows.)
     pub fn inherit_factors(&mut self, other: &mut KeptFactors) {
-        std::mem::swap(&mut self.kept, other);
+        if other.lu.is_single() {
+            std::mem::swap(&mut self.kept, other);
+            self.factors.of = None;
+        } else {
+            // Double factors become the solver's own, exchanged without a copy: their rows
+            // then serve a refactorisation in place.
+            other.lu.exchange(&mut self.factors.lu);
+            std::mem::swap(&mut self.factors.of, &mut other.of);
+            self.kept.of = None;
+        }
         self.inherited = true;
     }
 
@@ -916,14 +925,20 @@ impl FilmSolver {
     /// to keep them for a later solve ([`Self::inherit_factors`]): the solve's own if it
     /// factored, else those it was lent (exchanged back). Wide bands keep single precision.
     pub fn keep_factors(&mut self, slot: &mut KeptFactors) {
-        match &self.factors.of {
-            Some(of) => {
-                let single = self.single_kept && self.factors.lu.half_band() >= WIDE_BAND_N2;
-                slot.lu.keep(&self.factors.lu, single);
+        let single = self.single_kept && self.factors.lu.half_band() >= WIDE_BAND_N2;
+        match self.factors.of.take() {
+            Some(of) if single => {
+                slot.lu.keep_single(&self.factors.lu);
                 slot.of = Some(FactoredFor {
-                    rounded: of.rounded || single,
-                    ..of.clone()
+                    rounded: true,
+                    ..of
                 });
+            }
+            // Double: exchanged, no copy (the solver takes the slot's old factors, which
+            // serve only through their identical rows).
+            Some(of) => {
+                slot.lu.exchange(&mut self.factors.lu);
+                slot.of = Some(of);
             }
             None => std::mem::swap(&mut self.kept, slot),
         }
@@ -957,10 +972,10 @@ impl FilmSolver {
         self.h_at = None;
         self.faces_fresh = false;
         self.ring_span = step.gap.ring_columns();
-        // The own factors are of an earlier problem, and kept ones not handed in for this
-        // one are too: they serve only through their identical rows.
-        self.factors.of = None;
+        // Factors not handed in for this problem (`inherit_factors`) are of an earlier one:
+        // they serve only through their identical rows.
         if !std::mem::take(&mut self.inherited) {
+            self.factors.of = None;
             self.kept.of = None;
         }
         for j in 0..g.n2 {
