@@ -556,9 +556,9 @@ pub struct FilmSolver {
 /// Face conductances of the Poiseuille flux for the gap `h`: x1 faces h_f³·dy/dx and x2
 /// faces h_f³·dx/dy with h_f the mean of the two nodal gaps (model.md §3), and their
 /// derivatives with respect to Z (∂h_f/∂Z is the mean of the nodal ∂h/∂Z).
-struct Faces<'a> {
-    cx: &'a [f64],
-    cy: &'a [f64],
+pub(crate) struct Faces<'a> {
+    pub(crate) cx: &'a [f64],
+    pub(crate) cy: &'a [f64],
 }
 
 /// The one stencil: −(discrete film equation) at interior node (i, j), i.e. the mass balance
@@ -568,7 +568,7 @@ struct Faces<'a> {
 /// [`Column::balance`]; this is the same for one node.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn balance(
+pub(crate) fn balance(
     g: &Grid,
     f: &Faces,
     adv: f64,
@@ -656,7 +656,7 @@ impl<'a> Column<'a> {
 /// Face conductances for the gap `h` into cx, cy. With `only_ring`, only the faces of node
 /// columns under the ring (where h depends on Z) are recomputed: the others must already
 /// hold this gap's (same texture position), which they then keep, the same bits.
-fn face_conductances(
+pub(crate) fn face_conductances(
     g: &Grid,
     h: &[f64],
     only_ring: Option<&[bool]>,
@@ -1671,24 +1671,39 @@ impl FilmSolver {
         let adv = step.boundary.u * g.dy;
         let at = 2.0 * g.dx * g.dy * step.inv_dt;
         let phi_old = (step.inv_dt > 0.0).then_some(step.phi_old);
-        let mut worst: f64 = 0.0;
-        for i in 1..g.n1 {
-            let col = Column::new(g, &faces, &state.p, &state.phi, phi_old, i);
-            for j in 0..g.n2 {
-                let r = col.balance(adv, at, j);
-                let pscale = col.cx_w[j].max(col.cx_e[j])
-                    * col.p[j].abs().max(col.p_w[j].abs().max(col.p_e[j].abs()));
-                let scale = pscale + (adv + at) * col.phi[j].abs() + adv * col.phi_w[j];
-                // Divides only where the ratio may exceed the worst so far: rounding is
-                // monotone and |r| is a float, so |r|/scale > worst implies |r| ≥
-                // fl(worst·scale). The same maximum, bit for bit, without a division per node.
-                if scale > 0.0 && r.abs() >= worst * scale {
-                    worst = worst.max(r.abs() / scale);
-                }
+        max_relative_residual(g, &faces, adv, at, &state.p, &state.phi, phi_old)
+    }
+}
+
+/// Largest nodal residual of the discrete film equation (the one stencil) relative to the
+/// largest term of that node's balance: the measure every solver path is stopped and
+/// reported by.
+pub(crate) fn max_relative_residual(
+    g: &Grid,
+    faces: &Faces,
+    adv: f64,
+    at: f64,
+    p: &[f64],
+    phi: &[f64],
+    phi_old: Option<&[f64]>,
+) -> f64 {
+    let mut worst: f64 = 0.0;
+    for i in 1..g.n1 {
+        let col = Column::new(g, faces, p, phi, phi_old, i);
+        for j in 0..g.n2 {
+            let r = col.balance(adv, at, j);
+            let pscale = col.cx_w[j].max(col.cx_e[j])
+                * col.p[j].abs().max(col.p_w[j].abs().max(col.p_e[j].abs()));
+            let scale = pscale + (adv + at) * col.phi[j].abs() + adv * col.phi_w[j];
+            // Divides only where the ratio may exceed the worst so far: rounding is
+            // monotone and |r| is a float, so |r|/scale > worst implies |r| ≥
+            // fl(worst·scale). The same maximum, bit for bit, without a division per node.
+            if scale > 0.0 && r.abs() >= worst * scale {
+                worst = worst.max(r.abs() / scale);
             }
         }
-        worst
     }
+    worst
 }
 
 /// Active-set update of a pressurised node: a pressure below −p_eps releases it to the
@@ -1706,7 +1721,7 @@ fn cavitate(pressurised: &mut bool, p: &mut f64, phi: &mut f64, h: f64, p_eps: f
 
 /// Sum of the four face conductances of node (i, j): the diagonal ∂F/∂p_ij of the stencil.
 #[inline]
-fn conductance_sum(g: &Grid, f: &Faces, i: usize, j: usize) -> f64 {
+pub(crate) fn conductance_sum(g: &Grid, f: &Faces, i: usize, j: usize) -> f64 {
     let (n2, k) = (g.n2, i * g.n2 + j);
     let mut c = f.cx[k - n2] + f.cx[k];
     if j > 0 {

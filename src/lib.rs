@@ -25,6 +25,7 @@ pub mod multigrid;
 pub mod optimise;
 pub mod optimise_report;
 pub mod plot;
+pub mod pt_multigrid;
 pub mod report;
 pub mod run;
 pub mod scene;

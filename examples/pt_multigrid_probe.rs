@@ -1,0 +1,168 @@
+//! Probe of the experimental p–θ multigrid ([`texopt::pt_multigrid`], issue 3): on the film
+//! problems of a real run, how fast does it converge to the direct solver's solution, and
+//! at what cost per V-cycle? The run is the benchmark's (Case III at `paper` from the
+//! paper's start unless told otherwise). At three steps of its fine mesh (the first, one in
+//! the fourth period and one in the eleventh, settled) the step's film problem is posed
+//! again with the ring where the direct solver put it (fixed Z) and solved from the previous
+//! step's solution and from the one a texture period before (the direct solver's two
+//! guesses). A Markdown table on stdout, one row per start and smoothing:
+//! the largest pressure error relative to the largest pressure at the start and after 1, 4
+//! and 10 V-cycles, the V-cycles to 1e-8 (the film solver's tolerance, `CHORD_CONFIRM`),
+//! the mean error reduction per V-cycle over the first ten, the relative nodal residual
+//! after 20, and the wall time a V-cycle; and, for scale, 100 Gauss–Seidel sweeps alone.
+//!
+//!     cargo run --release --example pt_multigrid_probe               # Case III, paper
+//!     cargo run --release --example pt_multigrid_probe -- case-I paper
+
+use std::cell::RefCell;
+use std::time::Instant;
+use texopt::bench::cases;
+use texopt::case::{Fidelity, Start};
+use texopt::film::{Boundary, FilmState, Step};
+use texopt::pt_multigrid::PtMultigrid;
+use texopt::run::{run_transient_with, Transient};
+
+/// Largest |p − p*| relative to max p*.
+fn p_error(a: &FilmState, exact: &FilmState) -> f64 {
+    let pmax = exact.p.iter().fold(0.0f64, |m, &p| m.max(p));
+    let e =
+        a.p.iter()
+            .zip(&exact.p)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    e / pmax
+}
+
+fn probe(t: &Transient, guess: &FilmState, start: &str, window: usize) {
+    let step = Step {
+        grid: &t.scene.grid,
+        gap: &t.scene.gap,
+        phi_old: &t.phi_old,
+        inv_dt: 1.0 / t.dt,
+        boundary: Boundary {
+            u: t.case.u,
+            p_left: 0.0,
+            p_right: 0.0,
+            phi_inlet: t.case.d_oil,
+        },
+        ring: None,
+    };
+    let z = t.ring_state.z;
+    let exact = &t.state;
+    let e0 = p_error(guess, exact);
+    let mut st = guess.clone();
+    for (pre, post) in [(1, 1), (2, 2), (4, 4)] {
+        let mut mg = PtMultigrid::new(&step, z);
+        mg.pre = pre;
+        mg.post = post;
+        mg.load(guess);
+        let (mut errors, mut ms) = (Vec::new(), 0.0);
+        for _ in 0..20 {
+            let t0 = Instant::now();
+            mg.vcycle();
+            ms += 1e3 * t0.elapsed().as_secs_f64();
+            mg.store(&mut st);
+            errors.push(p_error(&st, exact));
+        }
+        let to_tol = errors
+            .iter()
+            .position(|&e| e <= 1e-8)
+            .map_or("> 20".to_string(), |c| (c + 1).to_string());
+        let rate = (errors[9] / e0).powf(0.1);
+        println!(
+            "| {} ({window}) | {start} | V({pre},{post}) | {e0:.1e} | {:.1e} | {:.1e} | {:.1e} | {to_tol} | {rate:.2} | {:.0e} | {:.2} |",
+            t.steps,
+            errors[0],
+            errors[3],
+            errors[9],
+            mg.relative_residual(),
+            ms / 20.0
+        );
+    }
+    let mut gs = PtMultigrid::new(&step, z);
+    gs.load(guess);
+    let t0 = Instant::now();
+    gs.smooth(100);
+    let ms = 1e3 * t0.elapsed().as_secs_f64();
+    gs.store(&mut st);
+    println!(
+        "| {} ({window}) | {start} | 100 Gauss–Seidel sweeps | {e0:.1e} | | | {:.1e} | | | {:.0e} | {:.3} a sweep |",
+        t.steps,
+        p_error(&st, exact),
+        gs.relative_residual(),
+        ms / 100.0
+    );
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let name = args.first().cloned().unwrap_or_else(|| "case-III".into());
+    let tier = args.get(1).cloned().unwrap_or_else(|| "paper".into());
+    let all = cases();
+    let Some(bench) = all
+        .iter()
+        .find(|c| c.name == name && c.case.texture.is_some())
+    else {
+        let names: Vec<_> = all
+            .iter()
+            .filter(|c| c.case.texture.is_some())
+            .map(|c| c.name)
+            .collect();
+        eprintln!(
+            "no textured benchmark case {name}; choose from {}",
+            names.join(", ")
+        );
+        std::process::exit(2);
+    };
+    let fidelity = match tier.as_str() {
+        "draft" => Fidelity::Draft,
+        "fast" => Fidelity::Fast,
+        "paper" => Fidelity::Paper,
+        _ => {
+            eprintln!("no fidelity tier {tier} for this probe; choose from draft, fast, paper");
+            std::process::exit(2);
+        }
+    };
+    let mut num = fidelity.numerics_for(&bench.case);
+    num.start = Start::Paper;
+    let fine_n2 = num.n2;
+    println!(
+        "# p–θ multigrid probe: {name} ({}) at `{tier}`, fixed Z, against the direct solver\n",
+        bench.case.label()
+    );
+    println!("| step (fine window) | start | cycle | p error at start | after 1 | after 4 | after 10 | V-cycles to 1e-8 | reduction a V-cycle | relative residual after 20 | ms a V-cycle |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    // Fine-mesh steps seen so far and the solutions of the last texture period.
+    let seen = RefCell::new((0usize, Vec::<FilmState>::new()));
+    let result = run_transient_with(
+        &bench.case,
+        &num,
+        false,
+        &[],
+        &mut |_| {},
+        &mut |t: &Transient| {
+            if t.scene.grid.n2 != fine_n2 {
+                return;
+            }
+            let mut s = seen.borrow_mut();
+            s.0 += 1;
+            let (k, n) = (s.0, t.steps_per_period);
+            if [2, 3 * n + 7, 10 * n + 7].contains(&k) {
+                let window = (k - 1) / n + 1;
+                if let Some(prev) = s.1.last() {
+                    probe(t, prev, "previous step", window);
+                }
+                if s.1.len() == n {
+                    probe(t, &s.1[0], "a period before", window);
+                }
+            }
+            if s.1.len() == n {
+                s.1.remove(0);
+            }
+            s.1.push(t.state.clone());
+        },
+    );
+    if let Err(e) = result {
+        eprintln!("run failed: {e}");
+        std::process::exit(1);
+    }
+}
