@@ -18,7 +18,7 @@ use std::cell::RefCell;
 use std::time::Instant;
 use texopt::bench::cases;
 use texopt::case::{Fidelity, Start};
-use texopt::film::{Boundary, FilmState, Step};
+use texopt::film::FilmState;
 use texopt::pt_multigrid::PtMultigrid;
 use texopt::run::{run_transient_with, Transient};
 
@@ -33,19 +33,7 @@ fn p_error(a: &FilmState, exact: &FilmState) -> f64 {
 }
 
 fn probe(t: &Transient, guess: &FilmState, start: &str, window: usize) {
-    let step = Step {
-        grid: &t.scene.grid,
-        gap: &t.scene.gap,
-        phi_old: &t.phi_old,
-        inv_dt: 1.0 / t.dt,
-        boundary: Boundary {
-            u: t.case.u,
-            p_left: 0.0,
-            p_right: 0.0,
-            phi_inlet: t.case.d_oil,
-        },
-        ring: None,
-    };
+    let step = t.fixed_z_problem();
     let z = t.ring_state.z;
     let exact = &t.state;
     let e0 = p_error(guess, exact);

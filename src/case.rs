@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::film::{Cavitation, Method, Tolerance};
+use crate::film::{Boundary, Cavitation, Method, Tolerance};
 use std::sync::Arc;
 
 use crate::geometry::{CircularArc, Contact, HalfEllipsoid, Liner};
@@ -70,6 +70,17 @@ pub struct CaseSpec {
 }
 
 impl CaseSpec {
+    /// The film's boundary data (model.md §3): p = 0 at both ends, the oil supply d_oil
+    /// carried in at x1 = 0 by the liner's speed.
+    pub fn film_boundary(&self) -> Boundary {
+        Boundary {
+            u: self.u,
+            p_left: 0.0,
+            p_right: 0.0,
+            phi_inlet: self.d_oil,
+        }
+    }
+
     /// The paper's operating point for a ring of radius R, untextured liner.
     pub fn paper(r: f64) -> Self {
         CaseSpec {

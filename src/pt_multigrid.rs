@@ -161,6 +161,29 @@ fn coarse_faces(
 }
 
 impl Fine {
+    fn faces(&self) -> Faces<'_> {
+        Faces {
+            cx: &self.cx,
+            cy: &self.cy,
+        }
+    }
+
+    /// The one stencil at interior node (i, j) ([`crate::film::balance`]).
+    fn balance(&self, i: usize, j: usize) -> f64 {
+        let f = self.faces();
+        balance(
+            &self.g,
+            &f,
+            self.adv,
+            self.at,
+            &self.p,
+            &self.phi,
+            Some(&self.old),
+            i,
+            j,
+        )
+    }
+
     /// `sweeps` Gauss–Seidel sweeps over the interior node columns.
     fn smooth(&mut self, sweeps: usize) {
         let (n1, n2) = (self.g.n1, self.g.n2);
@@ -169,22 +192,8 @@ impl Fine {
             for i in 1..n1 {
                 for j in 0..n2 {
                     let k = i * n2 + j;
-                    let f = Faces {
-                        cx: &self.cx,
-                        cy: &self.cy,
-                    };
-                    let r = balance(
-                        &self.g,
-                        &f,
-                        self.adv,
-                        self.at,
-                        &self.p,
-                        &self.phi,
-                        Some(&self.old),
-                        i,
-                        j,
-                    );
-                    let sc = conductance_sum(&self.g, &f, i, j);
+                    let r = self.balance(i, j);
+                    let sc = conductance_sum(&self.g, &self.faces(), i, j);
                     // The balance at p_ij = 0, φ_ij = h_ij.
                     let f0 = r - sc * self.p[k] + d * (self.h[k] - self.phi[k]);
                     if f0 < 0.0 {
@@ -204,23 +213,9 @@ impl Fine {
         let (n1, n2) = (self.g.n1, self.g.n2);
         out.clear();
         out.resize(self.p.len(), 0.0);
-        let f = Faces {
-            cx: &self.cx,
-            cy: &self.cy,
-        };
         for i in 1..n1 {
             for j in 0..n2 {
-                out[i * n2 + j] = -balance(
-                    &self.g,
-                    &f,
-                    self.adv,
-                    self.at,
-                    &self.p,
-                    &self.phi,
-                    Some(&self.old),
-                    i,
-                    j,
-                );
+                out[i * n2 + j] = -self.balance(i, j);
             }
         }
     }
@@ -531,11 +526,7 @@ impl PtMultigrid {
     /// (the measure the film solver stops on).
     pub fn relative_residual(&self) -> f64 {
         let f = &self.fine;
-        let faces = Faces {
-            cx: &f.cx,
-            cy: &f.cy,
-        };
-        max_relative_residual(&f.g, &faces, f.adv, f.at, &f.p, &f.phi, Some(&f.old))
+        max_relative_residual(&f.g, &f.faces(), f.adv, f.at, &f.p, &f.phi, Some(&f.old))
     }
 }
 
@@ -543,7 +534,6 @@ impl PtMultigrid {
 mod tests {
     use super::*;
     use crate::case::{CaseSpec, Numerics, Texture};
-    use crate::film::Boundary;
     use crate::run::Transient;
 
     /// Largest |p − p*| relative to max p*, and the nodes whose active set differs.
@@ -586,19 +576,7 @@ mod tests {
         let guess = &history[history.len() - 1 - n];
         let cavitated = exact.pressurised.iter().filter(|&&p| !p).count();
         assert!(cavitated > 0);
-        let step = Step {
-            grid: &t.scene.grid,
-            gap: &t.scene.gap,
-            phi_old: &t.phi_old,
-            inv_dt: 1.0 / t.dt,
-            boundary: Boundary {
-                u: case.u,
-                p_left: 0.0,
-                p_right: 0.0,
-                phi_inlet: case.d_oil,
-            },
-            ring: None,
-        };
+        let step = t.fixed_z_problem();
         let z = t.ring_state.z;
         let mut mg = PtMultigrid::new(&step, z);
         assert!(mg.meshes().len() >= 3, "{:?}", mg.meshes());

@@ -6,9 +6,7 @@ use std::time::Instant;
 
 use crate::case::{CaseSpec, Coupling, Numerics, Start};
 use crate::dynamics::{Ring, RingState};
-use crate::film::{
-    Boundary, FilmError, FilmSolver, FilmState, Grid, KeptFactors, Method, SolveStats, Step,
-};
+use crate::film::{FilmError, FilmSolver, FilmState, Grid, KeptFactors, Method, SolveStats, Step};
 use crate::friction::{friction_thresholds, Friction, FrictionModel};
 use crate::scene::Scene;
 use crate::steady::{solve_untextured, SteadyError};
@@ -331,6 +329,20 @@ impl Transient {
         }
     }
 
+    /// The film problem of the step last taken, with the ring held where that step put it
+    /// (solve at Z = `ring_state.z`; its solution is `state`): for probes of other solvers
+    /// on a run's own problems (`examples/pt_multigrid_probe.rs`).
+    pub fn fixed_z_problem(&self) -> Step<'_> {
+        Step {
+            grid: &self.scene.grid,
+            gap: &self.scene.gap,
+            phi_old: &self.phi_old,
+            inv_dt: 1.0 / self.dt,
+            boundary: self.case.film_boundary(),
+            ring: None,
+        }
+    }
+
     /// One backward-Euler step of the film with the implicit Newmark ring update.
     pub fn step(&mut self) -> Result<(), SolveError> {
         let t_new = (self.steps + 1) as f64 * self.dt;
@@ -393,12 +405,7 @@ impl Transient {
             gap: &self.scene.gap,
             phi_old: &self.phi_old,
             inv_dt: 1.0 / self.dt,
-            boundary: Boundary {
-                u: self.case.u,
-                p_left: 0.0,
-                p_right: 0.0,
-                phi_inlet: self.case.d_oil,
-            },
+            boundary: self.case.film_boundary(),
             ring: (!explicit).then_some(link),
         };
         let level = self.steps + 1;

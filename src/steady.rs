@@ -3,7 +3,7 @@
 //! the time term) and a scalar root find on Z for the force balance W_h(Z) = W_ps.
 
 use crate::case::CaseSpec;
-use crate::film::{Boundary, FilmError, FilmSolver, FilmState, Grid, Step, Tolerance};
+use crate::film::{FilmError, FilmSolver, FilmState, Grid, Step, Tolerance};
 use crate::friction::{friction, Friction, FrictionModel};
 use crate::scene::Scene;
 
@@ -51,12 +51,7 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
         gap: &scene.gap,
         phi_old: &phi_old,
         inv_dt: 0.0,
-        boundary: Boundary {
-            u: case.u,
-            p_left: 0.0,
-            p_right: 0.0,
-            phi_inlet: case.d_oil,
-        },
+        boundary: case.film_boundary(),
         ring: None,
     };
     let mut solver = FilmSolver::new(Tolerance::default());
