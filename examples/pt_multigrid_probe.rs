@@ -5,7 +5,8 @@
 //! the fourth period and one in the eleventh, settled) the step's film problem is posed
 //! again with the ring where the direct solver put it (fixed Z) and solved from the previous
 //! step's solution and from the one a texture period before (the direct solver's two
-//! guesses). A Markdown table on stdout, one row per start and smoothing:
+//! guesses). A Markdown table on stdout, one row per start, coarse operator ("faces":
+//! rediscretised; "Galerkin": Pᵀ·A·P, rebuilt every V-cycle, its time included) and smoothing:
 //! the largest pressure error relative to the largest pressure at the start and after 1, 4
 //! and 10 V-cycles, the V-cycles to 1e-8 (the film solver's tolerance, `CHORD_CONFIRM`),
 //! the mean error reduction per V-cycle over the first ten, the relative nodal residual
@@ -38,10 +39,18 @@ fn probe(t: &Transient, guess: &FilmState, start: &str, window: usize) {
     let exact = &t.state;
     let e0 = p_error(guess, exact);
     let mut st = guess.clone();
-    for (pre, post) in [(1, 1), (2, 2), (4, 4)] {
+    for (galerkin, pre, post) in [
+        (false, 1, 1),
+        (false, 2, 2),
+        (false, 4, 4),
+        (true, 1, 1),
+        (true, 2, 2),
+    ] {
         let mut mg = PtMultigrid::new(&step, z);
         mg.pre = pre;
         mg.post = post;
+        mg.galerkin = galerkin;
+        let coarse = if galerkin { "Galerkin" } else { "faces" };
         mg.load(guess);
         let (mut errors, mut ms) = (Vec::new(), 0.0);
         for _ in 0..20 {
@@ -57,7 +66,7 @@ fn probe(t: &Transient, guess: &FilmState, start: &str, window: usize) {
             .map_or("> 20".to_string(), |c| (c + 1).to_string());
         let rate = (errors[9] / e0).powf(0.1);
         println!(
-            "| {} ({window}) | {start} | V({pre},{post}) | {e0:.1e} | {:.1e} | {:.1e} | {:.1e} | {to_tol} | {rate:.2} | {:.0e} | {:.2} |",
+            "| {} ({window}) | {start} | V({pre},{post}), {coarse} | {e0:.1e} | {:.1e} | {:.1e} | {:.1e} | {to_tol} | {rate:.2} | {:.0e} | {:.2} |",
             t.steps,
             errors[0],
             errors[3],
