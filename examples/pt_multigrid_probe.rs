@@ -18,8 +18,9 @@
 use std::cell::RefCell;
 use std::time::Instant;
 use texopt::bench::cases;
-use texopt::case::{Fidelity, Start};
-use texopt::film::FilmState;
+use texopt::case::{Fidelity, Numerics, Start};
+use texopt::dynamics::RingState;
+use texopt::film::{FilmState, Step};
 use texopt::pt_multigrid::PtMultigrid;
 use texopt::run::{run_transient_with, Transient};
 
@@ -90,8 +91,57 @@ fn probe(t: &Transient, guess: &FilmState, start: &str, window: usize) {
     );
 }
 
+/// `mesh N1 N2 DT STEPS`: the probe on one mesh without the coarse approach, at step STEPS
+/// from the paper's start (previous-step start only), with the direct solver's time for
+/// that step: how the cycle counts grow with the mesh.
+fn mesh_probe(args: &[String]) {
+    let parse = |i: usize| args.get(i).and_then(|s| s.parse::<f64>().ok());
+    let (Some(n1), Some(n2), Some(dt), Some(steps)) = (parse(1), parse(2), parse(3), parse(4))
+    else {
+        eprintln!("usage: pt_multigrid_probe mesh N1 N2 DT STEPS, e.g. mesh 1024 64 2e-4 20");
+        std::process::exit(2);
+    };
+    let bench = cases()
+        .into_iter()
+        .find(|c| c.name == "case-III")
+        .expect("Case III");
+    let num = Numerics {
+        n1: n1 as usize,
+        n2: n2 as usize,
+        dt,
+        ..Numerics::default()
+    };
+    let mut t = Transient::new(&bench.case, &num);
+    let mut prev = t.state.clone();
+    let mut ms = 0.0;
+    for _ in 0..steps as usize {
+        prev.assign(&t.state);
+        let t0 = Instant::now();
+        if let Err(e) = t.step() {
+            eprintln!("run failed: {e}");
+            std::process::exit(1);
+        }
+        ms = 1e3 * t0.elapsed().as_secs_f64();
+    }
+    println!(
+        "# {}×{}, dt = {dt}, step {} of Case III from the paper's start: the direct solver took {ms:.0} ms ({} iterations)\n",
+        num.n1, num.n2, t.steps, t.last.iterations
+    );
+    print_header();
+    probe(&t, &prev, "previous step", 1);
+}
+
+fn print_header() {
+    println!("| step (fine window) | start | cycle | p error at start | after 1 | after 4 | after 10 | V-cycles to 1e-8 | reduction a V-cycle | relative residual after 20 | ms a V-cycle |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.first().map(String::as_str) == Some("mesh") {
+        mesh_probe(&args);
+        return;
+    }
     let name = args.first().cloned().unwrap_or_else(|| "case-III".into());
     let tier = args.get(1).cloned().unwrap_or_else(|| "paper".into());
     let all = cases();
@@ -126,10 +176,12 @@ fn main() {
         "# p–θ multigrid probe: {name} ({}) at `{tier}`, fixed Z, against the direct solver\n",
         bench.case.label()
     );
-    println!("| step (fine window) | start | cycle | p error at start | after 1 | after 4 | after 10 | V-cycles to 1e-8 | reduction a V-cycle | relative residual after 20 | ms a V-cycle |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    print_header();
     // Fine-mesh steps seen so far and the solutions of the last texture period.
     let seen = RefCell::new((0usize, Vec::<FilmState>::new()));
+    let coupled_rows = RefCell::new(Vec::new());
+    // The ring state before the step being observed (the link of its Newmark update).
+    let ring_before = RefCell::new(None::<RingState>);
     let result = run_transient_with(
         &bench.case,
         &num,
@@ -137,6 +189,7 @@ fn main() {
         &[],
         &mut |_| {},
         &mut |t: &Transient| {
+            let before = ring_before.replace(Some(t.ring_state));
             if t.scene.grid.n2 != fine_n2 {
                 return;
             }
@@ -150,6 +203,11 @@ fn main() {
                 }
                 if s.1.len() == n {
                     probe(t, &s.1[0], "a period before", window);
+                    if let Some(before) = before {
+                        coupled_rows
+                            .borrow_mut()
+                            .extend(coupled(t, &s.1[0], &before, window));
+                    }
                 }
             }
             if s.1.len() == n {
@@ -162,4 +220,60 @@ fn main() {
         eprintln!("run failed: {e}");
         std::process::exit(1);
     }
+    println!(
+        "\n## With the ring: Z moved after every V-cycle (chord step on the Newmark equation)\n"
+    );
+    println!("Start: the period-old solution, Z by the ring's velocity (the link of the step). The slope ∂W_h/∂Z of the chord step is measured once by two fixed-Z solves at the direct solver's Z and 1e-4 above it (not timed).\n");
+    println!("| step (fine window) | cycle | p error at start | Z error at start | p error after 4 | Z error after 4 | after 10: p / Z | V-cycles until both ≤ 1e-8 | ms a V-cycle |");
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for row in coupled_rows.into_inner() {
+        println!("{row}");
+    }
+}
+
+/// The step's problem with its ring link, solved from the period-old solution with Z moved
+/// every V-cycle; one table row per coarse operator.
+fn coupled(t: &Transient, guess: &FilmState, before: &RingState, window: usize) -> Vec<String> {
+    let exact = &t.state;
+    let z_exact = t.ring_state.z;
+    let link = t.ring.link(before, t.dt);
+    let step = Step {
+        ring: Some(link),
+        ..t.fixed_z_problem()
+    };
+    let dw_dz = PtMultigrid::load_slope(&step, exact, z_exact);
+    let z0 = before.z + t.dt * before.v;
+    let mut rows = Vec::new();
+    for galerkin in [false, true] {
+        let mut mg = PtMultigrid::new(&step, z0);
+        mg.galerkin = galerkin;
+        mg.dw_dz = dw_dz;
+        mg.load(guess);
+        let mut st = guess.clone();
+        let (e0, ez0) = (p_error(guess, exact), (z0 - z_exact).abs() / z_exact);
+        let (mut errs, mut ms, mut both) = (Vec::new(), 0.0, None);
+        for c in 0..20 {
+            let t0 = Instant::now();
+            mg.vcycle();
+            ms += 1e3 * t0.elapsed().as_secs_f64();
+            mg.store(&mut st);
+            let e = (p_error(&st, exact), (mg.z() - z_exact).abs() / z_exact);
+            if both.is_none() && e.0 <= 1e-8 && e.1 <= 1e-8 {
+                both = Some(c + 1);
+            }
+            errs.push(e);
+        }
+        let name = if galerkin { "Galerkin" } else { "faces" };
+        rows.push(format!(
+            "| {} ({window}) | V(2,2), {name} | {e0:.1e} | {ez0:.1e} | {:.1e} | {:.1e} | {:.1e} / {:.1e} | {} | {:.2} |",
+            t.steps,
+            errs[3].0,
+            errs[3].1,
+            errs[9].0,
+            errs[9].1,
+            both.map_or("> 20".into(), |c| c.to_string()),
+            ms / 20.0
+        ));
+    }
+    rows
 }
