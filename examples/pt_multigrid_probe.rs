@@ -91,6 +91,169 @@ fn probe(t: &Transient, guess: &FilmState, start: &str, window: usize) {
     );
 }
 
+/// Tally of one window of `every`: steps, V-cycles summed to each tolerance, the most.
+#[derive(Default)]
+struct Window {
+    steps: usize,
+    to_1e6: usize,
+    to_1e8: usize,
+    most: usize,
+    failed: usize,
+    /// Steps right after a jump (not probed: the ring state seen before it is not theirs).
+    skipped: usize,
+}
+
+/// `every`: the benchmark's Case III at `paper` from the paper's start; at every step of both
+/// meshes the step's problem with its ring link is solved again by Galerkin V(2,2) cycles
+/// from the guess the direct solver's rule would start from when it has one (the period-old
+/// solution, else the previous step's) and Z by the ring's velocity, with ∂W_h/∂Z measured
+/// at each mesh's first step and kept. A row per window: the mean V-cycles until p and Z are
+/// within 1e-6 and 1e-8 of the direct solution (at most 40; steps that need more are counted
+/// as failed). Steps right after a jump along a slow mode are not probed (the jump moves the
+/// state and the ring between two steps this observer sees).
+fn every_step() {
+    let bench = cases()
+        .into_iter()
+        .find(|c| c.name == "case-III")
+        .expect("Case III");
+    let mut num = Fidelity::Paper.numerics_for(&bench.case);
+    num.start = Start::Paper;
+    println!(
+        "# p–θ multigrid at every step of Case III at `paper` (Galerkin V(2,2), ring coupled)\n"
+    );
+    println!("| mesh | window | steps probed | mean V-cycles to 1e-6 | mean V-cycles to 1e-8 | most to 1e-8 | steps over 40 |");
+    println!("|---|---|---|---|---|---|---|");
+    struct Seen {
+        mesh: (usize, usize),
+        history: Vec<FilmState>,
+        ring: Option<RingState>,
+        slope: Option<f64>,
+        window: Window,
+        windows: usize,
+        total: Window,
+    }
+    let seen = RefCell::new(Seen {
+        mesh: (0, 0),
+        history: Vec::new(),
+        ring: None,
+        slope: None,
+        window: Window::default(),
+        windows: 0,
+        total: Window::default(),
+    });
+    let flush = |s: &mut Seen| {
+        let w = std::mem::take(&mut s.window);
+        s.total.skipped += w.skipped;
+        if w.steps == 0 {
+            return;
+        }
+        s.windows += 1;
+        let n = w.steps as f64;
+        println!(
+            "| {}×{} | {} | {} | {:.2} | {:.2} | {} | {} |",
+            s.mesh.0,
+            s.mesh.1,
+            s.windows,
+            w.steps,
+            w.to_1e6 as f64 / n,
+            w.to_1e8 as f64 / n,
+            w.most,
+            w.failed
+        );
+        s.total.steps += w.steps;
+        s.total.to_1e6 += w.to_1e6;
+        s.total.to_1e8 += w.to_1e8;
+        s.total.most = s.total.most.max(w.most);
+        s.total.failed += w.failed;
+    };
+    let t0 = Instant::now();
+    let result = run_transient_with(
+        &bench.case,
+        &num,
+        false,
+        &[],
+        &mut |_| flush(&mut seen.borrow_mut()),
+        &mut |t: &Transient| {
+            let mut guard = seen.borrow_mut();
+            let s = &mut *guard;
+            let before = s.ring.replace(t.ring_state);
+            let mesh = (t.scene.grid.n1, t.scene.grid.n2);
+            if mesh != s.mesh {
+                s.mesh = mesh;
+                s.history.clear();
+                s.slope = None;
+                s.windows = 0;
+            }
+            let n = t.steps_per_period;
+            // A jump along a slow mode (between windows) moves the state and the ring after
+            // the last step seen: that step's link and guesses are then not this one's.
+            if s.history.last().is_some_and(|prev| prev.phi != t.phi_old) {
+                s.history.clear();
+                s.window.skipped += 1;
+            }
+            if let (Some(before), Some(prev)) = (before, s.history.last()) {
+                let guess = if s.history.len() == n {
+                    &s.history[0]
+                } else {
+                    prev
+                };
+                let step = Step {
+                    ring: Some(t.ring.link(&before, t.dt)),
+                    ..t.fixed_z_problem()
+                };
+                let (exact, z) = (&t.state, t.ring_state.z);
+                let slope = *s
+                    .slope
+                    .get_or_insert_with(|| PtMultigrid::load_slope(&step, exact, z));
+                let mut mg = PtMultigrid::new(&step, before.z + t.dt * before.v);
+                mg.galerkin = true;
+                mg.dw_dz = slope;
+                mg.load(guess);
+                let mut st = guess.clone();
+                let (mut to6, mut to8) = (None, None);
+                for c in 1..=40 {
+                    mg.vcycle();
+                    mg.store(&mut st);
+                    let e = p_error(&st, exact).max((mg.z() - z).abs() / z);
+                    if e <= 1e-6 && to6.is_none() {
+                        to6 = Some(c);
+                    }
+                    if e <= 1e-8 {
+                        to8 = Some(c);
+                        break;
+                    }
+                }
+                let w = &mut s.window;
+                w.steps += 1;
+                w.to_1e6 += to6.unwrap_or(40);
+                w.to_1e8 += to8.unwrap_or(40);
+                w.most = w.most.max(to8.unwrap_or(40));
+                w.failed += usize::from(to8.is_none());
+            }
+            if s.history.len() == n {
+                s.history.remove(0);
+            }
+            s.history.push(t.state.clone());
+        },
+    );
+    if let Err(e) = result {
+        eprintln!("run failed: {e}");
+        std::process::exit(1);
+    }
+    let s = seen.into_inner();
+    let n = s.total.steps as f64;
+    println!(
+        "\nAll {} steps probed ({} right after a jump and each mesh's first were not): {:.2} V-cycles to 1e-6 and {:.2} to 1e-8 a step on average, at most {}; {} steps over 40. Wall time with the probe: {:.0} s.",
+        s.total.steps,
+        s.total.skipped,
+        s.total.to_1e6 as f64 / n,
+        s.total.to_1e8 as f64 / n,
+        s.total.most,
+        s.total.failed,
+        t0.elapsed().as_secs_f64()
+    );
+}
+
 /// `mesh N1 N2 DT STEPS`: the probe on one mesh without the coarse approach, at step STEPS
 /// from the paper's start (previous-step start only), with the direct solver's time for
 /// that step: how the cycle counts grow with the mesh.
@@ -138,9 +301,10 @@ fn print_header() {
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    if args.first().map(String::as_str) == Some("mesh") {
-        mesh_probe(&args);
-        return;
+    match args.first().map(String::as_str) {
+        Some("mesh") => return mesh_probe(&args),
+        Some("every") => return every_step(),
+        _ => {}
     }
     let name = args.first().cloned().unwrap_or_else(|| "case-III".into());
     let tier = args.get(1).cloned().unwrap_or_else(|| "paper".into());

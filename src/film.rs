@@ -585,7 +585,7 @@ pub(crate) fn balance(
 /// What the stencil reads around node column i (x1 position), sliced once for the column:
 /// a pass over a column then indexes slices of length N2 instead of the whole field (no
 /// bounds check per term), with the same arithmetic in the same order as node by node.
-struct Column<'a> {
+pub(crate) struct Column<'a> {
     /// Pressures of columns i − 1, i, i + 1.
     p_w: &'a [f64],
     p: &'a [f64],
@@ -595,14 +595,14 @@ struct Column<'a> {
     phi: &'a [f64],
     old: Option<&'a [f64]>,
     /// Conductances of the x1 faces west and east of the column, and of its N2 − 1 x2 faces.
-    cx_w: &'a [f64],
-    cx_e: &'a [f64],
-    cy: &'a [f64],
+    pub(crate) cx_w: &'a [f64],
+    pub(crate) cx_e: &'a [f64],
+    pub(crate) cy: &'a [f64],
 }
 
 impl<'a> Column<'a> {
     #[inline(always)]
-    fn new(
+    pub(crate) fn new(
         g: &Grid,
         f: &Faces<'a>,
         p: &'a [f64],
@@ -628,7 +628,7 @@ impl<'a> Column<'a> {
 
     /// The stencil at node (i, j) of this column (see [`balance`]).
     #[inline(always)]
-    fn balance(&self, adv: f64, at: f64, j: usize) -> f64 {
+    pub(crate) fn balance(&self, adv: f64, at: f64, j: usize) -> f64 {
         self.balance_with(adv, at, j, self.phi[j])
     }
 

@@ -319,8 +319,11 @@ pub(super) fn cycle(levels: &mut [Level], l: usize, pre: usize, post: usize) {
     if l + 1 == levels.len() {
         let lv = &mut levels[l];
         let n = lv.nodes.len();
-        // Dense Gaussian elimination: the operator is symmetric positive definite (an
-        // M-matrix), so no pivoting, and n ≤ 64 or so.
+        // Dense Gaussian elimination without pivoting: the operator is symmetric positive
+        // semi-definite. Semi: truncation can leave two coarse nodes whose basis functions
+        // are the same fine node's (a lone pressurised node), so Pᵀ·A·P can be singular; a
+        // pivot that vanishes against its row's diagonal marks such a direction, which gets
+        // no correction (without this check the elimination made NaNs).
         let mut m = vec![0.0; n * n];
         for r in 0..n {
             let (c, v) = lv.a.row(r);
@@ -328,8 +331,14 @@ pub(super) fn cycle(levels: &mut [Level], l: usize, pre: usize, post: usize) {
                 m[r * n + c] = v;
             }
         }
+        let diag: Vec<f64> = (0..n).map(|k| m[k * n + k]).collect();
+        let mut null = vec![false; n];
         let mut x = lv.b.clone();
         for k in 0..n {
+            if m[k * n + k] <= 1e-12 * diag[k] {
+                null[k] = true;
+                continue;
+            }
             for r in k + 1..n {
                 let f = m[r * n + k] / m[k * n + k];
                 if f != 0.0 {
@@ -341,6 +350,10 @@ pub(super) fn cycle(levels: &mut [Level], l: usize, pre: usize, post: usize) {
             }
         }
         for k in (0..n).rev() {
+            if null[k] {
+                x[k] = 0.0;
+                continue;
+            }
             let s: f64 = (k + 1..n).map(|c| m[k * n + c] * x[c]).sum();
             x[k] = (x[k] - s) / m[k * n + k];
         }
