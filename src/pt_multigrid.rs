@@ -369,6 +369,8 @@ pub struct PtMultigrid {
     gap: Gap,
     link: Option<RingLink>,
     z: f64,
+    /// The Galerkin levels of the last V-cycle and the active set they are of.
+    galerkin_levels: Option<(Vec<bool>, Vec<galerkin::Level>)>,
     /// ∂W_h/∂Z the ring's chord step assumes (the caller's estimate, e.g. from the last
     /// step; 0 treats W_h as independent of Z).
     pub dw_dz: f64,
@@ -406,6 +408,7 @@ impl PtMultigrid {
             link: step.ring,
             z,
             dw_dz: 0.0,
+            galerkin_levels: None,
         };
         mg.set_z(z);
         mg
@@ -601,8 +604,38 @@ impl PtMultigrid {
         self.fine.smooth(self.pre);
         let f = &self.fine;
         let active: Vec<bool> = f.p.iter().map(|&p| p > 0.0).collect();
+        // The levels of the last cycle serve while the active set is the same: they are then
+        // of a gap at most a few ring updates old, which only blunts the coarse correction.
+        let mut levels = match self.galerkin_levels.take() {
+            Some((set, levels)) if set == active => levels,
+            _ => self.galerkin_hierarchy(&active),
+        };
+        if levels.len() >= 2 {
+            let mut r = std::mem::take(&mut self.r);
+            self.fine.residual(&mut r);
+            let r0: Vec<f64> = levels[0].nodes.iter().map(|&k| r[k]).collect();
+            self.r = r;
+            {
+                let (a, b) = levels.split_at_mut(1);
+                b[0].b.iter_mut().for_each(|x| *x = 0.0);
+                a[0].pt.add_mul(&r0, &mut b[0].b);
+            }
+            galerkin::cycle(&mut levels, 1, self.pre, self.post);
+            let mut e0 = vec![0.0; levels[0].nodes.len()];
+            levels[0].p.add_mul(&levels[1].e, &mut e0);
+            for (&k, e) in levels[0].nodes.iter().zip(e0) {
+                self.fine.p[k] += e;
+            }
+        }
+        self.galerkin_levels = Some((active, levels));
+        self.fine.smooth(self.post);
+    }
+
+    /// The Galerkin levels of the pressurised set `active`, down to ≤ 64 unknowns.
+    fn galerkin_hierarchy(&self, active: &[bool]) -> Vec<galerkin::Level> {
+        let f = &self.fine;
         let (mut n1, mut n2, mut dx, mut dy) = (f.g.n1, f.g.n2, f.g.dx, f.g.dy);
-        let mut levels = vec![galerkin::fine_level(n1, n2, &f.cx, &f.cy, &active)];
+        let mut levels = vec![galerkin::fine_level(n1, n2, &f.cx, &f.cy, active)];
         loop {
             let hv = halving(n1, n2, dx, dy);
             let last = levels.last_mut().expect("the fine level");
@@ -621,24 +654,7 @@ impl PtMultigrid {
             }
             levels.push(next);
         }
-        if levels.len() >= 2 {
-            let mut r = std::mem::take(&mut self.r);
-            self.fine.residual(&mut r);
-            let r0: Vec<f64> = levels[0].nodes.iter().map(|&k| r[k]).collect();
-            self.r = r;
-            {
-                let (a, b) = levels.split_at_mut(1);
-                b[0].b.iter_mut().for_each(|x| *x = 0.0);
-                a[0].p.transpose().add_mul(&r0, &mut b[0].b);
-            }
-            galerkin::cycle(&mut levels, 1, self.pre, self.post);
-            let mut e0 = vec![0.0; levels[0].nodes.len()];
-            levels[0].p.add_mul(&levels[1].e, &mut e0);
-            for (&k, e) in levels[0].nodes.iter().zip(e0) {
-                self.fine.p[k] += e;
-            }
-        }
-        self.fine.smooth(self.post);
+        levels
     }
 
     fn coarse_cycle(&mut self, l: usize) {
@@ -819,6 +835,7 @@ mod tests {
                 val: vec![2.0, 2.0, 2.0, 2.0],
             },
             p: Csr::default(),
+            pt: Csr::default(),
             b: vec![3.0, 3.0],
             e: vec![f64::NAN; 2],
         };

@@ -133,8 +133,10 @@ pub(super) struct Level {
     /// Mesh node of each unknown (row order = mesh order).
     pub nodes: Vec<usize>,
     pub a: Csr,
-    /// Rows: this level's unknowns; columns: the next coarser level's.
+    /// Rows: this level's unknowns; columns: the next coarser level's; and its transpose
+    /// (the restriction).
     pub p: Csr,
+    pub pt: Csr,
     pub b: Vec<f64>,
     pub e: Vec<f64>,
 }
@@ -189,6 +191,7 @@ pub(super) fn fine_level(n1: usize, n2: usize, cx: &[f64], cy: &[f64], active: &
         nodes,
         a,
         p: Csr::default(),
+        pt: Csr::default(),
         b: vec![0.0; m],
         e: vec![0.0; m],
     }
@@ -298,8 +301,10 @@ pub(super) fn coarsen(fine: &mut Level, hv: Halving) -> Option<Level> {
         }
         p.ptr.push(p.col.len());
     }
-    let a = p.transpose().mul(&fine.a.mul(&p));
+    let pt = p.transpose();
+    let a = pt.mul(&fine.a.mul(&p));
     fine.p = p;
+    fine.pt = pt;
     let m = nodes.len();
     Some(Level {
         n1: m1,
@@ -307,6 +312,7 @@ pub(super) fn coarsen(fine: &mut Level, hv: Halving) -> Option<Level> {
         nodes,
         a,
         p: Csr::default(),
+        pt: Csr::default(),
         b: vec![0.0; m],
         e: vec![0.0; m],
     })
@@ -370,7 +376,7 @@ pub(super) fn cycle(levels: &mut [Level], l: usize, pre: usize, post: usize) {
         let (a, b) = levels.split_at_mut(l + 1);
         let coarse = &mut b[0];
         coarse.b.iter_mut().for_each(|x| *x = 0.0);
-        a[l].p.transpose().add_mul(&r, &mut coarse.b);
+        a[l].pt.add_mul(&r, &mut coarse.b);
     }
     cycle(levels, l + 1, pre, post);
     {
