@@ -1,9 +1,9 @@
-//! Experimental (issue 3): a p–θ multigrid for the Elrod–Adams problem of one time step at
-//! a fixed ring position Z, the class of solver the paper used (a Gauss–Seidel-type p–θ
-//! iteration accelerated by multigrid, paper §2.6 and its refs. [29], [30]). It is a probe,
-//! not a solver path: `examples/pt_multigrid_probe.rs` measures its convergence and cost on the film
-//! problems of a real run against the direct solver's solutions. Nothing in the product
-//! calls it.
+//! Experimental (issue 3): a p–θ multigrid for the Elrod–Adams problem of one time step, the
+//! class of solver the paper used (a Gauss–Seidel-type p–θ iteration accelerated by
+//! multigrid, paper §2.6 and its refs. [29], [30]). It is a probe,
+//! not a solver path: `examples/pt_multigrid_probe.rs` measures its convergence and cost on
+//! the film problems of a real run against the direct solver's solutions. Nothing in the
+//! product calls it.
 //!
 //! - Smoother: lexicographic Gauss–Seidel in the upwind direction; each node solves its own
 //!   balance (the one stencil, [`crate::film::balance`]) for its one unknown, exactly: the
@@ -23,7 +23,11 @@
 //!   it, so the jump of h³ by ≈ 10⁶ at the ring's edges (gap e against the film) stays
 //!   where it is instead of smearing a coarse cell into the ring. Residuals are restricted
 //!   by their sums (the stencil is the integrated balance of a cell), corrections prolonged
-//!   linearly. No coarse node straddles a ring edge ([`restrict`]).
+//!   linearly. No coarse node straddles a ring edge ([`restrict`]). Or ([`galerkin`],
+//!   `PtMultigrid::galerkin`): Galerkin coarse operators Pᵀ·A·P with a truncated,
+//!   operator-dependent prolongation.
+//! - The ring: with a ring link in the step, Z moves after every V-cycle by a chord step on
+//!   the Newmark equation (model.md §4).
 //!
 //! What it showed (stop 28, docs/speed.md "Measured in stop 28"): on Case III at 512×32,
 //! from the period-old solution, a settled step needs 13 V(2,2) cycles to 1e-8 with the
@@ -33,8 +37,7 @@
 //! the ring moved after every cycle (a chord step on the Newmark equation) it takes one
 //! cycle more; over every step of the benchmark run, 13 on average. The cycle count grows
 //! slowly with the mesh (16 / 18 / 20 from 512×32 to 2048×128 on an early step), the band
-//! LU's cost fast. Left open: a solver path around it, Galerkin levels rebuilt only when the
-//! active set changes.
+//! LU's cost fast. Left open: a solver path (`film::Method`) around it, tuned coarse levels.
 
 use crate::film::{
     balance, conductance_sum, face_conductances, load, max_relative_residual, Column, Faces,
