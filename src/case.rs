@@ -612,7 +612,12 @@ mod tests {
     #[test]
     fn the_coarse_approach_runs_on_the_direct_solver_whatever_the_full_mesh_uses() {
         let case = CaseSpec::paper(3.2).with_texture(Texture::circular(0.03, 0.06, 10.0));
-        for solver in [Method::Direct, Method::Multigrid, Method::GaussSeidel] {
+        for solver in [
+            Method::Direct,
+            Method::Multigrid,
+            Method::GaussSeidel,
+            Method::PtMultigrid,
+        ] {
             let num = Numerics {
                 solver,
                 ..Fidelity::Paper.numerics_for(&case)

@@ -252,6 +252,14 @@ pub enum Method {
     /// meshes; beyond that it fails with an error, never a number.
     #[serde(rename = "gauss-seidel")]
     GaussSeidel,
+    /// Experimental (issue 3): the p–θ multigrid of src/pt_multigrid.rs (Gauss–Seidel on
+    /// p and θ, Galerkin coarse pressure corrections, the ring moved after every V-cycle),
+    /// to the film tolerance by its residual. Slower than `direct` at the paper's 512×32
+    /// (Case III: 21 V-cycles and ≈ 30 ms a step there, 57 s against 4–7 s), but its cost
+    /// grows with the node count only: it is meant for fine meshes (2048×128: ≈ 20 V-cycles
+    /// of 33 ms against the band LU's 1.4 s a step; docs/speed.md, "Measured in stop 28").
+    #[serde(rename = "pt-multigrid")]
+    PtMultigrid,
 }
 
 impl Method {
@@ -261,6 +269,7 @@ impl Method {
             Method::Reference => "reference",
             Method::Direct => "direct",
             Method::GaussSeidel => "gauss-seidel",
+            Method::PtMultigrid => "pt-multigrid",
         }
     }
 }
@@ -334,6 +343,12 @@ impl Default for Tolerance {
 /// flooded gap upstream hold φ ≈ 1000 µm, so 1e-8 relative there still leaves a summed
 /// mass defect of ~1e-4 of the throughflow; 1e-12 keeps it under `run::MASS_TOL`.
 const GS_RESIDUAL: f64 = 1e-12;
+
+/// p–θ multigrid: most V-cycles of one solve, and the count past which its ring slope is
+/// measured again (every step of Case III at `paper` converges in ≤ 25 to 1e-8 of the
+/// direct solution, results/speed/pt_multigrid_every.md).
+const PT_MAX_CYCLES: usize = 80;
+const PT_SLOW: usize = 40;
 
 /// Largest excursion of θ outside [0, 1] taken for round-off.
 const THETA_ROUND_OFF: f64 = 1e-9;
@@ -551,6 +566,9 @@ pub struct FilmSolver {
     y2: Vec<f64>,
     /// y1 and y2 interleaved during their substitutions (`BandLu::solve2`).
     pairs: Vec<[f64; 2]>,
+    /// p–θ multigrid: the ∂W_h/∂Z its ring updates assume, measured at the first coupled
+    /// solve and again whenever a solve needs more than `PT_SLOW` V-cycles.
+    pt_slope: Option<f64>,
 }
 
 /// Face conductances of the Poiseuille flux for the gap `h`: x1 faces h_f³·dy/dx and x2
@@ -866,7 +884,7 @@ impl FilmSolver {
     /// Prepares the assembled matrix for solves: band LU, or the multigrid hierarchy.
     fn factor(&mut self) -> Result<(), FilmError> {
         match self.method {
-            Method::Direct | Method::Reference | Method::GaussSeidel => {
+            Method::Direct | Method::Reference | Method::GaussSeidel | Method::PtMultigrid => {
                 self.factors.of = None;
                 // The operator is taken, not copied: the next assembly writes every entry.
                 // Kept factors lent for this problem share the rows the texture alone sets.
@@ -893,7 +911,7 @@ impl FilmSolver {
     /// the guess in x. Returns the V-cycles used.
     fn solve_linear(&mut self, x: &mut Vec<f64>, rhs: &[f64], cycles: usize, rel: f64) -> usize {
         match self.method {
-            Method::Direct | Method::Reference | Method::GaussSeidel => {
+            Method::Direct | Method::Reference | Method::GaussSeidel | Method::PtMultigrid => {
                 x.clear();
                 x.extend_from_slice(rhs);
                 self.factors.lu.solve(x);
@@ -988,6 +1006,7 @@ impl FilmSolver {
         }
         let (iterations, cycles) = match self.method {
             Method::GaussSeidel => self.gauss_seidel(step, state, z)?,
+            Method::PtMultigrid => self.pt_multigrid(step, state, z)?,
             _ => self.active_set(step, state, z)?,
         };
         self.finish(step, state, *z, iterations, cycles)
@@ -1478,6 +1497,61 @@ impl FilmSolver {
                 *phi -= r / (adv + at);
             }
         }
+    }
+
+    /// The p–θ multigrid ([`crate::pt_multigrid`], Galerkin V(2,2) cycles, Z moved after
+    /// each) from `state` until the largest relative nodal residual is at most
+    /// [`GS_RESIDUAL`] (as for Gauss–Seidel: the flooded gap's large φ needs it for the mass
+    /// guard) and the last ring update at most `tol.z_abs`. Returns (V-cycles, V-cycles).
+    fn pt_multigrid(
+        &mut self,
+        step: &Step,
+        state: &mut FilmState,
+        z: &mut f64,
+    ) -> Result<(usize, usize), FilmError> {
+        let tol = self.tol.residual.min(GS_RESIDUAL);
+        let mut cycles = 0;
+        // A ring slope that has gone stale (the ring moved far since it was measured) shows
+        // as a slow solve: measured again, the solve starts over once.
+        for attempt in 0..2 {
+            let mut mg = crate::pt_multigrid::PtMultigrid::new(step, *z);
+            mg.galerkin = true;
+            if step.ring.is_some() {
+                let slope = match self.pt_slope {
+                    Some(s) if attempt == 0 => s,
+                    _ => crate::pt_multigrid::PtMultigrid::load_slope(step, state, *z),
+                };
+                self.pt_slope = Some(slope);
+                mg.dw_dz = slope;
+            }
+            mg.load(state);
+            for c in 1..=PT_MAX_CYCLES {
+                let z_before = mg.z();
+                mg.vcycle();
+                cycles += 1;
+                let moved = (mg.z() - z_before).abs();
+                if !mg.z().is_finite() {
+                    break;
+                }
+                if moved <= self.tol.z_abs.max(1e-12 * mg.z()) && mg.relative_residual() <= tol {
+                    mg.store(state);
+                    *z = mg.z();
+                    return Ok((cycles, cycles));
+                }
+                if c == PT_SLOW && attempt == 0 && step.ring.is_some() {
+                    break;
+                }
+            }
+            if step.ring.is_none() {
+                break;
+            }
+        }
+        Err(FilmError::NotConverged {
+            iterations: cycles,
+            changes: 0,
+            dz: f64::NAN,
+            z: *z,
+        })
     }
 
     /// Plain Gauss–Seidel (contrast): at fixed Z when the problem has no ring, otherwise a

@@ -274,7 +274,7 @@ impl Transient {
         // guess its solves, stopped on the nodal residual, left a step's mass defect of 7e-6
         // (> MASS_TOL) in the speed study's 256×16 runs of Case I and Case III.
         let shift = match num.solver {
-            Method::Multigrid => TextureShift::NONE,
+            Method::Multigrid | Method::PtMultigrid => TextureShift::NONE,
             _ => TextureShift::of(case, dt, g),
         };
         let placed = PlacedTexture::new(case.texture.is_some(), steps_per_period, g.nodes());

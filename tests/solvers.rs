@@ -89,7 +89,7 @@ fn solver_variants_agree_step_by_step_on_a_cavitating_textured_case() {
         .count();
     assert!(cavitated_under_ring > 50, "{cavitated_under_ring}");
     let pmax = t_ref.state.p.iter().fold(0.0f64, |m, &p| m.max(p));
-    for m in [Method::Direct, Method::Multigrid] {
+    for m in [Method::Direct, Method::Multigrid, Method::PtMultigrid] {
         let (z, t) = run(m);
         let dz = z
             .iter()
