@@ -255,7 +255,7 @@ pub enum Method {
     /// Experimental (issue 3): the p–θ multigrid of src/pt_multigrid.rs (Gauss–Seidel on
     /// p and θ, Galerkin coarse pressure corrections, the ring moved after every V-cycle),
     /// to the film tolerance by its residual. Slower than `direct` at the paper's 512×32
-    /// (Case III: 21 V-cycles and ≈ 30 ms a step there, 57 s against 4–7 s), but its cost
+    /// (Case III: 21 V-cycles and ≈ 20 ms a step there, 37 s against 4–7 s), but its cost
     /// grows with the node count only: it is meant for fine meshes (2048×128: ≈ 20 V-cycles
     /// of 33 ms against the band LU's 1.4 s a step; docs/speed.md, "Measured in stop 28").
     #[serde(rename = "pt-multigrid")]

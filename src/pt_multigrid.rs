@@ -38,7 +38,7 @@
 //! cycle more; over every step of the benchmark run, 13 on average. The cycle count grows
 //! slowly with the mesh (16 / 18 / 20 from 512×32 to 2048×128 on an early step), the band
 //! LU's cost fast. As a solver path (stop 28) it gives the direct solver's outcomes (Case
-//! III at `paper`: within 2.2e-11) at ≈ 8× its time at 512×32. Left open: tuned coarse
+//! III at `paper`: within 2.2e-11) at 5–9× its time at 512×32. Left open: tuned coarse
 //! levels; the 2048×128 reference run it is meant for.
 
 use crate::film::{
@@ -419,8 +419,8 @@ impl PtMultigrid {
         mg
     }
 
-    /// The gap, its conductances and the rediscretised coarse levels at ring position `z`;
-    /// φ = h on the pressurised nodes.
+    /// The gap and its conductances at ring position `z`, φ = h on the pressurised nodes;
+    /// the rediscretised coarse levels are rebuilt by the next V-cycle that uses them.
     fn set_z(&mut self, z: f64) {
         self.z = z;
         let f = &mut self.fine;
@@ -439,6 +439,13 @@ impl PtMultigrid {
                 *phi = h;
             }
         }
+        // The rediscretised levels are of this gap: built when a V-cycle needs them.
+        self.coarse.clear();
+    }
+
+    /// The rediscretised ("faces") coarse levels of the current gap.
+    fn faces_hierarchy(&mut self) {
+        let f = &self.fine;
         self.halvings.clear();
         self.coarse.clear();
         let (mut n1, mut n2, mut dx, mut dy) = (f.g.n1, f.g.n2, f.g.dx, f.g.dy);
@@ -539,9 +546,22 @@ impl PtMultigrid {
 
     /// The meshes of the hierarchy, finest first.
     pub fn meshes(&self) -> Vec<(usize, usize)> {
-        std::iter::once((self.fine.g.n1, self.fine.g.n2))
-            .chain(self.coarse.iter().map(|c| (c.n1, c.n2)))
-            .collect()
+        let g = &self.fine.g;
+        let (mut n1, mut n2, mut dx, mut dy) = (g.n1, g.n2, g.dx, g.dy);
+        let mut out = vec![(n1, n2)];
+        loop {
+            let hv = halving(n1, n2, dx, dy);
+            if !(hv.x1 || hv.x2) {
+                return out;
+            }
+            if hv.x1 {
+                (n1, dx) = (n1 / 2, 2.0 * dx);
+            }
+            if hv.x2 {
+                (n2, dy) = (n2 / 2, 2.0 * dy);
+            }
+            out.push((n1, n2));
+        }
     }
 
     /// Starts from `state` (p and φ).
@@ -572,6 +592,9 @@ impl PtMultigrid {
             return;
         }
         self.fine.smooth(self.pre);
+        if self.coarse.is_empty() {
+            self.faces_hierarchy();
+        }
         if !self.coarse.is_empty() {
             let f = &self.fine;
             let mut r = std::mem::take(&mut self.r);
