@@ -102,28 +102,41 @@ fn halving(n1: usize, n2: usize, dx: f64, dy: f64) -> Halving {
     }
 }
 
+/// The chain of halvings from mesh `g` down to the first that cannot be halved, each with
+/// the mesh it makes (n1, n2).
+fn halving_chain(g: &Grid) -> Vec<(Halving, usize, usize)> {
+    let (mut n1, mut n2, mut dx, mut dy) = (g.n1, g.n2, g.dx, g.dy);
+    let mut chain = Vec::new();
+    loop {
+        let hv = halving(n1, n2, dx, dy);
+        if !(hv.x1 || hv.x2) {
+            return chain;
+        }
+        if hv.x1 {
+            (n1, dx) = (n1 / 2, 2.0 * dx);
+        }
+        if hv.x2 {
+            (n2, dy) = (n2 / 2, 2.0 * dy);
+        }
+        chain.push((hv, n1, n2));
+    }
+}
+
 /// x1 weights of the fine node columns around coarse column `ic` (vertex-centred).
-fn x1_stencil(halve: bool, ic: usize, n1f: usize) -> Vec<(usize, f64)> {
-    if !halve {
-        return vec![(ic, 1.0)];
-    }
-    let c = 2 * ic;
-    let mut w = vec![(c, 1.0)];
-    if c > 0 {
-        w.push((c - 1, 0.5));
-    }
-    if c < n1f {
-        w.push((c + 1, 0.5));
-    }
-    w
+fn x1_stencil(halve: bool, ic: usize, n1f: usize) -> impl Iterator<Item = (usize, f64)> {
+    let c = if halve { 2 * ic } else { ic };
+    let side = |i: Option<usize>| i.filter(|&i| halve && i <= n1f).map(|i| (i, 0.5));
+    std::iter::once((c, 1.0))
+        .chain(side(c.checked_sub(1)))
+        .chain(side(Some(c + 1)))
 }
 
 /// x2 rows of the fine cells inside coarse cell `jc` (cell-centred).
-fn x2_rows(halve: bool, jc: usize) -> Vec<usize> {
+fn x2_rows(halve: bool, jc: usize) -> std::ops::Range<usize> {
     if halve {
-        vec![2 * jc, 2 * jc + 1]
+        2 * jc..2 * jc + 2
     } else {
-        vec![jc]
+        jc..jc + 1
     }
 }
 
@@ -315,10 +328,9 @@ impl Coarse {
 fn restrict(r: &[f64], active: &[bool], n1f: usize, n2f: usize, hv: Halving, c: &mut Coarse) {
     let (n1, n2) = (c.n1, c.n2);
     for ic in 0..=n1 {
-        let cols = x1_stencil(hv.x1, ic, n1f);
         for jc in 0..n2 {
             let (mut s, mut all) = (0.0, ic > 0 && ic < n1 && c.side[ic].is_some());
-            for &(i, wi) in &cols {
+            for (i, wi) in x1_stencil(hv.x1, ic, n1f) {
                 for j in x2_rows(hv.x2, jc) {
                     s += wi * r[i * n2f + j];
                     all &= active[i * n2f + j];
@@ -448,12 +460,8 @@ impl PtMultigrid {
         let f = &self.fine;
         self.halvings.clear();
         self.coarse.clear();
-        let (mut n1, mut n2, mut dx, mut dy) = (f.g.n1, f.g.n2, f.g.dx, f.g.dy);
-        loop {
-            let hv = halving(n1, n2, dx, dy);
-            if !(hv.x1 || hv.x2) {
-                break;
-            }
+        let (mut n1, mut n2) = (f.g.n1, f.g.n2);
+        for (hv, _, _) in halving_chain(&f.g) {
             let (fcx, fcy) = match self.coarse.last() {
                 Some(c) => (&c.cx, &c.cy),
                 None => (&f.cx, &f.cy),
@@ -465,9 +473,7 @@ impl PtMultigrid {
             };
             let side = (0..=m1)
                 .map(|ic| {
-                    let mut cols = x1_stencil(hv.x1, ic, n1)
-                        .into_iter()
-                        .map(|(i, _)| fine_side[i]);
+                    let mut cols = x1_stencil(hv.x1, ic, n1).map(|(i, _)| fine_side[i]);
                     let first = cols.next().flatten();
                     if cols.all(|s| s == first) {
                         first
@@ -488,12 +494,6 @@ impl PtMultigrid {
                 b: vec![0.0; m],
                 e: vec![0.0; m],
             });
-            if hv.x1 {
-                dx *= 2.0;
-            }
-            if hv.x2 {
-                dy *= 2.0;
-            }
             (n1, n2) = (m1, m2);
         }
     }
@@ -547,21 +547,9 @@ impl PtMultigrid {
     /// The meshes of the hierarchy, finest first.
     pub fn meshes(&self) -> Vec<(usize, usize)> {
         let g = &self.fine.g;
-        let (mut n1, mut n2, mut dx, mut dy) = (g.n1, g.n2, g.dx, g.dy);
-        let mut out = vec![(n1, n2)];
-        loop {
-            let hv = halving(n1, n2, dx, dy);
-            if !(hv.x1 || hv.x2) {
-                return out;
-            }
-            if hv.x1 {
-                (n1, dx) = (n1 / 2, 2.0 * dx);
-            }
-            if hv.x2 {
-                (n2, dy) = (n2 / 2, 2.0 * dy);
-            }
-            out.push((n1, n2));
-        }
+        std::iter::once((g.n1, g.n2))
+            .chain(halving_chain(g).into_iter().map(|(_, n1, n2)| (n1, n2)))
+            .collect()
     }
 
     /// Starts from `state` (p and φ).
@@ -662,24 +650,15 @@ impl PtMultigrid {
     /// The Galerkin levels of the pressurised set `active`, down to ≤ 64 unknowns.
     fn galerkin_hierarchy(&self, active: &[bool]) -> Vec<galerkin::Level> {
         let f = &self.fine;
-        let (mut n1, mut n2, mut dx, mut dy) = (f.g.n1, f.g.n2, f.g.dx, f.g.dy);
-        let mut levels = vec![galerkin::fine_level(n1, n2, &f.cx, &f.cy, active)];
-        loop {
-            let hv = halving(n1, n2, dx, dy);
+        let mut levels = vec![galerkin::fine_level(f.g.n1, f.g.n2, &f.cx, &f.cy, active)];
+        for (hv, _, _) in halving_chain(&f.g) {
             let last = levels.last_mut().expect("the fine level");
-            if !(hv.x1 || hv.x2) || last.nodes.len() <= 64 {
+            if last.nodes.len() <= 64 {
                 break;
             }
             let Some(next) = galerkin::coarsen(last, hv) else {
                 break;
             };
-            (n1, n2) = (next.n1, next.n2);
-            if hv.x1 {
-                dx *= 2.0;
-            }
-            if hv.x2 {
-                dy *= 2.0;
-            }
             levels.push(next);
         }
         levels

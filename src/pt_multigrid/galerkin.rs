@@ -18,6 +18,25 @@ pub(crate) struct Csr {
 }
 
 impl Csr {
+    /// An empty matrix of `ncols` columns, rows to be pushed.
+    fn with_columns(ncols: usize) -> Csr {
+        Csr {
+            ncols,
+            ptr: vec![0],
+            ..Default::default()
+        }
+    }
+
+    /// Appends a row given as (column, value) pairs in any order.
+    fn push_row(&mut self, mut row: Vec<(usize, f64)>) {
+        row.sort_unstable_by_key(|&(c, _)| c);
+        for (c, v) in row {
+            self.col.push(c);
+            self.val.push(v);
+        }
+        self.ptr.push(self.col.len());
+    }
+
     fn rows(&self) -> usize {
         self.ptr.len() - 1
     }
@@ -29,11 +48,7 @@ impl Csr {
 
     /// self · b.
     pub fn mul(&self, b: &Csr) -> Csr {
-        let mut out = Csr {
-            ncols: b.ncols,
-            ptr: vec![0],
-            ..Default::default()
-        };
+        let mut out = Csr::with_columns(b.ncols);
         let mut acc = vec![0.0; b.ncols];
         let mut seen = vec![usize::MAX; b.ncols];
         let mut cols = Vec::new();
@@ -156,11 +171,7 @@ pub(super) fn fine_level(n1: usize, n2: usize, cx: &[f64], cy: &[f64], active: &
             }
         }
     }
-    let mut a = Csr {
-        ncols: nodes.len(),
-        ptr: vec![0],
-        ..Default::default()
-    };
+    let mut a = Csr::with_columns(nodes.len());
     for &k in &nodes {
         let (i, j) = (k / n2, k % n2);
         let mut nb = vec![(k - n2, cx[k - n2]), (k + n2, cx[k])];
@@ -177,12 +188,7 @@ pub(super) fn fine_level(n1: usize, n2: usize, cx: &[f64], cy: &[f64], active: &
             .map(|&(m, c)| (index[m], -c))
             .collect();
         row.push((index[k], diag));
-        row.sort_unstable_by_key(|&(c, _)| c);
-        for (c, v) in row {
-            a.col.push(c);
-            a.val.push(v);
-        }
-        a.ptr.push(a.col.len());
+        a.push_row(row);
     }
     let m = nodes.len();
     Level {
@@ -287,19 +293,9 @@ pub(super) fn coarsen(fine: &mut Level, hv: Halving) -> Option<Level> {
     if nodes.is_empty() {
         return None;
     }
-    let mut p = Csr {
-        ncols: nodes.len(),
-        ptr: vec![0],
-        ..Default::default()
-    };
+    let mut p = Csr::with_columns(nodes.len());
     for row in rows {
-        let mut row: Vec<(usize, f64)> = row.into_iter().map(|(c, w)| (cindex[c], w)).collect();
-        row.sort_unstable_by_key(|&(c, _)| c);
-        for (c, w) in row {
-            p.col.push(c);
-            p.val.push(w);
-        }
-        p.ptr.push(p.col.len());
+        p.push_row(row.into_iter().map(|(c, w)| (cindex[c], w)).collect());
     }
     let pt = p.transpose();
     let a = pt.mul(&fine.a.mul(&p));
