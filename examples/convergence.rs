@@ -4,6 +4,11 @@
 //!   cargo run --release --example convergence -- run 512x32 4e-4   # one mesh → results/convergence/
 //!   cargo run --release --example convergence -- report            # table + Fig. 4 from the runs
 //!
+//! `run` takes two options for the finest mesh, where the plain method is too slow:
+//! `--solver pt-multigrid` (film::Method, same discretisation: agrees with `direct` to the
+//! solve tolerance, tests/solvers.rs) and `--approach N2` (reach the periodic regime first on
+//! N1×N2 cells, Numerics::approach_n2: the periodic answer does not depend on the start).
+//!
 //! Each run writes run_<mesh>.json (outcome, numerics) and boundary_<mesh>.csv: per step the
 //! x1 of the cavitation (rupture) boundary along the row nearest the pocket-centre line
 //! (x2 = B − dy/2), i.e. the first cavitated node downstream of the first pressurised node
@@ -12,8 +17,9 @@ use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use texopt::case::{CaseSpec, Numerics, Texture};
+use texopt::film::Method;
 use texopt::plot::{self, Chart, Scale, Series};
-use texopt::run::{Outcome, Transient};
+use texopt::run::{run_transient_with, Outcome, Transient};
 
 fn case() -> CaseSpec {
     CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0))
@@ -41,32 +47,54 @@ fn rupture_x(tr: &Transient) -> f64 {
     f64::NAN
 }
 
-fn run(mesh: &str, dt: f64) -> Result<(), String> {
+fn run(mesh: &str, dt: f64, opts: &[String]) -> Result<(), String> {
     let (a, b) = mesh.split_once('x').ok_or("mesh must be N1xN2")?;
-    let num = Numerics {
+    let mut num = Numerics {
         n1: a.parse().map_err(|_| "bad N1")?,
         n2: b.parse().map_err(|_| "bad N2")?,
         dt,
         ..Numerics::default()
     };
+    for pair in opts.chunks(2) {
+        match pair {
+            [k, v] if k == "--solver" => {
+                num.solver = <Method as clap::ValueEnum>::from_str(v, true)
+                    .map_err(|e| format!("--solver {v}: {e} (direct, pt-multigrid, ...)"))?
+            }
+            [k, v] if k == "--approach" => {
+                num.approach_n2 = Some(v.parse().map_err(|_| "--approach takes a cell count")?)
+            }
+            _ => {
+                return Err(format!(
+                    "unknown option {pair:?}: --solver NAME | --approach N2"
+                ))
+            }
+        }
+    }
     let case = case();
     num.validate(&case).map_err(|e| e.to_string())?;
     fs::create_dir_all(dir()).map_err(|e| e.to_string())?;
-    let mut tr = Transient::new(&case, &num);
+    // Through run_transient_with, so that `--approach` runs its coarse mesh first; the rows
+    // of the last periods are the full mesh's.
     let mut rows = Vec::new();
-    let res = tr
-        .run_with(
-            &num,
-            false,
-            &mut |p| {
-                eprintln!(
-                    "{mesh}: period {} t = {:.3} f = {:.6} Z = {:.5} est {:.1e}",
-                    p.period, p.t, p.f_mean, p.z_mean, p.periodic_error
-                )
-            },
-            &mut |t| rows.push((t.t, rupture_x(t))),
-        )
-        .map_err(|e| e.to_string())?;
+    let mut steps_per_period = 1;
+    let res = run_transient_with(
+        &case,
+        &num,
+        false,
+        &[],
+        &mut |p| {
+            eprintln!(
+                "{mesh}: period {} t = {:.3} f = {:.6} Z = {:.5} est {:.1e}",
+                p.period, p.t, p.f_mean, p.z_mean, p.periodic_error
+            )
+        },
+        &mut |t| {
+            steps_per_period = t.steps_per_period;
+            rows.push((t.t, rupture_x(t)));
+        },
+    )
+    .map_err(|e| e.to_string())?;
     let json = serde_json::json!({ "mesh": mesh, "numerics": num, "outcome": res.outcome });
     fs::write(
         dir().join(format!("run_{mesh}.json")),
@@ -76,7 +104,7 @@ fn run(mesh: &str, dt: f64) -> Result<(), String> {
     let mut f = fs::File::create(dir().join(format!("boundary_{mesh}.csv"))).unwrap();
     writeln!(f, "t,x_rupture_cm").unwrap();
     // The last texture periods only (the periodic regime), to keep the file small.
-    let keep = 3 * tr.steps_per_period;
+    let keep = 3 * steps_per_period;
     for (t, x) in rows.iter().skip(rows.len().saturating_sub(keep)) {
         writeln!(f, "{t:.6},{x:.6}").unwrap();
     }
@@ -195,12 +223,15 @@ fn report() -> Result<(), String> {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let r = match args.first().map(String::as_str) {
-        Some("run") if args.len() == 3 => match args[2].parse::<f64>() {
-            Ok(dt) => run(&args[1], dt),
+        Some("run") if args.len() >= 3 => match args[2].parse::<f64>() {
+            Ok(dt) => run(&args[1], dt, &args[3..]),
             Err(_) => Err(format!("dt must be a number, got {:?}", args[2])),
         },
         Some("report") => report(),
-        _ => Err("usage: convergence run N1xN2 DT | convergence report".into()),
+        _ => Err(
+            "usage: convergence run N1xN2 DT [--solver NAME] [--approach N2] | convergence report"
+                .into(),
+        ),
     };
     if let Err(e) = r {
         eprintln!("error: {e}");

@@ -1,7 +1,7 @@
 //! Speed against accuracy (Case I and Case III): error of f̄ against wall time per case over
 //! meshes, time steps, periodicity tolerances and solver variants.
 //!
-//!   cargo run --release --example speed -- run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid] [APPROACH_N2]
+//!   cargo run --release --example speed -- run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid|pt-multigrid] [APPROACH_N2]
 //!   cargo run --release --example speed -- report
 //!   cargo run --release --example speed -- finer-run CASE 2048x32 1e-4   # finer reference
 //!   cargo run --release --example speed -- finer-run case-III 2048x64 1e-4 1e-5 direct 8
@@ -46,11 +46,8 @@ fn run(args: &[String], out_path: &str) -> Result<(), String> {
         num.periodic_tol = t.parse().map_err(|_| "bad periodic tolerance")?;
     }
     if let Some(m) = args.get(4) {
-        num.solver = match m.as_str() {
-            "direct" => Method::Direct,
-            "multigrid" => Method::Multigrid,
-            _ => return Err(format!("solver must be direct or multigrid, got {m}")),
-        };
+        num.solver = <Method as clap::ValueEnum>::from_str(m, true)
+            .map_err(|_| format!("solver must be direct, multigrid or pt-multigrid, got {m}"))?;
     }
     if let Some(a) = args.get(5) {
         num.approach_n2 = Some(a.parse().map_err(|_| "bad approach N2")?);
@@ -197,8 +194,16 @@ fn row(r: &Run, name: &str, fr: f64, cr: f64) -> String {
 /// each case: results/speed_finer.md.
 fn finer() -> Result<(), String> {
     let runs = load_runs(RUNS, true)?;
-    let finer = load_runs(FINER, false)?;
-    let mut md = String::from("# Fidelity tiers against a finer reference\n\nReproduce: `bash studies/speed.sh finer` (the two 2048×32 runs took 22 and 49 min, one per core, beside other work; at 2048×64, with the coarse approach, Case III took 108 min and Case I 32 min, each on one core beside other work), then `cargo run --release --example speed -- finer`. Reference: the finest run of each case at 2048 cells along x1 and dt = 1e-4 (2048×64 where it was run, else 2048×32). The issue asks for 2048×128, out of reach (a 2048×128 step costs ≈ 1.5 s and more, ≈ 15 000 steps a case). A row `(finer, coarser N2)` is the same case at half the reference's N2: its difference from the reference is what doubling N2 changes at 2048 cells; if the N2 error at least halves with each doubling, 2048×128 lies within that difference of the reference. Rows: the tiers as the speed study ran them with their own periodic tolerance and coarse approach, and the study's old reference 1024×64. Errors relative to the reference; times are one core of the 2-core machine (from the speed study; the 1024×64 and 2048 references were run before the solver speed-ups of issue 3 or beside other work, their times are not comparable).\n");
+    let mut finer = load_runs(FINER, false)?;
+    // The convergence study's 2048-cell Case I run (2048×128, dt = 1e-4) is a finer run too.
+    let from_convergence: Vec<Run> = runs
+        .iter()
+        .filter(|r| r.case == "case-I" && r.numerics.n1 >= 2048)
+        .filter(|r| !finer.iter().any(|f| f.case == r.case && f.numerics == r.numerics))
+        .cloned()
+        .collect();
+    finer.extend(from_convergence);
+    let mut md = String::from("# Fidelity tiers against a finer reference\n\nReproduce: `bash studies/speed.sh finer` (the 2048×32 and 2048×64 runs of both cases and Case III at 2048×128; Case I at 2048×128 is `bash studies/convergence.sh`'s finest run), then `cargo run --release --example speed -- finer`. Run times, one core each of the 2-core machine beside other work: 2048×32 22 and 49 min (Case I, III); 2048×64 with the coarse approach 32 and 108 min; 2048×128 with the coarse approach and `--solver pt-multigrid` (the band LU would need ≈ 1.5 s a step) as in each table's heading. Reference: the finest run of each case at 2048 cells along x1 and dt = 1e-4, 2048×128 as the issue asks where it was run. A row `(finer, coarser N2)` is the same case at 2048 cells with fewer cells across: its difference from the reference is what refining N2 alone changes there. Rows: the tiers as the speed study ran them with their own periodic tolerance and coarse approach, and the study's old reference 1024×64. Errors relative to the reference; times are one core of the 2-core machine (from the speed study; the 1024×64 and 2048 references were run before the solver speed-ups of issue 3 or beside other work, their times are not comparable).\n");
     for case in ["case-I", "case-III"] {
         // The finest run of the case is the reference; coarser finer runs are rows.
         let Some(reference) = finer
@@ -416,7 +421,7 @@ fn main() {
         Some("report") => report(),
         Some("finer") => finer(),
         _ => Err(
-            "usage: speed run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid] [APPROACH_N2] | speed report | speed finer-run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid] [APPROACH_N2] | speed finer"
+            "usage: speed run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid|pt-multigrid] [APPROACH_N2] | speed report | speed finer-run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid|pt-multigrid] [APPROACH_N2] | speed finer"
                 .into(),
         ),
     };

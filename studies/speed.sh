@@ -6,7 +6,7 @@
 # Run one case per core: about 15 minutes on the 2-core machine (the references: hours).
 # `bash studies/speed.sh sweep`: the settings only, keeping the references in runs.jsonl.
 # `bash studies/speed.sh finer`: the tiers against 2048 cells along x1, dt = 1e-4: 2048×32
-# and 2048×64 for both cases (results/speed_finer.md).
+# and 2048×64 for both cases, 2048×128 for Case III (results/speed_finer.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --example speed
@@ -39,6 +39,9 @@ if [ "${1:-}" = finer ]; then
   $bin finer-run case-I 2048x64 1e-4 1e-5 direct 8 &
   $bin finer-run case-III 2048x64 1e-4 1e-5 direct 8
   wait
+  # The issue's 2048×128: the band LU would need ≈ 1.5 s a step, the p–θ multigrid (same
+  # discretisation) ≈ 0.9 s. Case I's 2048×128 is the convergence study's finest run.
+  $bin finer-run case-III 2048x128 1e-4 1e-5 pt-multigrid 8
   $bin finer
   exit 0
 fi
