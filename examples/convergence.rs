@@ -115,6 +115,15 @@ fn run(mesh: &str, dt: f64, opts: &[String]) -> Result<(), String> {
     Ok(())
 }
 
+/// The solver of a run as the table names it: the film method, and the coarse approach's
+/// mesh when the run had one (its steps count in the run's).
+fn solver(num: &Numerics) -> String {
+    match num.approach_n2 {
+        Some(a) => format!("{} after {}×{a}", num.solver.name(), num.n1),
+        None => num.solver.name().to_string(),
+    }
+}
+
 fn report() -> Result<(), String> {
     let mut runs: Vec<(usize, usize, Numerics, Outcome)> = Vec::new();
     for e in fs::read_dir(dir()).map_err(|e| e.to_string())? {
@@ -142,15 +151,16 @@ fn report() -> Result<(), String> {
         "Errors are relative to the finest mesh run here ({}×{}, dt = {:e}).\n\n",
         finest.0, finest.1, finest.2.dt
     );
-    md += "| mesh | dt | f̄ | C_min (µm) | err f̄ | err C_min | periods | steps | wall (s) | ms/step |\n|---|---|---|---|---|---|---|---|---|---|\n";
+    md += "| mesh | dt | solver | f̄ | C_min (µm) | err f̄ | err C_min | periods | steps | wall (s) | ms/step |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
     let mut errs = Vec::new();
     for (n1, n2, num, o) in &runs {
         let ef = (o.f_mean - f_ref).abs() / f_ref;
         let ec = (o.c_min - c_ref).abs() / c_ref;
         errs.push((*n1, o.f_mean, o.c_min, ef, ec));
         md += &format!(
-            "| {n1}×{n2} | {:.1e} | {:.6} | {:.5} | {:.2} % | {:.2} % | {} | {} | {:.1} | {:.2} |\n",
+            "| {n1}×{n2} | {:.1e} | {} | {:.6} | {:.5} | {:.2} % | {:.2} % | {} | {} | {:.1} | {:.2} |\n",
             num.dt,
+            solver(num),
             o.f_mean,
             o.c_min,
             100.0 * ef,

@@ -15,6 +15,7 @@
 //! results/speed.md and results/speed.png with the Pareto-optimal settings marked.
 use std::fs;
 use std::io::Write;
+use std::ops::RangeInclusive;
 use std::path::Path;
 use texopt::bench::cases;
 use texopt::case::{Fidelity, Numerics};
@@ -30,6 +31,9 @@ struct Run {
 }
 
 const RUNS: &str = "results/speed/runs.jsonl";
+/// The speed study's meshes along x1 (its references are 1024×64); finer runs are
+/// results/speed_finer.md's.
+const STUDY_N1: RangeInclusive<usize> = 0..=1024;
 /// Finer references (2048 cells along x1, dt = 1e-4), kept apart from the study's runs.
 const FINER: &str = "results/speed/finer.jsonl";
 
@@ -130,9 +134,13 @@ fn setting(n: &Numerics) -> String {
     )
 }
 
-/// The runs of a JSON-lines file; with `convergence`, plus the Case I runs of
-/// results/convergence/ (the convergence study runs Case I on the tier meshes).
-fn load_runs(path: &str, convergence: bool) -> Result<Vec<Run>, String> {
+/// The runs of a JSON-lines file, plus the Case I runs of results/convergence/ with N1 in
+/// `convergence_n1` (the convergence study runs Case I on the tier meshes up to the speed
+/// study's 1024×64 reference, and at 2048×128, a finer reference).
+fn load_runs(
+    path: &str,
+    convergence_n1: Option<RangeInclusive<usize>>,
+) -> Result<Vec<Run>, String> {
     let text = fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
     let mut runs: Vec<Run> = text
         .lines()
@@ -151,9 +159,7 @@ fn load_runs(path: &str, convergence: bool) -> Result<Vec<Run>, String> {
             i += 1;
         }
     }
-    // The convergence study runs Case I on the tier meshes; its finest run is Case I's
-    // reference here too (same case, same solver).
-    if let (true, Ok(dir)) = (convergence, fs::read_dir("results/convergence")) {
+    if let (Some(n1s), Ok(dir)) = (convergence_n1, fs::read_dir("results/convergence")) {
         for e in dir.flatten() {
             let name = e.file_name().to_string_lossy().to_string();
             if name.starts_with("run_") && name.ends_with(".json") {
@@ -164,7 +170,7 @@ fn load_runs(path: &str, convergence: bool) -> Result<Vec<Run>, String> {
                 let num: Numerics =
                     serde_json::from_value(v["numerics"].clone()).map_err(|e| e.to_string())?;
                 let already = runs.iter().any(|r| r.case == "case-I" && r.numerics == num);
-                if !already {
+                if !already && n1s.contains(&num.n1) {
                     runs.push(Run {
                         case: "case-I".into(),
                         numerics: num,
@@ -193,16 +199,8 @@ fn row(r: &Run, name: &str, fr: f64, cr: f64) -> String {
 /// The fidelity tiers and the old reference against the finest 2048-cell, dt = 1e-4 run of
 /// each case: results/speed_finer.md.
 fn finer() -> Result<(), String> {
-    let runs = load_runs(RUNS, true)?;
-    let mut finer = load_runs(FINER, false)?;
-    // The convergence study's 2048-cell Case I run (2048×128, dt = 1e-4) is a finer run too.
-    let from_convergence: Vec<Run> = runs
-        .iter()
-        .filter(|r| r.case == "case-I" && r.numerics.n1 >= 2048)
-        .filter(|r| !finer.iter().any(|f| f.case == r.case && f.numerics == r.numerics))
-        .cloned()
-        .collect();
-    finer.extend(from_convergence);
+    let runs = load_runs(RUNS, Some(STUDY_N1))?;
+    let finer = load_runs(FINER, Some(2048..=usize::MAX))?;
     let mut md = String::from("# Fidelity tiers against a finer reference\n\nReproduce: `bash studies/speed.sh finer` (the 2048×32 and 2048×64 runs of both cases and Case III at 2048×128; Case I at 2048×128 is `bash studies/convergence.sh`'s finest run), then `cargo run --release --example speed -- finer`. Run times, one core each of the 2-core machine beside other work: 2048×32 22 and 49 min (Case I, III); 2048×64 with the coarse approach 32 and 108 min; 2048×128 with the coarse approach and `--solver pt-multigrid` (the band LU would need ≈ 1.5 s a step) as in each table's heading. Reference: the finest run of each case at 2048 cells along x1 and dt = 1e-4, 2048×128 as the issue asks where it was run. A row `(finer, coarser N2)` is the same case at 2048 cells with fewer cells across: its difference from the reference is what refining N2 alone changes there. Rows: the tiers as the speed study ran them with their own periodic tolerance and coarse approach, and the study's old reference 1024×64. Errors relative to the reference; times are one core of the 2-core machine (from the speed study; the 1024×64 and 2048 references were run before the solver speed-ups of issue 3 or beside other work, their times are not comparable).\n");
     for case in ["case-I", "case-III"] {
         // The finest run of the case is the reference; coarser finer runs are rows.
@@ -263,7 +261,7 @@ fn finer() -> Result<(), String> {
 }
 
 fn report() -> Result<(), String> {
-    let runs = load_runs(RUNS, true)?;
+    let runs = load_runs(RUNS, Some(STUDY_N1))?;
     let mut csv = String::from("case,setting,n1,n2,dt,periodic_tol,solver,f_mean,c_min,err_f,err_c,wall_s,steps,periods,pareto\n");
     let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh`. Error: relative to the finest run of the same case (first row of each table). Wall time: one core of the 2-core machine (the two cases run at once, one per core), from the equilibrium start (the untextured force balance) to the detected periodic regime. The references were run before the solver speed-ups of issue 3 (answers unchanged to round-off), the other rows with the solver of the commit that wrote this file; so the references' times are not comparable with them. `approach N2=8`: the coarse approach of the `paper` and `fine` tiers (the ring's transient on 512×8 or 1024×8 first; the answer is the full mesh's). ★ = Pareto-optimal in f̄ error and time (no other setting is both faster and more accurate); tier names mark the fidelity tiers.\n");
     let mut series_data = Vec::new();
