@@ -116,10 +116,15 @@ fn run(mesh: &str, dt: f64, opts: &[String]) -> Result<(), String> {
 }
 
 /// The solver of a run as the table names it: the film method, and the coarse approach's
-/// mesh when the run had one (its steps count in the run's).
-fn solver(num: &Numerics) -> String {
+/// mesh and steps when the run had one (they count in the run's steps and time).
+fn solver(num: &Numerics, o: &Outcome) -> String {
     match num.approach_n2 {
-        Some(a) => format!("{} after {}×{a}", num.solver.name(), num.n1),
+        Some(a) => format!(
+            "{} after {} steps on {}×{a}",
+            num.solver.name(),
+            o.approach_steps,
+            num.n1
+        ),
         None => num.solver.name().to_string(),
     }
 }
@@ -160,7 +165,7 @@ fn report() -> Result<(), String> {
         md += &format!(
             "| {n1}×{n2} | {:.1e} | {} | {:.6} | {:.5} | {:.2} % | {:.2} % | {} | {} | {:.1} | {:.2} |\n",
             num.dt,
-            solver(num),
+            solver(num, o),
             o.f_mean,
             o.c_min,
             100.0 * ef,
