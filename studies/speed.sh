@@ -22,6 +22,8 @@ settings=(
   # coarse approach (N2 = 8 first).
   "256x8 8e-4 1e-4" "512x8 4e-4 1e-4"
   "512x32 4e-4 1e-5 direct 8" "512x32 4e-4 1e-4 direct 8" "1024x16 2e-4 1e-5 direct 8"
+  # The p–θ multigrid (src/pt_multigrid.rs) at the paper tier's setting.
+  "512x32 4e-4 1e-5 pt-multigrid 8"
 )
 sweep() {
   for s in "${settings[@]}"; do
