@@ -202,7 +202,7 @@ fn finer() -> Result<(), String> {
     let runs = load_runs(RUNS, Some(STUDY_N1))?;
     let finer = load_runs(FINER, Some(2048..=usize::MAX))?;
     let mut md = String::from("# Fidelity tiers against a finer reference\n\nReproduce: `bash studies/speed.sh finer` (the 2048×32 and 2048×64 runs of both cases and Case III at 2048×128; Case I at 2048×128 is `bash studies/convergence.sh`'s finest run), then `cargo run --release --example speed -- finer`. Run times, one core each of the 2-core machine beside other work: 2048×32 22 and 49 min (Case I, III); 2048×64 with the coarse approach 32 and 108 min; 2048×128 with the coarse approach and `--solver pt-multigrid` (the band LU would need ≈ 1.5 s a step) as in each table's heading. Reference: the finest run of each case at 2048 cells along x1 and dt = 1e-4, 2048×128 as the issue asks where it was run. A row `(finer, coarser N2)` is the same case at 2048 cells with fewer cells across: its difference from the reference is what refining N2 alone changes there. Rows: the tiers as the speed study ran them with their own periodic tolerance and coarse approach, and the study's old reference 1024×64. Errors relative to the reference; times are one core of the 2-core machine (from the speed study; the 1024×64 and 2048 references were run before the solver speed-ups of issue 3 or beside other work, their times are not comparable).\n");
-    for case in ["case-I", "case-III"] {
+    for case in ["case-I", "case-III", "conformal-R51.2"] {
         // The finest run of the case is the reference; coarser finer runs are rows.
         let Some(reference) = finer
             .iter()

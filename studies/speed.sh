@@ -6,7 +6,8 @@
 # Run one case per core: about 15 minutes on the 2-core machine (the references: hours).
 # `bash studies/speed.sh sweep`: the settings only, keeping the references in runs.jsonl.
 # `bash studies/speed.sh finer`: the tiers against 2048 cells along x1, dt = 1e-4: 2048×32
-# and 2048×64 for both cases, 2048×128 for Case III (results/speed_finer.md).
+# and 2048×64 for Case I, Case III and R = 51.2, 2048×128 for Case III (Case I's is the
+# convergence study's) (results/speed_finer.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --example speed
@@ -43,7 +44,17 @@ if [ "${1:-}" = finer ]; then
   wait
   # The issue's 2048×128: the band LU would need ≈ 1.5 s a step, the p–θ multigrid (same
   # discretisation) ≈ 0.9 s. Case I's 2048×128 is the convergence study's finest run.
-  $bin finer-run case-III 2048x128 1e-4 1e-5 pt-multigrid 8
+  $bin finer-run case-III 2048x128 1e-4 1e-5 pt-multigrid 8 &
+  # The conformal R = 51.2 benchmark case: its tiers and its 2048-cell runs (stop 29: 2048×32
+  # 4 min, the tiers and 1024×64 7 min).
+  for s in "256x8 8e-4 1e-4" "512x8 4e-4 1e-4" "512x32 4e-4 1e-5 direct 8" \
+    "1024x16 2e-4 1e-5 direct 8" "1024x64 2e-4"; do
+    # shellcheck disable=SC2086
+    $bin run conformal-R51.2 $s
+  done
+  $bin finer-run conformal-R51.2 2048x32 1e-4 1e-5 direct 8
+  $bin finer-run conformal-R51.2 2048x64 1e-4 1e-5 direct 8
+  wait
   $bin finer
   exit 0
 fi
