@@ -46,7 +46,7 @@ if [ "${1:-}" = finer ]; then
   # discretisation) ≈ 0.9 s. Case I's 2048×128 is the convergence study's finest run.
   $bin finer-run case-III 2048x128 1e-4 1e-5 pt-multigrid 8 &
   # The conformal R = 51.2 benchmark case: its tiers and its 2048-cell runs (stop 29: 2048×32
-  # 4 min, the tiers and 1024×64 7 min).
+  # 4 min, 2048×64 18 min, the tiers and 1024×64 7 min).
   for s in "256x8 8e-4 1e-4" "512x8 4e-4 1e-4" "512x32 4e-4 1e-5 direct 8" \
     "1024x16 2e-4 1e-5 direct 8" "1024x64 2e-4"; do
     # shellcheck disable=SC2086
