@@ -469,3 +469,33 @@ fn a_partial_bench_run_never_replaces_the_benchmark_file() {
         "{\"committed\": true}"
     );
 }
+
+/// A conformal ring at the tiers' time step is told that dt sets its error (README, "Finer
+/// reference": R = 51.2 at dt = 4e-4 is ≈ 3 % off); a ring that is not, or the smaller dt,
+/// is not.
+#[test]
+fn a_conformal_ring_at_a_coarse_time_step_gets_a_note() {
+    let run = |r: &str, extra: &[&str]| {
+        let mut args = vec![
+            "simulate",
+            "--R",
+            r,
+            "--l1",
+            "0.01",
+            "--per",
+            "0.06",
+            "--depth",
+            "5",
+            "--fidelity",
+            "draft",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let (code, _, err) = texopt(&args);
+        assert_eq!(code, 0, "{err}");
+        err.contains("conformal ring")
+    };
+    assert!(run("51.2", &[]), "no note at R = 51.2, dt = 8e-4");
+    assert!(!run("51.2", &["--dt", "1e-4"]), "a note at dt = 1e-4");
+    assert!(!run("0.8", &[]), "a note at R = 0.8");
+}
