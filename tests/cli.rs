@@ -476,20 +476,10 @@ fn a_partial_bench_run_never_replaces_the_benchmark_file() {
 #[test]
 fn a_conformal_ring_at_a_coarse_time_step_gets_a_note() {
     let run = |r: &str, extra: &[&str]| {
-        let mut args = vec![
-            "simulate",
-            "--R",
-            r,
-            "--l1",
-            "0.01",
-            "--per",
-            "0.06",
-            "--depth",
-            "5",
-            "--fidelity",
-            "draft",
-            "--json",
-        ];
+        let mut args: Vec<&str> = "simulate --l1 0.01 --per 0.06 --depth 5 --fidelity draft --json"
+            .split(' ')
+            .collect();
+        args.extend(["--R", r]);
         args.extend_from_slice(extra);
         let (code, _, err) = texopt(&args);
         assert_eq!(code, 0, "{err}");
