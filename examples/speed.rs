@@ -8,11 +8,12 @@
 //!   cargo run --release --example speed -- finer    # tiers against it: results/speed_finer.md
 //!
 //! CASE is case-I or case-III (the benchmark cases). Each run appends one JSON line to
-//! results/speed/runs.jsonl (the Case I runs of results/convergence/ are read too); the
-//! report takes as reference the finest run of each case (most cells, then smallest dt, then
-//! tightest tolerance)
-//! and writes results/speed.csv,
-//! results/speed.md and results/speed.png with the Pareto-optimal settings marked.
+//! results/speed/runs.jsonl (the Case I runs of results/convergence/ are read too), a
+//! finer run to results/speed/finer.jsonl. The report takes as reference each case's finest
+//! finer run (2048×128, the issue's reference mesh; Case I's is the convergence study's),
+//! else the study's own finest run (most cells, then smallest dt, then tightest tolerance),
+//! and writes results/speed.csv, results/speed.md and results/speed.png with the
+//! Pareto-optimal settings marked.
 use std::fs;
 use std::io::Write;
 use std::ops::RangeInclusive;
@@ -31,8 +32,8 @@ struct Run {
 }
 
 const RUNS: &str = "results/speed/runs.jsonl";
-/// The speed study's meshes along x1 (its references are 1024×64); finer runs are
-/// results/speed_finer.md's.
+/// The speed study's meshes along x1 (the chart's points, 1024×64 the finest); the 2048-cell
+/// runs are its references (results/speed/finer.jsonl, results/convergence/).
 const STUDY_N1: RangeInclusive<usize> = 0..=1024;
 /// Finer references (2048 cells along x1, dt = 1e-4), kept apart from the study's runs.
 const FINER: &str = "results/speed/finer.jsonl";
@@ -201,7 +202,7 @@ fn row(r: &Run, name: &str, fr: f64, cr: f64) -> String {
 fn finer() -> Result<(), String> {
     let runs = load_runs(RUNS, Some(STUDY_N1))?;
     let finer = load_runs(FINER, Some(2048..=usize::MAX))?;
-    let mut md = String::from("# Fidelity tiers against a finer reference\n\nReproduce: `bash studies/speed.sh finer` (the 2048×32 and 2048×64 runs of both cases and Case III at 2048×128; Case I at 2048×128 is `bash studies/convergence.sh`'s finest run), then `cargo run --release --example speed -- finer`. Run times, one core each of the 2-core machine beside other work: 2048×32 22 and 49 min (Case I, III); 2048×64 with the coarse approach 32 and 108 min; 2048×128 with the coarse approach and `--solver pt-multigrid` (the band LU would need ≈ 1.5 s a step) as in each table's heading. Reference: the finest run of each case at 2048 cells along x1 and dt = 1e-4, 2048×128 as the issue asks where it was run. A row `(finer, coarser N2)` is the same case at 2048 cells with fewer cells across: its difference from the reference is what refining N2 alone changes there. Rows: the tiers as the speed study ran them with their own periodic tolerance and coarse approach, and the study's old reference 1024×64. Errors relative to the reference; times are one core of the 2-core machine (from the speed study; the 1024×64 and 2048 references were run before the solver speed-ups of issue 3 or beside other work, their times are not comparable).\n");
+    let mut md = String::from("# Fidelity tiers against a finer reference\n\nReproduce: `bash studies/speed.sh finer` (the 2048×32 and 2048×64 runs of both cases and Case III at 2048×128; Case I at 2048×128 is `bash studies/convergence.sh`'s finest run), then `cargo run --release --example speed -- finer`. Run times, one core each of the 2-core machine beside other work: 2048×32 22 and 49 min (Case I, III); 2048×64 with the coarse approach 32 and 108 min; 2048×128 with the coarse approach and `--solver pt-multigrid` (the band LU would need ≈ 1.5 s a step) as in each table's heading. Reference: the finest run of each case at 2048 cells along x1 and dt = 1e-4, 2048×128 as the issue asks where it was run. A row `(finer, coarser N2)` is the same case at 2048 cells with fewer cells across: its difference from the reference is what refining N2 alone changes there. Rows: the tiers as the speed study ran them with their own periodic tolerance and coarse approach, and 1024×64, the speed study's reference until stop 30 (its finest setting now). Errors relative to the reference; times are one core of the 2-core machine (from the speed study; the 2048-cell runs ran beside other work, some before the solver speed-ups of issue 3: their times are not comparable).\n");
     for case in ["case-I", "case-III", "conformal-R51.2"] {
         // The finest run of the case is the reference; coarser finer runs are rows.
         let Some(reference) = finer
@@ -220,7 +221,7 @@ fn finer() -> Result<(), String> {
         );
         let tiers = Fidelity::ALL.iter().map(|f| (f.name(), f.numerics()));
         let old_reference = (
-            "(old reference)",
+            "(1024×64)",
             Numerics {
                 n1: 1024,
                 n2: 64,
@@ -262,8 +263,9 @@ fn finer() -> Result<(), String> {
 
 fn report() -> Result<(), String> {
     let runs = load_runs(RUNS, Some(STUDY_N1))?;
+    let finer = load_runs(FINER, Some(2048..=usize::MAX))?;
     let mut csv = String::from("case,setting,n1,n2,dt,periodic_tol,solver,f_mean,c_min,err_f,err_c,wall_s,steps,periods,pareto\n");
-    let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh`. Error: relative to the finest run of the same case (first row of each table). Wall time: one core of the 2-core machine (the two cases run at once, one per core), from the equilibrium start (the untextured force balance) to the detected periodic regime. The references were run before the solver speed-ups of issue 3 (answers unchanged to round-off), the other rows with the solver of the commit that wrote this file; so the references' times are not comparable with them. `approach N2=8`: the coarse approach of the `paper` and `fine` tiers (the ring's transient on 512×8 or 1024×8 first; the answer is the full mesh's). ★ = Pareto-optimal in f̄ error and time (no other setting is both faster and more accurate); tier names mark the fidelity tiers.\n");
+    let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh` (the settings; then `cargo run --release --example speed -- report`). Error: relative to the reference in each table's heading, the finest run of the case: 2048×128 at dt = 1e-4, the issue's reference mesh (run by `bash studies/speed.sh finer` for Case III and `bash studies/convergence.sh` for Case I, with the p–θ multigrid after a 2048×8 approach: the same discretisation, the band LU would need ≈ 1.5 s a step; its time is not comparable). Wall time: one core of the 2-core machine (the two cases run at once, one per core), from the equilibrium start (the untextured force balance) to the detected periodic regime, with the solver of the commit that ran the row. `approach N2=8`: the coarse approach of the `paper` and `fine` tiers (the ring's transient on 512×8 or 1024×8 first; the answer is the full mesh's). ★ = Pareto-optimal in f̄ error and time (no other setting is both faster and more accurate); tier names mark the fidelity tiers. The tiers against the 2048-cell runs with fewer cells across, and the conformal R = 51.2: `results/speed_finer.md`.\n");
     let mut series_data = Vec::new();
     let mut tier_rings = Vec::new();
     for (ci, case) in ["case-I", "case-III"].iter().enumerate() {
@@ -285,9 +287,18 @@ fn report() -> Result<(), String> {
                 .then(ka.1.total_cmp(&kb.1))
                 .then(ka.2.total_cmp(&kb.2))
         });
-        let reference = rs[0];
+        // The reference: the case's finest 2048-cell run (the issue's 2048×128 where it was
+        // run), else the study's own finest run, which is then no point of the chart.
+        let finest_finer = finer
+            .iter()
+            .filter(|r| r.case == *case)
+            .max_by_key(|r| (r.numerics.n1 * r.numerics.n2, r.numerics.n2));
+        let (reference, points) = match finest_finer {
+            Some(r) => (r, &rs[..]),
+            None => (rs[0], &rs[1..]),
+        };
         let (fr, cr) = (reference.outcome.f_mean, reference.outcome.c_min);
-        let pts: Vec<(f64, f64, f64, &Run)> = rs[1..]
+        let pts: Vec<(f64, f64, f64, &Run)> = points
             .iter()
             .map(|r| {
                 (
@@ -399,7 +410,7 @@ fn report() -> Result<(), String> {
         &Chart {
             title: "Error of mean friction against wall time (one core)",
             x_label: "wall time to periodic regime (s)",
-            y_label: "|error of f̄| (%)",
+            y_label: "|error of mean f| (%)",
             x_scale: Scale::Log,
             y_scale: Scale::Log,
         },

@@ -2,9 +2,11 @@
 # Speed against accuracy for Case I and Case III (results/speed.{md,csv,png}).
 # Settings: meshes with dt refined together (the fidelity tiers), time steps at fixed mesh,
 # half the cells across (N2), periodic tolerances, the solver variants and the coarse approach.
-# The references are the 1024×64, dt = 2e-4 runs (Case I from studies/convergence.sh).
-# Run one case per core: about 15 minutes on the 2-core machine (the references: hours).
-# `bash studies/speed.sh sweep`: the settings only, keeping the references in runs.jsonl.
+# The errors are against each case's 2048×128, dt = 1e-4 run (`finer` below for Case III,
+# studies/convergence.sh for Case I); the finest settings are the 1024×64, dt = 2e-4 runs
+# (Case I's from studies/convergence.sh; Case III's 22 min on one core in stop 30).
+# Run one case per core: about 30 minutes on the 2-core machine (the 2048×128 runs: hours).
+# `bash studies/speed.sh sweep`: the settings only, keeping the 1024×64 runs in runs.jsonl.
 # `bash studies/speed.sh finer`: the tiers against 2048 cells along x1, dt = 1e-4: 2048×32
 # and 2048×64 for Case I, Case III and R = 51.2, 2048×128 for Case III (Case I's is the
 # convergence study's) (results/speed_finer.md).
