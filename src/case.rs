@@ -218,16 +218,17 @@ fn yes() -> bool {
 }
 
 /// Named fidelity tiers the rest of the product asks for, chosen from the Pareto front of the
-/// speed-against-accuracy study (results/speed.md; errors against 1024×64, dt = 2e-4, for
+/// speed-against-accuracy study (results/speed.md; errors against 2048×128, dt = 1e-4, for
 /// Case I and Case III): the cell count along the sliding direction and the time step carry
 /// almost all of the error, the cells across (N2) little, so the fast tiers are anisotropic.
+/// The time step's error grows with R: for conformal rings see results/speed_finer.md.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Fidelity {
     /// 256×8, dt = 8e-4: screening (errors ≈ 1–2 %, ≈ 1 s a case).
     Draft,
-    /// 512×8, dt = 4e-4: studies and optimisation (errors ≈ 1 %: ≤ 0.83 % against 1024×64,
-    /// up to 1.03 % against 2048×32; ≈ 3–5 s a case).
+    /// 512×8, dt = 4e-4: studies and optimisation (errors ≈ 1 %: ≤ 1.11 % against 2048×128
+    /// on Case I and Case III; ≈ 1–2 s a case).
     Fast,
     /// 512×32, dt = 4e-4: the paper's fidelity (model.md §3), for reproducing it.
     Paper,
@@ -253,23 +254,24 @@ impl Fidelity {
     }
 
     /// The measured relative error of f̄ at this tier: the larger of Case I and Case III
-    /// against 1024×64, dt = 2e-4 (results/speed.md). Differences below it are not resolved.
+    /// against 2048×128, dt = 1e-4 (results/speed.md, rounded up; `tests/study.rs` checks it
+    /// against results/speed.csv). Differences below it are not resolved.
     pub fn f_error(self) -> f64 {
         match self {
-            Fidelity::Draft => 0.015,
-            Fidelity::Fast => 0.0083,
-            Fidelity::Paper => 0.0044,
-            Fidelity::Fine => 0.0018,
+            Fidelity::Draft => 0.0183,
+            Fidelity::Fast => 0.0112,
+            Fidelity::Paper => 0.0074,
+            Fidelity::Fine => 0.0047,
         }
     }
 
     /// The measured relative error of C_min at this tier (as `f_error`).
     pub fn c_error(self) -> f64 {
         match self {
-            Fidelity::Draft => 0.018,
-            Fidelity::Fast => 0.0076,
-            Fidelity::Paper => 0.0062,
-            Fidelity::Fine => 0.0005,
+            Fidelity::Draft => 0.0186,
+            Fidelity::Fast => 0.0080,
+            Fidelity::Paper => 0.0067,
+            Fidelity::Fine => 0.0009,
         }
     }
 
