@@ -16,6 +16,7 @@
 //!     cargo run --release --example pt_multigrid_probe -- case-I paper
 
 use std::cell::RefCell;
+use std::collections::VecDeque;
 use std::time::Instant;
 use texopt::bench::cases;
 use texopt::case::{Fidelity, Numerics, Start};
@@ -32,6 +33,14 @@ fn p_error(a: &FilmState, exact: &FilmState) -> f64 {
             .zip(&exact.p)
             .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
     e / pmax
+}
+
+/// Root-mean-square |p − p*| over the nodes relative to max p*: a smooth error shows in it
+/// as much as in the largest, an error at a few nodes (a moving front) far less.
+fn p_rms_error(a: &FilmState, exact: &FilmState) -> f64 {
+    let pmax = exact.p.iter().fold(0.0f64, |m, &p| m.max(p));
+    let sum: f64 = a.p.iter().zip(&exact.p).map(|(x, y)| (x - y).powi(2)).sum();
+    (sum / a.p.len() as f64).sqrt() / pmax
 }
 
 fn probe(t: &Transient, guess: &FilmState, start: &str, window: usize) {
@@ -101,6 +110,37 @@ struct Window {
     failed: usize,
     /// Steps right after a jump (not probed: the ring state seen before it is not theirs).
     skipped: usize,
+    /// Steps with the drift-corrected guess (a period and a step of history) and, summed
+    /// over them: the p error (largest and root-mean-square) of the period-old guess and of the
+    /// drift-corrected one, the
+    /// relative Z error of the ring's velocity and of the drift-corrected Z, the V-cycles
+    /// to 1e-8 from the drift-corrected guess, and Gauss–Seidel sweeps to 1e-8 from it with
+    /// Z fixed at the direct solver's (at most `SWEEPS`).
+    drift: usize,
+    e_old: f64,
+    e_drift: f64,
+    rms_old: f64,
+    rms_drift: f64,
+    ez_velocity: f64,
+    ez_drift: f64,
+    cycles_drift: usize,
+    sweeps_drift: usize,
+}
+
+/// Most Gauss–Seidel sweeps tried from the drift-corrected guess.
+const SWEEPS: usize = 60;
+
+/// The drift-corrected period-old guess x_{n−P} + (x_{n−1} − x_{n−1−P}), projected on
+/// p ≥ 0, φ ≥ 0: the period-old solution moved by how much the last step drifted from its
+/// own period-old solution (same texture phase, so the difference is the slow transient).
+fn drift_corrected(period_old: &FilmState, last: &FilmState, last_old: &FilmState) -> FilmState {
+    let mut g = period_old.clone();
+    for k in 0..g.p.len() {
+        g.p[k] = (period_old.p[k] + last.p[k] - last_old.p[k]).max(0.0);
+        g.phi[k] = (period_old.phi[k] + last.phi[k] - last_old.phi[k]).max(0.0);
+        g.pressurised[k] = g.p[k] > 0.0;
+    }
+    g
 }
 
 /// `every`: the benchmark's Case III at `paper` from the paper's start; at every step of both
@@ -110,7 +150,9 @@ struct Window {
 /// at each mesh's first step and kept. A row per window: the mean V-cycles until p and Z are
 /// within 1e-6 and 1e-8 of the direct solution (at most 40; steps that need more are counted
 /// as failed). Steps right after a jump along a slow mode are not probed (the jump moves the
-/// state and the ring between two steps this observer sees).
+/// state and the ring between two steps this observer sees). Then, from a period and a step
+/// of history on, the same from the drift-corrected guess ([`drift_corrected`], Z likewise),
+/// and Gauss–Seidel sweeps alone from it: does a better guess leave a step to a few sweeps?
 fn every_step() {
     let bench = cases()
         .into_iter()
@@ -121,11 +163,12 @@ fn every_step() {
     println!(
         "# p–θ multigrid at every step of Case III at `paper` (Galerkin V(2,2), ring coupled)\n"
     );
-    println!("| mesh | window | steps probed | mean V-cycles to 1e-6 | mean V-cycles to 1e-8 | most to 1e-8 | steps over 40 |");
-    println!("|---|---|---|---|---|---|---|");
+    println!("| mesh | window | steps probed | mean V-cycles to 1e-6 | mean V-cycles to 1e-8 | most to 1e-8 | steps over 40 | largest p error: period-old / drift-corrected | rms p error: period-old / drift-corrected | Z error: velocity / drift-corrected | V-cycles to 1e-8 from drift-corrected | Gauss–Seidel sweeps to 1e-8 from it (at most {SWEEPS}, Z fixed) |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     struct Seen {
         mesh: (usize, usize),
-        history: Vec<FilmState>,
+        /// The last period and one step of solutions with their Z, oldest first.
+        history: VecDeque<(FilmState, f64)>,
         ring: Option<RingState>,
         slope: Option<f64>,
         window: Window,
@@ -134,7 +177,7 @@ fn every_step() {
     }
     let seen = RefCell::new(Seen {
         mesh: (0, 0),
-        history: Vec::new(),
+        history: VecDeque::new(),
         ring: None,
         slope: None,
         window: Window::default(),
@@ -149,8 +192,24 @@ fn every_step() {
         }
         s.windows += 1;
         let n = w.steps as f64;
+        let d = w.drift.max(1) as f64;
+        let drift = if w.drift == 0 {
+            "| | | | |".to_string()
+        } else {
+            format!(
+                "{:.1e} / {:.1e} | {:.1e} / {:.1e} | {:.1e} / {:.1e} | {:.2} | {:.1} |",
+                w.e_old / d,
+                w.e_drift / d,
+                w.rms_old / d,
+                w.rms_drift / d,
+                w.ez_velocity / d,
+                w.ez_drift / d,
+                w.cycles_drift as f64 / d,
+                w.sweeps_drift as f64 / d
+            )
+        };
         println!(
-            "| {}×{} | {} | {} | {:.2} | {:.2} | {} | {} |",
+            "| {}×{} | {} | {} | {:.2} | {:.2} | {} | {} | {drift}",
             s.mesh.0,
             s.mesh.1,
             s.windows,
@@ -187,13 +246,17 @@ fn every_step() {
             let n = t.steps_per_period;
             // A jump along a slow mode (between windows) moves the state and the ring after
             // the last step seen: that step's link and guesses are then not this one's.
-            if s.history.last().is_some_and(|prev| prev.phi != t.phi_old) {
+            if s.history
+                .back()
+                .is_some_and(|(prev, _)| prev.phi != t.phi_old)
+            {
                 s.history.clear();
                 s.window.skipped += 1;
             }
-            if let (Some(before), Some(prev)) = (before, s.history.last()) {
-                let guess = if s.history.len() == n {
-                    &s.history[0]
+            if let (Some(before), Some((prev, _))) = (before, s.history.back()) {
+                let len = s.history.len();
+                let guess = if len >= n {
+                    &s.history[len - n].0
                 } else {
                     prev
                 };
@@ -205,35 +268,67 @@ fn every_step() {
                 let slope = *s
                     .slope
                     .get_or_insert_with(|| PtMultigrid::load_slope(&step, exact, z));
-                let mut mg = PtMultigrid::new(&step, before.z + t.dt * before.v);
-                mg.galerkin = true;
-                mg.dw_dz = slope;
-                mg.load(guess);
-                let mut st = guess.clone();
-                let (mut to6, mut to8) = (None, None);
-                for c in 1..=40 {
-                    mg.vcycle();
-                    mg.store(&mut st);
-                    let e = p_error(&st, exact).max((mg.z() - z).abs() / z);
-                    if e <= 1e-6 && to6.is_none() {
-                        to6 = Some(c);
+                // V-cycles from `guess` and Z = `z0` until p and Z are within each tolerance.
+                let cycles = |guess: &FilmState, z0: f64| {
+                    let mut mg = PtMultigrid::new(&step, z0);
+                    mg.galerkin = true;
+                    mg.dw_dz = slope;
+                    mg.load(guess);
+                    let mut st = guess.clone();
+                    let (mut to6, mut to8) = (None, None);
+                    for c in 1..=40 {
+                        mg.vcycle();
+                        mg.store(&mut st);
+                        let e = p_error(&st, exact).max((mg.z() - z).abs() / z);
+                        if e <= 1e-6 && to6.is_none() {
+                            to6 = Some(c);
+                        }
+                        if e <= 1e-8 {
+                            to8 = Some(c);
+                            break;
+                        }
                     }
-                    if e <= 1e-8 {
-                        to8 = Some(c);
-                        break;
-                    }
-                }
+                    (to6, to8)
+                };
+                let z_velocity = before.z + t.dt * before.v;
+                let (to6, to8) = cycles(guess, z_velocity);
                 let w = &mut s.window;
                 w.steps += 1;
                 w.to_1e6 += to6.unwrap_or(40);
                 w.to_1e8 += to8.unwrap_or(40);
                 w.most = w.most.max(to8.unwrap_or(40));
                 w.failed += usize::from(to8.is_none());
+                if len == n + 1 {
+                    let ((last_old, z_last_old), (period_old, z_period_old), (last, z_last)) =
+                        (&s.history[0], &s.history[1], &s.history[n]);
+                    let g = drift_corrected(period_old, last, last_old);
+                    let z_drift = z_period_old + z_last - z_last_old;
+                    let fixed = t.fixed_z_problem();
+                    let mut gs = PtMultigrid::new(&fixed, z);
+                    gs.load(&g);
+                    let mut st = g.clone();
+                    let sweeps = (1..=SWEEPS)
+                        .find(|_| {
+                            gs.smooth(1);
+                            gs.store(&mut st);
+                            p_error(&st, exact) <= 1e-8
+                        })
+                        .unwrap_or(SWEEPS);
+                    w.drift += 1;
+                    w.e_old += p_error(period_old, exact);
+                    w.e_drift += p_error(&g, exact);
+                    w.rms_old += p_rms_error(period_old, exact);
+                    w.rms_drift += p_rms_error(&g, exact);
+                    w.ez_velocity += (z_velocity - z).abs() / z;
+                    w.ez_drift += (z_drift - z).abs() / z;
+                    w.cycles_drift += cycles(&g, z_drift).1.unwrap_or(40);
+                    w.sweeps_drift += sweeps;
+                }
             }
-            if s.history.len() == n {
-                s.history.remove(0);
+            if s.history.len() == n + 1 {
+                s.history.pop_front();
             }
-            s.history.push(t.state.clone());
+            s.history.push_back((t.state.clone(), t.ring_state.z));
         },
     );
     if let Err(e) = result {
