@@ -917,7 +917,7 @@ pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputErr
 /// Rings at least this flat (cm) get a note when the time step exceeds [`CONFORMAL_DT`]: the
 /// time-step error of the film grows with R (stop 29, `fast` against 2048×8 at dt = 1e-4 with
 /// the Case I pocket: 0.3 % at R = 5, 0.8–1.0 % at R = 12.8, 3 % at R = 51.2; README,
-/// "Finer reference"), while the tiers keep the paper's dt = 4e-4.
+/// "Speed and accuracy"), while the tiers keep the paper's dt = 4e-4.
 const CONFORMAL_R_CM: f64 = 10.0;
 /// The time step (L/U units) that keeps R = 51.2 within ≈ 0.7 % of the 2048-cell reference.
 const CONFORMAL_DT: f64 = 1e-4;
@@ -931,7 +931,7 @@ fn simulate_cmd(a: &SimulateArgs) -> Result<i32, CmdError> {
     }
     if case.texture.is_some() && case.r >= CONFORMAL_R_CM && num.dt > CONFORMAL_DT {
         eprintln!(
-            "note: R = {} cm is a conformal ring, where the time step sets the error: dt = {:.0e} can be several % off in f and C_min; --dt {CONFORMAL_DT:.0e} keeps it near 1 % (README, \"Finer reference\")",
+            "note: R = {} cm is a conformal ring, where the time step sets the error: dt = {:.0e} can be several % off in f and C_min; --dt {CONFORMAL_DT:.0e} keeps it near 1 % (README, \"Speed and accuracy\")",
             case.r, num.dt
         );
     }

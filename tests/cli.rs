@@ -470,8 +470,8 @@ fn a_partial_bench_run_never_replaces_the_benchmark_file() {
     );
 }
 
-/// A conformal ring at the tiers' time step is told that dt sets its error (README, "Finer
-/// reference": R = 51.2 at dt = 4e-4 is ≈ 3 % off); a ring that is not, or the smaller dt,
+/// A conformal ring at the tiers' time step is told that dt sets its error (README, "Speed
+/// and accuracy": R = 51.2 at dt = 4e-4 is ≈ 3 % off); a ring that is not, or the smaller dt,
 /// is not.
 #[test]
 fn a_conformal_ring_at_a_coarse_time_step_gets_a_note() {
