@@ -1,19 +1,10 @@
 //! The command-line contract: bad input is refused with a one-line message naming the
 //! parameter, exit code 2, nothing written; `--json` and `--series` deliver what they promise.
 
-use std::process::Command;
+mod common;
 
-fn texopt(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_texopt"))
-        .args(args)
-        .output()
-        .expect("run texopt");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::texopt;
+use std::process::Command;
 
 fn scratch(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("texopt-cli-{}", std::process::id()));
@@ -446,8 +437,8 @@ fn cache_commands_refuse_a_missing_cache_and_create_nothing() {
 fn a_partial_bench_run_never_replaces_the_benchmark_file() {
     // Run where a committed benchmark sits: a partial run writes its own file beside it.
     let dir = scratch("bench-default-out");
-    std::fs::create_dir_all(dir.join("results")).unwrap();
-    let committed = dir.join("results/bench.json");
+    std::fs::create_dir_all(dir.join("results/bench")).unwrap();
+    let committed = dir.join("results/bench/bench.json");
     std::fs::write(&committed, "{\"committed\": true}").unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_texopt"))
         .args(["bench", "--fidelity", "draft", "--case", "untextured-R0.8"])
@@ -456,9 +447,9 @@ fn a_partial_bench_run_never_replaces_the_benchmark_file() {
         .expect("run texopt");
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(0), "{err}");
-    let own = dir.join("results/bench-draft-untextured-R0.8.json");
+    let own = dir.join("results/bench/bench-draft-untextured-R0.8.json");
     assert!(
-        err.contains("wrote results/bench-draft-untextured-R0.8.json"),
+        err.contains("wrote results/bench/bench-draft-untextured-R0.8.json"),
         "{err}"
     );
     let v: serde_json::Value =
@@ -470,9 +461,8 @@ fn a_partial_bench_run_never_replaces_the_benchmark_file() {
     );
 }
 
-/// A conformal ring at the tiers' time step is told that dt sets its error (README, "Speed
-/// and accuracy": R = 51.2 at dt = 4e-4 is ≈ 3 % off); a ring that is not, or the smaller dt,
-/// is not.
+/// A conformal ring at the tiers' time step is told that dt sets its error (docs/validation.md:
+/// R = 51.2 at dt = 4e-4 is ≈ 3 % off); a ring that is not, or the smaller dt, is not.
 #[test]
 fn a_conformal_ring_at_a_coarse_time_step_gets_a_note() {
     let run = |r: &str, extra: &[&str]| {

@@ -1,7 +1,9 @@
 //! Closed-form checks of the film solver: the inclined-plane slider (no cavitation) and the
 //! oscillating squeeze film with rupture (Ausas, Jai, Buscaglia, J. Tribol. 2009).
 
-use texopt::film::{Boundary, FilmSolver, FilmState, Gap, Grid, Step, Tolerance};
+use texopt::mesh::{FilmState, Gap, Grid};
+use texopt::model::film::Boundary;
+use texopt::solve::{FilmMethod, FilmSolver, Method, Step};
 
 /// Steady 1D slider on [0, 1] with h falling linearly from h1 to h2, flooded inlet, p = 0 at
 /// both ends. With θ = 1 everywhere (∇·(h³∇p) = u ∂h/∂x1):
@@ -29,7 +31,7 @@ fn slider_error(n: usize) -> f64 {
     };
     let mut state = FilmState::cavitated(&g, &gap, 0.0, 100.0);
     let mut z = 0.0;
-    FilmSolver::new(Tolerance::default())
+    FilmSolver::new(Method::Direct)
         .solve(&step, &mut state, &mut z)
         .unwrap();
     let hm = 2.0 * h1 * h2 / (h1 + h2);
@@ -108,7 +110,7 @@ fn oscillating_squeeze_film_rupture_time_and_front() {
         ring: vec![false; n + 1],
     };
     let mut state = FilmState::flooded(&g, &gap, 0.0);
-    let mut solver = FilmSolver::new(Tolerance::default());
+    let mut solver = FilmSolver::new(Method::Direct);
     let checks = [0.255, 0.26, 0.27, 0.28, 0.29, 0.30];
     let mut next = 0;
     let mut t_rupture = None;

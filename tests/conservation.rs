@@ -1,8 +1,8 @@
 //! Discrete mass conservation of the film scheme in a textured 2D run with cavitation:
 //! over a step, Σ(hθ)·cell area changes by exactly dt × (inflow − outflow) at the x1 ends.
 
-use texopt::case::{CaseSpec, Numerics, Texture};
-use texopt::run::Transient;
+use texopt::model::case::{CaseSpec, Texture};
+use texopt::time::{Numerics, Transient, Watch};
 
 #[test]
 fn textured_step_conserves_mass_to_round_off() {
@@ -52,7 +52,7 @@ fn film_residual_stays_within_the_solve_tolerance_past_a_flat_ring_edge() {
         ..Numerics::default()
     };
     let out = Transient::new(&case, &num)
-        .run_to_periodic(&num, false)
+        .run_to_periodic(&num, false, &mut Watch::default())
         .unwrap()
         .outcome;
     assert!(out.converged);

@@ -1,13 +1,11 @@
 //! Consistency between solver paths: 2D transient vs 1D steady for an untextured liner,
 //! independence of N2 for an untextured liner, independence of the texture's initial phase.
 
-use texopt::case::{CaseSpec, Numerics, Texture};
-use texopt::run::{SolveError, Transient, CONTACT_Z};
-use texopt::steady::solve_untextured;
+mod common;
 
-fn rel(a: f64, b: f64) -> f64 {
-    (a - b).abs() / b.abs()
-}
+use common::rel;
+use texopt::model::case::{CaseSpec, Texture};
+use texopt::time::{solve_untextured, Numerics, SolveError, Transient, Watch, CONTACT_Z};
 
 #[test]
 fn untextured_transient_settles_to_the_steady_1d_balance_for_any_n2() {
@@ -22,7 +20,7 @@ fn untextured_transient_settles_to_the_steady_1d_balance_for_any_n2() {
             ..Numerics::default()
         };
         let out = Transient::new(&case, &num)
-            .run_to_periodic(&num, false)
+            .run_to_periodic(&num, false, &mut Watch::default())
             .unwrap()
             .outcome;
         assert!(out.converged);
@@ -53,7 +51,7 @@ fn periodic_outcomes_do_not_depend_on_the_initial_phase() {
         t.phase = phase;
         let case = CaseSpec::paper(0.8).with_texture(t);
         let out = Transient::new(&case, &num)
-            .run_to_periodic(&num, false)
+            .run_to_periodic(&num, false, &mut Watch::default())
             .unwrap()
             .outcome;
         assert!(out.converged);
@@ -86,7 +84,7 @@ fn a_ring_pushed_into_the_liner_fails_loudly_naming_the_case() {
         ..Numerics::default()
     };
     let err = Transient::new(&case, &num)
-        .run_to_periodic(&num, false)
+        .run_to_periodic(&num, false, &mut Watch::default())
         .unwrap_err();
     let msg = err.to_string();
     println!("{msg}");

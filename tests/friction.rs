@@ -1,8 +1,8 @@
 //! Friction bookkeeping (model.md §5): the three terms add up to f̄; θ_s acts on the Couette
 //! term only (it enters no equation of the film or the ring).
 
-use texopt::case::{CaseSpec, Numerics, Texture};
-use texopt::run::Transient;
+use texopt::model::case::{CaseSpec, Texture};
+use texopt::time::{Numerics, Transient, Watch};
 
 #[test]
 fn terms_sum_and_theta_s_changes_only_couette() {
@@ -15,7 +15,7 @@ fn terms_sum_and_theta_s_changes_only_couette() {
         let mut case = CaseSpec::paper(3.2).with_texture(Texture::circular(0.03, 0.06, 10.0));
         case.theta_s = theta_s;
         Transient::new(&case, &num)
-            .run_to_periodic(&num, true)
+            .run_to_periodic(&num, true, &mut Watch::default())
             .unwrap()
     };
     let a = run(0.95);

@@ -3,8 +3,8 @@
 //! regime within the time allowed).
 
 use proptest::prelude::*;
-use texopt::case::{CaseSpec, Numerics, Texture};
-use texopt::run::simulate;
+use texopt::model::case::{CaseSpec, Texture};
+use texopt::time::{simulate, Numerics};
 
 proptest! {
     #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
@@ -32,7 +32,7 @@ proptest! {
         // A coarse mesh that still resolves the pocket (≥ 2 cells along, 4 across).
         let n1 = (0.2 / l1.min(0.05)).ceil().max(48.0) as usize;
         let mut num = Numerics { n1, n2: 2, dt: 2e-3, t_max: 0.3, periodic_tol: 1e-3, ..Numerics::default() };
-        num.resolve_pockets(&case, texopt::case::POCKET_CELLS);
+        num.resolve_pockets(&case, texopt::time::POCKET_CELLS);
         if let Err(e) = case.validate(true) {
             // Refused with a typed InputError before any simulation (a ring radius below
             // half the ring width).
@@ -40,7 +40,7 @@ proptest! {
             return Ok(());
         }
         prop_assert!(num.validate(&case).is_ok(), "{:?}", num.validate(&case));
-        let res = simulate(&case, &num, false);
+        let res = simulate(&case, &num);
         match res {
             Ok(r) => {
                 let o = r.outcome;

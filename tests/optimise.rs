@@ -3,14 +3,18 @@
 //! Pockets are bounded below by 0.005 cm so that 64 cells resolve them, except in the
 //! close-packed test, which keeps the paper's bounds on 128×4.
 
+mod common;
+
+use common::texopt;
 use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 
-use texopt::cache::Cache;
-use texopt::case::{CaseSpec, Fidelity};
-use texopt::optimise::{pareto, Bounds, Constraints, Space, SwarmSettings};
-use texopt::optimise_report::{optimise, Report, Settings};
+use texopt::model::case::CaseSpec;
+use texopt::optimise::driver::{optimise, Report, Settings};
+use texopt::optimise::space::{pareto, Bounds, Constraints, Space, SwarmSettings};
+use texopt::study::cache::Cache;
 use texopt::study::NumericsOverride;
+use texopt::time::Fidelity;
 
 fn cache(name: &str) -> Mutex<Cache> {
     let p = std::env::temp_dir().join(format!("texopt-opt-{}-{name}.sqlite", std::process::id()));
@@ -70,7 +74,7 @@ fn check_contracts(r: &Report) {
     }
     let pts: Vec<(f64, f64)> = r.front.iter().map(|x| (x.f_mean, x.c_min)).collect();
     assert_eq!(pareto(&pts).len(), pts.len(), "the front is non-dominated");
-    let has = |x: &texopt::optimise_report::Row| {
+    let has = |x: &texopt::optimise::driver::Row| {
         r.front
             .iter()
             .any(|f| f.texture == x.texture && f.f_mean == x.f_mean)
@@ -172,12 +176,8 @@ fn bad_optimiser_inputs_are_refused_with_exit_2_and_nothing_written() {
             cache.to_str().unwrap(),
         ];
         args.extend_from_slice(extra);
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_texopt"))
-            .args(&args)
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(2), "{extra:?}: {err}");
+        let (code, _, err) = texopt(&args);
+        assert_eq!(code, 2, "{extra:?}: {err}");
         assert!(
             err.contains(want),
             "{extra:?}: {err:?} should contain {want:?}"
@@ -187,39 +187,36 @@ fn bad_optimiser_inputs_are_refused_with_exit_2_and_nothing_written() {
             "{extra:?}: nothing may be written"
         );
     }
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_texopt"))
-        .args([
-            "optimise",
-            "--R",
-            "0.01",
-            "--cache",
-            cache.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert_eq!(o.status.code(), Some(2));
+    let (code, _, _) = texopt(&[
+        "optimise",
+        "--R",
+        "0.01",
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2);
     assert!(!cache.exists());
     // An --out that cannot be made (under a file) stops it before the search, not after
     // (a small search, so that a broken check costs seconds).
     let blocker = dir.join("a-file");
     std::fs::write(&blocker, "").unwrap();
     let blocked = blocker.join("report");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_texopt"))
-        .args([
-            "optimise",
-            "--R",
-            "5",
-            "--particles",
-            "2",
-            "--iterations",
-            "1",
-        ])
-        .args(["--mesh", "64x4", "--out", blocked.to_str().unwrap()])
-        .args(["--cache", cache.to_str().unwrap()])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
+    let (code, _, err) = texopt(&[
+        "optimise",
+        "--R",
+        "5",
+        "--particles",
+        "2",
+        "--iterations",
+        "1",
+        "--mesh",
+        "64x4",
+        "--out",
+        blocked.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
     assert!(err.contains("cannot create"), "{err}");
     assert!(!cache.exists(), "the search ran: its cache was made");
 }
@@ -271,7 +268,7 @@ fn a_killed_search_resumes_through_the_cache_with_the_same_answer() {
         .spawn()
         .unwrap();
     let stored = |n: usize| {
-        texopt::cache::Cache::open(&dir.join("b.sqlite"))
+        Cache::open(&dir.join("b.sqlite"))
             .ok()
             .and_then(|c| c.stats().ok())
             .is_some_and(|s| s.done >= n)

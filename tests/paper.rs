@@ -1,9 +1,8 @@
 //! Against the published study (model.md §8): the untextured force balance for all ten ring
 //! radii, and the paper's Case I at its own fidelity.
 
-use texopt::case::{CaseSpec, Numerics, Texture};
-use texopt::run::simulate;
-use texopt::steady::solve_untextured;
+use texopt::model::case::{CaseSpec, Texture};
+use texopt::time::{simulate, solve_untextured, Numerics};
 
 const RADII: [f64; 10] = [0.2, 0.4, 0.8, 1.6, 3.2, 6.4, 12.8, 25.6, 51.2, 102.4];
 
@@ -44,9 +43,7 @@ fn case_one_matches_the_paper() {
     // Paper §3.5, Case I: l1 = l2 = 0.01, per = 0.06, depth 5, R = 0.8 at 512×32, dt = 4e-4,
     // from Z = 2.5, Z' = 0. The paper prints f/10 = 0.00763 (model.md §5) and Z ≈ 6.25.
     let case = CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0));
-    let out = simulate(&case, &Numerics::default(), false)
-        .unwrap()
-        .outcome;
+    let out = simulate(&case, &Numerics::default()).unwrap().outcome;
     println!("{out:#?}");
     assert!(out.converged);
     assert!(

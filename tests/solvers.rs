@@ -1,16 +1,18 @@
-//! Every solver variant solves the same discrete problem (one stencil, one assembly): the
-//! default direct solver (band LU over the pressurised range, exact upwind sweeps outside),
-//! the plain reference (band LU of the whole domain) and the multigrid/GMRES variant agree to
-//! the solve tolerance, step by step, on a textured case with cavitation. And the periodic
-//! answer does not depend on where the run starts.
+//! The direct solver (band LU over the pressurised range, exact upwind sweeps outside, factors
+//! reused) and the plain reference (band LU of the whole domain, nothing reused) solve the same
+//! discrete problem: they agree to the solve tolerance, step by step, on a textured case with
+//! cavitation. The accelerators (period-old guesses, slow-mode jumps, the coarse approach)
+//! save work without changing the answer, and the periodic answer does not depend on where
+//! the run starts.
 
-use texopt::case::{CaseSpec, Fidelity, Numerics, Start, Texture};
-use texopt::film::Method;
-use texopt::run::{simulate, Transient};
+mod common;
 
-fn case_three() -> CaseSpec {
-    CaseSpec::paper(3.2).with_texture(Texture::circular(0.03, 0.06, 10.0))
-}
+use common::{case_one, case_three, rel};
+use texopt::model::case::{CaseSpec, Texture};
+use texopt::solve::Method;
+use texopt::time::{
+    simulate, simulate_with, Fidelity, Numerics, RunOptions, Start, Transient, Watch,
+};
 
 /// Iterations per step of a conformal ring (R = 51.2) creeping from the untextured
 /// balance, steps `from..` up to t = `t_end` (ms), with or without the period-old guess; and
@@ -30,15 +32,19 @@ fn creeping_iterations(guess: bool, from: usize, t_end: f64) -> (f64, f64) {
     tr.set_period_guess(guess);
     let (mut its, mut z, mut n) = (0usize, 0.0, 0usize);
     let mut step = 0;
-    tr.run_with(&num, false, &mut |_| {}, &mut |t| {
+    let mut count = |t: &Transient| {
         step += 1;
         if step > from {
             its += t.last.iterations;
             z += t.ring_state.z;
             n += 1;
         }
-    })
-    .unwrap();
+    };
+    let mut watch = Watch {
+        on_step: Some(&mut count),
+        ..Watch::default()
+    };
+    tr.run_to_periodic(&num, false, &mut watch).unwrap();
     (its as f64 / n as f64, z / n as f64)
 }
 
@@ -54,7 +60,7 @@ fn the_period_old_guess_serves_a_creeping_ring() {
     let (without, z_without) = creeping_iterations(false, 150, 0.8);
     println!("iterations per step creeping: {with} with the guess, {without} without");
     assert!(with < 0.85 * without, "{with} vs {without}");
-    // Only the start of each iteration changed: Z to the solve tolerance (film.rs
+    // Only the start of each iteration changed: Z to the solve tolerance (solve/reuse.rs
     // `CHORD_CONFIRM`, 1e-8 relative).
     assert!(((z_with - z_without) / z_without).abs() < 1e-8);
 }
@@ -89,7 +95,7 @@ fn solver_variants_agree_step_by_step_on_a_cavitating_textured_case() {
         .count();
     assert!(cavitated_under_ring > 50, "{cavitated_under_ring}");
     let pmax = t_ref.state.p.iter().fold(0.0f64, |m, &p| m.max(p));
-    for m in [Method::Direct, Method::Multigrid, Method::PtMultigrid] {
+    for m in [Method::Direct] {
         let (z, t) = run(m);
         let dz = z
             .iter()
@@ -117,10 +123,7 @@ fn the_period_old_guess_and_chord_steps_save_work_without_changing_the_answer() 
     // texture position) once the ring is near where it was then, and the direct method
     // reuses its factors when the matrix has barely changed; the step's film problem has
     // one solution, so the outcomes may change only within the solve tolerance.
-    for case in [
-        case_three(),
-        CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0)),
-    ] {
+    for case in [case_three(), case_one()] {
         // The last period is counted deep in the periodic regime (a period-old factor serves
         // while the ring has moved by ≲ 1e-6 relative since).
         let num = Numerics {
@@ -141,15 +144,17 @@ fn the_period_old_guess_and_chord_steps_save_work_without_changing_the_answer() 
             // Factorisations and iterations per step over the last period.
             let mut last: Vec<(usize, usize)> = Vec::new();
             let spp = tr.steps_per_period;
-            let o = tr
-                .run_with(&num, false, &mut |_| {}, &mut |t| {
-                    last.push((t.last.factorisations, t.last.iterations));
-                    if last.len() > spp {
-                        last.remove(0);
-                    }
-                })
-                .unwrap()
-                .outcome;
+            let mut tally = |t: &Transient| {
+                last.push((t.last.factorisations, t.last.iterations));
+                if last.len() > spp {
+                    last.remove(0);
+                }
+            };
+            let mut watch = Watch {
+                on_step: Some(&mut tally),
+                ..Watch::default()
+            };
+            let o = tr.run_to_periodic(&num, false, &mut watch).unwrap().outcome;
             let per_step = |f: fn(&(usize, usize)) -> usize| {
                 last.iter().map(f).sum::<usize>() as f64 / spp as f64
             };
@@ -177,13 +182,12 @@ fn the_period_old_guess_and_chord_steps_save_work_without_changing_the_answer() 
             guessed.periods,
             plain.periods
         );
-        let rel = |x: f64, y: f64| ((x - y) / y).abs();
         for (name, a, b) in [
             ("f_mean", guessed.f_mean, plain.f_mean),
             ("c_min", guessed.c_min, plain.c_min),
             ("z_mean", guessed.z_mean, plain.z_mean),
         ] {
-            // To the solve tolerance (film.rs `CHORD_CONFIRM`, 1e-8 relative; measured
+            // To the solve tolerance (solve/reuse.rs `CHORD_CONFIRM`, 1e-8 relative; measured
             // ≤ 5e-11), whichever of the two windows the runs stopped at.
             assert!(rel(a, b) < 1e-8, "{name}: {a} vs {b}");
         }
@@ -197,66 +201,50 @@ fn the_period_old_guess_and_chord_steps_save_work_without_changing_the_answer() 
 }
 
 /// What a run of Case III at 256×16 (a wide band) from the paper's start did over `periods`
-/// texture periods with its solver set by `setup`: Z after each step, rows eliminated,
-/// iterations, the largest nodal residual, and the final transient.
+/// texture periods with `method`: Z after each step, the largest nodal residual, and the final
+/// transient.
 struct WideRun {
     z: Vec<f64>,
-    rows: usize,
-    iterations: usize,
     residual: f64,
     tr: Transient,
 }
 
-fn wide_run(periods: usize, setup: impl Fn(&mut Transient)) -> WideRun {
+fn wide_run(periods: usize, method: Method) -> WideRun {
     let num = Numerics {
         n1: 256,
         n2: 16,
         dt: 8e-4,
         start: Start::Paper,
+        solver: method,
         ..Numerics::default()
     };
     let mut tr = Transient::new(&case_three(), &num);
-    setup(&mut tr);
-    let (mut z, mut rows, mut iterations, mut residual) = (Vec::new(), 0, 0, 0.0f64);
+    let (mut z, mut residual) = (Vec::new(), 0.0f64);
     for _ in 0..periods * tr.steps_per_period {
         tr.step().unwrap();
         z.push(tr.ring_state.z);
-        rows += tr.last.eliminated_rows;
-        iterations += tr.last.iterations;
         residual = residual.max(tr.last.residual);
     }
-    WideRun {
-        z,
-        rows,
-        iterations,
-        residual,
-        tr,
-    }
+    WideRun { z, residual, tr }
 }
 
-/// `on` eliminated fewer rows than `off` (by 5 % at least), with the same answer
-/// ([`same_answer`]).
-fn saves_elimination_with_the_same_answer(on: &WideRun, off: &WideRun) {
-    println!(
-        "rows eliminated {} vs {}; iterations {} vs {}; residual {:e} vs {:e}",
-        on.rows, off.rows, on.iterations, off.iterations, on.residual, off.residual
+#[test]
+fn at_a_wide_band_reused_factors_give_the_reference_answer() {
+    // With N2 ≥ 16 the direct solver freezes the Newton matrix at the factors' Z when only
+    // the active set changed, lets period-old factors serve once under a stretched chord
+    // bound while the ring settles, and keeps factors in single precision. Over 16 periods
+    // (the ring climbs from the paper's Z = 2.5 µm and settles) every step's Z, and the final
+    // pressure and active set, are the reference's to the solve tolerance (solve/reuse.rs
+    // `CHORD_CONFIRM`, 1e-8 relative).
+    let (on, off) = (
+        wide_run(16, Method::Direct),
+        wide_run(16, Method::Reference),
     );
-    assert!(
-        (on.rows as f64) < 0.95 * off.rows as f64,
-        "{} vs {} rows eliminated",
-        on.rows,
-        off.rows
-    );
-    same_answer(on, off);
-}
-
-/// Z at every step, the final p and the final active set the same to the solve tolerance
-/// (film.rs `CHORD_CONFIRM`, 1e-8 relative).
-fn same_answer(on: &WideRun, off: &WideRun) {
+    assert!(on.tr.kept_factor_bytes() > 0 && off.tr.kept_factor_bytes() == 0);
     let dz =
         on.z.iter()
             .zip(&off.z)
-            .map(|(a, b)| ((a - b) / b).abs())
+            .map(|(a, b)| rel(*a, *b))
             .fold(0.0, f64::max);
     println!("largest Z difference {dz:e} (relative)");
     assert!(dz < 1e-8, "Z differs by {dz:e} (relative)");
@@ -269,80 +257,23 @@ fn same_answer(on: &WideRun, off: &WideRun) {
         .fold(0.0, f64::max);
     assert!(dp <= 1e-8 * pmax, "p differs by {dp:e} (p_max {pmax:e})");
     assert_eq!(on.tr.state.pressurised, off.tr.state.pressurised);
-}
-
-#[test]
-fn a_matrix_frozen_at_the_factors_z_saves_elimination_without_changing_the_answer() {
-    // With a wide band (N2 ≥ 16) an iteration that only switched nodes, Z having moved by
-    // less than the chord drift, assembles its matrix at the factors' Z: the LU then keeps
-    // every row before the first switched node. The step's solution is the same to
-    // the solve tolerance (film.rs `CHORD_CONFIRM`, 1e-8 relative), as is the residual.
-    let on = wide_run(3, |tr| tr.solver.freeze_z = true);
-    let off = wide_run(3, |tr| tr.solver.freeze_z = false);
-    saves_elimination_with_the_same_answer(&on, &off);
-    // The stop rule bounds the error in p and φ (CHORD_CONFIRM, 1e-8 relative); the nodal
-    // residual relative to the node's own largest term may exceed it by the ratio of the
-    // stencil's other terms to that one (seen: 9.5e-9, and 1.6e-8 once the previous state
-    // was carried with the texture, a different path to the same solution); the Z and p
-    // checks hold the answer to 1e-8.
+    // The stop rule bounds the error in p and φ; the nodal residual relative to the node's
+    // own largest term may exceed it by the ratio of the stencil's other terms to that one.
     assert!(on.residual <= 1e-7, "largest residual {:e}", on.residual);
 }
 
 #[test]
-fn period_old_factors_stretched_once_save_elimination_without_changing_the_answer() {
-    // With a wide band, the factors of the same phase a period earlier serve one solve's
-    // chord steps up to a drift of 3e-3 (film.rs `STRETCH_DRIFT`) instead of 1e-4, while the
-    // ring still settles. The steps' solutions are the same to the solve tolerance. Seen:
-    // 4 080 474 against 4 345 420 rows eliminated (−6 %), 3095 against 3088 iterations.
-    // 16 periods: the ring climbs from the paper's Z = 2.5 µm and then settles, moving by
-    // less than 3e-3 of the clearance a period in the last ones.
-    let on = wide_run(16, |tr| tr.solver.stretch_chord = true);
-    let off = wide_run(16, |tr| tr.solver.stretch_chord = false);
-    saves_elimination_with_the_same_answer(&on, &off);
-}
-
-#[test]
-fn single_precision_kept_factors_halve_the_memory_without_changing_the_answer() {
-    // With a wide band the factors kept for the same phase a period later are stored in
-    // single precision: they solve their matrix to ≈ 1e-7, far inside the chord drifts the
-    // stopping rule allows for anyway, which counts them (film.rs `ROUNDED_FACTORS`).
-    // 6 periods: five of them with kept factors serving chord steps and lending their rows.
-    let single = wide_run(6, |tr| tr.solver.single_kept = true);
-    let double = wide_run(6, |tr| tr.solver.single_kept = false);
-    let (bs, bd) = (single.tr.kept_factor_bytes(), double.tr.kept_factor_bytes());
-    println!(
-        "kept {bs} vs {bd} bytes; rows eliminated {} vs {}; iterations {} vs {}",
-        single.rows, double.rows, single.iterations, double.iterations
-    );
-    // The band (2·N2 + 1 numbers a row) halves; the operator it is of (5 a row) stays.
-    assert!(
-        bd > 0 && (bs as f64) < 0.6 * bd as f64,
-        "{bs} vs {bd} bytes"
-    );
-    same_answer(&single, &double);
-    assert!(
-        single.residual <= 1e-7,
-        "largest residual {:e}",
-        single.residual
-    );
-}
-
-#[test]
 fn periodic_outcome_does_not_depend_on_the_start() {
-    for case in [
-        case_three(),
-        CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0)),
-    ] {
+    for case in [case_three(), case_one()] {
         let out = |start: Start| {
             let num = Numerics {
                 start,
                 ..Fidelity::Draft.numerics()
             };
-            simulate(&case, &num, false).unwrap().outcome
+            simulate(&case, &num).unwrap().outcome
         };
         let (a, b) = (out(Start::Paper), out(Start::Equilibrium));
         assert!(a.converged && b.converged);
-        let rel = |x: f64, y: f64| ((x - y) / y).abs();
         // Both stop within the periodic tolerance (1e-5) of the same periodic regime.
         assert!(
             rel(a.f_mean, b.f_mean) < 5e-5,
@@ -365,11 +296,11 @@ fn fidelity_tiers_refine_along_the_sliding_direction_and_in_time() {
     let n: Vec<Numerics> = Fidelity::ALL.iter().map(|f| f.numerics()).collect();
     for w in n.windows(2) {
         // Each tier resolves the sliding direction and time at least as finely as the one
-        // before (the error carriers of results/speed.md).
+        // before (the error carriers of the speed study, results/speed/).
         assert!(w[1].n1 >= w[0].n1 && w[1].dt <= w[0].dt);
         assert!(w[1].n1 > w[0].n1 || w[1].n2 > w[0].n2 || w[1].dt < w[0].dt);
     }
-    // The paper's fidelity is a tier (model.md §3: 512×32, dt = 4e-4).
+    // The paper's fidelity is a tier (docs/model.md §3: 512×32, dt = 4e-4).
     let p = Fidelity::Paper.numerics();
     assert_eq!((p.n1, p.n2), (512, 32));
     assert!((p.dt - 4e-4).abs() < 1e-15);
@@ -386,7 +317,7 @@ fn slow_mode_extrapolation_saves_periods_without_changing_the_answer() {
             periodic_tol: 1e-5,
             ..Fidelity::Draft.numerics()
         };
-        simulate(&case, &num, false).unwrap().outcome
+        simulate(&case, &num).unwrap().outcome
     };
     let (plain, fast) = (out(false), out(true));
     assert!(plain.converged && fast.converged);
@@ -396,7 +327,6 @@ fn slow_mode_extrapolation_saves_periods_without_changing_the_answer() {
         fast.periods,
         plain.periods
     );
-    let rel = |x: f64, y: f64| ((x - y) / y).abs();
     assert!(
         rel(fast.f_mean, plain.f_mean) < 5e-5,
         "{} vs {}",
@@ -430,7 +360,7 @@ fn a_damped_oscillation_is_read_and_jumped_without_changing_the_answer() {
             periodic_tol,
             ..Fidelity::Draft.numerics()
         };
-        simulate(&case, &num, false).unwrap().outcome
+        simulate(&case, &num).unwrap().outcome
     };
     let limit = out(false, 1e-10);
     let read = out(false, 1e-5);
@@ -445,7 +375,6 @@ fn a_damped_oscillation_is_read_and_jumped_without_changing_the_answer() {
         read.periods,
         limit.periods
     );
-    let rel = |x: f64, y: f64| ((x - y) / y).abs();
     for o in [&read, &jumped] {
         for (name, a, b) in [
             ("f_mean", o.f_mean, limit.f_mean),
@@ -470,7 +399,7 @@ fn a_draining_oil_bank_is_not_taken_for_the_periodic_regime() {
     // every window end. (Measured at draft: 456 periods, t = 18.2 ms; on the motion alone it
     // stopped near t = 2.5 ms.)
     let case = CaseSpec::paper(0.2).with_texture(Texture::circular(0.02, 0.04, 30.0));
-    let o = simulate(&case, &Fidelity::Draft.numerics(), false)
+    let o = simulate(&case, &Fidelity::Draft.numerics())
         .unwrap()
         .outcome;
     assert!(o.converged, "{o:?}");
@@ -481,10 +410,7 @@ fn a_draining_oil_bank_is_not_taken_for_the_periodic_regime() {
 fn a_coarse_approach_takes_the_transient_without_changing_the_answer() {
     // From the paper's start the ring's transient runs on 8 cells along x2, then the state
     // moves to 16: the answer must be the 16-cell mesh's, reached in fewer steps on it.
-    for case in [
-        case_three(),
-        CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0)),
-    ] {
+    for case in [case_three(), case_one()] {
         let run = |approach_n2: Option<usize>| {
             let num = Numerics {
                 n2: 16,
@@ -493,7 +419,11 @@ fn a_coarse_approach_takes_the_transient_without_changing_the_answer() {
                 approach_n2,
                 ..Fidelity::Draft.numerics()
             };
-            simulate(&case, &num, true).unwrap()
+            let opts = RunOptions {
+                series: true,
+                ..RunOptions::default()
+            };
+            simulate_with(&case, &num, &opts, &mut Watch::default()).unwrap()
         };
         let (plain, approached) = (run(None), run(Some(8)));
         let (a, b) = (&approached.outcome, &plain.outcome);
@@ -509,7 +439,6 @@ fn a_coarse_approach_takes_the_transient_without_changing_the_answer() {
             a.steps,
             b.steps
         );
-        let rel = |x: f64, y: f64| ((x - y) / y).abs();
         for (what, x, y) in [
             ("f", a.f_mean, b.f_mean),
             ("C_min", a.c_min, b.c_min),

@@ -7,19 +7,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use texopt::cache::{Cache, Entry, Key};
+mod common;
 
-fn texopt(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_texopt"))
-        .args(args)
-        .output()
-        .expect("run texopt");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::{scratch, texopt};
+use texopt::study::cache::{Cache, Entry, Key};
 
 /// `texopt study FILE --cache CACHE`.
 fn run_study(study: &Path, cache: &Path) -> (i32, String, String) {
@@ -29,13 +20,6 @@ fn run_study(study: &Path, cache: &Path) -> (i32, String, String) {
         "--cache",
         cache.to_str().unwrap(),
     ])
-}
-
-fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("texopt-study-{}-{test}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// A small study on a coarse mesh writing its report into `dir/out`.
@@ -232,7 +216,7 @@ fn theta_s_variants_share_one_simulation() {
         .iter()
         .find(|j| j.case.texture.is_some() && j.case.theta_s == 0.5)
         .unwrap();
-    let alone = texopt::run::simulate(&j.case, &j.numerics, false)
+    let alone = texopt::time::simulate(&j.case, &j.numerics)
         .unwrap()
         .outcome;
     assert_eq!((alone.f_mean, alone.z_mean), (a.f_mean, a.z_mean));

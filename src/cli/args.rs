@@ -1,0 +1,405 @@
+//! The command line's arguments (clap): every flag name of texopt is here.
+
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+
+use crate::time::{Fidelity, Start};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "texopt",
+    version,
+    about = "Design liner textures for the piston-ring/liner contact (transient mass-conserving lubrication with ring dynamics)"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Simulate one ring/liner case to its periodic regime and report friction and clearance.
+    Simulate(SimulateArgs),
+    /// Time the fixed benchmark cases (Case I, Case III, R = 51.2, untextured) and write JSON.
+    Bench(BenchArgs),
+    /// Run every case of a study file (TOML, see studies/) through the evaluation cache, in
+    /// parallel, and write its report (CSV, figures, tables) under its report directory.
+    Study(StudyArgs),
+    /// Inspect or manage the evaluation cache.
+    Cache(CacheArgs),
+    /// Find the pocket textures that lower friction and keep the film thick for one ring:
+    /// particle-swarm searches through the cache, friction/clearance Pareto front, report.
+    Optimise(OptimiseArgs),
+}
+
+/// Units as in `simulate`: lengths in cm, depth in µm; ranges are LO..HI. Settings come from
+/// the flags, else from `--config FILE`, else from the defaults shown.
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct OptimiseArgs {
+    /// Ring face radius R in cm ("inf" for a flat ring).
+    #[arg(long = "R", value_name = "CM", value_parser = parse_radius)]
+    pub r: f64,
+    /// TOML file with any of the settings below (keys as the flags, with '_' for '-';
+    /// ranges as [LO, HI]); flags given on the command line win.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Range of the pocket semiaxis along sliding (cm) [default: 0.0025..0.03].
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range)]
+    pub l1: Option<(f64, f64)>,
+    /// Range of the pocket semiaxis across sliding (cm) [default: 0.0025..0.03].
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range)]
+    pub l2: Option<(f64, f64)>,
+    /// Range of the texture period along sliding (cm) [default: 0.005..0.06].
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range)]
+    pub per: Option<(f64, f64)>,
+    /// Make the period across sliding a free variable in this range (cm) [default: width = per].
+    #[arg(long = "free-width", value_name = "LO..HI", value_parser = parse_range)]
+    pub free_width: Option<(f64, f64)>,
+    /// Range of the pocket depth (µm) [default: 2..30].
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range)]
+    pub depth: Option<(f64, f64)>,
+    /// Least wall thickness between neighbouring pockets (µm): per − 2·l1 and width − 2·l2
+    /// [default: 10].
+    #[arg(long = "w-min", value_name = "UM")]
+    pub w_min: Option<f64>,
+    /// Largest textured area fraction π·l1·l2/(per·width).
+    #[arg(long, value_name = "FRACTION")]
+    pub max_area: Option<f64>,
+    /// Largest depth-to-diameter ratio of a pocket.
+    #[arg(long, value_name = "RATIO")]
+    pub max_depth_ratio: Option<f64>,
+    /// Lift the thin-film rule 10⁴·l ≥ 5·depth.
+    #[arg(long)]
+    pub allow_thick_pockets: bool,
+    /// Fidelity of the reported designs (each is evaluated at it) [default: fast].
+    #[arg(long, value_enum)]
+    pub fidelity: Option<Fidelity>,
+    /// Fidelity of the searches (screening) [default: draft].
+    #[arg(long, value_enum)]
+    pub search_fidelity: Option<Fidelity>,
+    /// Override the mesh of both fidelities (N2 is still raised to resolve small pockets).
+    #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
+    pub mesh: Option<(usize, usize)>,
+    /// Override the time step of both fidelities (ms).
+    #[arg(long, value_name = "DT")]
+    pub dt: Option<f64>,
+    /// Particles per swarm [default: 8].
+    #[arg(long)]
+    pub particles: Option<usize>,
+    /// Swarm iterations per search (each evaluates every particle) [default: 3].
+    #[arg(long)]
+    pub iterations: Option<u64>,
+    /// Weights on friction of the balanced searches (comma-separated, each in (0, 1))
+    /// [default: 0.5].
+    #[arg(long, value_delimiter = ',')]
+    pub balanced: Option<Vec<f64>>,
+    /// Random seed of the swarms (the same seed repeats the same designs, all from the
+    /// cache) [default: 1].
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Worker threads [default: all cores].
+    #[arg(long, value_name = "N")]
+    pub jobs: Option<usize>,
+    /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
+    #[arg(long, value_name = "FILE")]
+    pub cache: Option<PathBuf>,
+    /// Directory of the report files (optimise_R<R>.json/.csv/_front.png/_z_t.png/_f_t.png)
+    /// [default: results/optimise].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print the report as JSON on stdout instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The settings of `optimise` a `--config` file may hold (same names as the flags).
+#[derive(serde::Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields)]
+pub(super) struct OptimiseFile {
+    pub(super) l1: Option<(f64, f64)>,
+    pub(super) l2: Option<(f64, f64)>,
+    pub(super) per: Option<(f64, f64)>,
+    pub(super) free_width: Option<(f64, f64)>,
+    pub(super) depth: Option<(f64, f64)>,
+    pub(super) w_min: Option<f64>,
+    pub(super) max_area: Option<f64>,
+    pub(super) max_depth_ratio: Option<f64>,
+    pub(super) allow_thick_pockets: Option<bool>,
+    pub(super) fidelity: Option<Fidelity>,
+    pub(super) search_fidelity: Option<Fidelity>,
+    pub(super) particles: Option<usize>,
+    pub(super) iterations: Option<u64>,
+    pub(super) balanced: Option<Vec<f64>>,
+    pub(super) seed: Option<u64>,
+    pub(super) out: Option<PathBuf>,
+}
+
+pub(super) fn parse_range(s: &str) -> Result<(f64, f64), String> {
+    let err = || format!("expected a range LO..HI of numbers, e.g. 0.0025..0.03, got {s:?}");
+    let (a, b) = s.split_once("..").ok_or_else(err)?;
+    let lo = a.trim().parse::<f64>().map_err(|_| err())?;
+    let hi = b.trim().parse::<f64>().map_err(|_| err())?;
+    Ok((lo, hi))
+}
+
+#[derive(Args, Debug)]
+pub struct StudyArgs {
+    /// The study file (TOML), e.g. studies/paper.toml.
+    pub file: PathBuf,
+    /// Worker threads [default: all cores].
+    #[arg(long, value_name = "N")]
+    pub jobs: Option<usize>,
+    /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
+    #[arg(long, value_name = "FILE")]
+    pub cache: Option<PathBuf>,
+    /// Simulate again the cases the cache holds as failed.
+    #[arg(long)]
+    pub retry_failed: bool,
+    /// Only expand the study and print what it would run (no simulation, nothing written).
+    #[arg(long)]
+    pub dry_run: bool,
+    /// Do not write the report (CSV, figures, tables).
+    #[arg(long)]
+    pub no_report: bool,
+    /// Simulate nothing: report what the cache already holds (e.g. while the study runs
+    /// elsewhere); missing cases appear as "not run".
+    #[arg(long)]
+    pub cached_only: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct CacheArgs {
+    #[command(subcommand)]
+    pub action: CacheAction,
+    /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
+    #[arg(long, value_name = "FILE", global = true)]
+    pub cache: Option<PathBuf>,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum CacheAction {
+    /// Counts of stored evaluations, compute time they hold, file size, integrity.
+    Stats,
+    /// Every entry as one JSON object per line (inputs, outcomes or failure, metadata).
+    Export {
+        /// Write to this file instead of stdout.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+    },
+    /// Delete stored evaluations.
+    Clear {
+        /// Only the failures (so that they are retried).
+        #[arg(long)]
+        failed: bool,
+    },
+}
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Fidelity tier of every case.
+    #[arg(long, value_enum, default_value_t = Fidelity::Paper)]
+    pub fidelity: Fidelity,
+    /// Only the named cases (repeatable): case-I, case-III, conformal-R51.2, untextured-R0.8.
+    #[arg(long = "case", value_name = "NAME")]
+    pub cases: Vec<String>,
+    /// Initial state of every case: the paper's (the speed targets are stated from it) or
+    /// the untextured equilibrium.
+    #[arg(long, value_enum, default_value_t = Start::Paper)]
+    pub start: Start,
+    /// Coarse approach to the periodic regime: N2 of the mesh the ring's transient runs on
+    /// before the tier's mesh takes over, or `off` [default: the tier's: 8 for paper and fine]
+    #[arg(long = "approach-n2", value_name = "N2|off", value_parser = parse_approach)]
+    pub approach_n2: Option<ApproachN2>,
+    /// Runs of each case: its row reports the shortest wall time and lists all (this VM's
+    /// timings vary by ±20 % from run to run; the outcomes must not vary at all).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub repeat: usize,
+    /// Where to write the results (JSON) [default: results/bench/bench.json, or
+    /// results/bench/bench-<what differs>.json for a partial or variant run]
+    ///
+    /// results/bench/bench.json is the benchmark itself: every case, `paper`, the direct solver,
+    /// the paper's start, the tier's approach. Any other run goes to
+    /// results/bench/bench-<what differs>.json (git-ignored, e.g. bench-fast-case-III.json), so
+    /// that it never replaces the committed benchmark.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
+
+impl BenchArgs {
+    /// The file the results go to: `--out`, else the default above.
+    pub(super) fn out_path(&self) -> PathBuf {
+        if let Some(out) = &self.out {
+            return out.clone();
+        }
+        let mut tags = Vec::new();
+        if self.fidelity != Fidelity::Paper {
+            tags.push(self.fidelity.name().to_string());
+        }
+        if self.start == Start::Equilibrium {
+            tags.push("from-equilibrium".into());
+        }
+        if let Some(ApproachN2(n2)) = self.approach_n2 {
+            tags.push(n2.map_or("approach-off".into(), |n| format!("approach-{n}")));
+        }
+        tags.extend(self.cases.iter().cloned());
+        let name = match tags.is_empty() {
+            true => "bench.json".to_string(),
+            false => format!("bench-{}.json", tags.join("-")),
+        };
+        PathBuf::from("results/bench").join(name)
+    }
+}
+
+/// Units: lengths along the liner in cm, gaps and depths in µm, time in ms (L/U), friction
+/// coefficients per eq. (11) of the paper (the paper prints them divided by 10).
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct SimulateArgs {
+    /// Ring face radius R in cm ("inf" for a flat ring); must exceed 0.04 (half the ring width).
+    #[arg(long = "R", value_name = "CM", allow_hyphen_values = true, value_parser = parse_radius)]
+    pub r: f64,
+    /// Pocket semiaxis along the sliding direction (cm).
+    #[arg(long, value_name = "CM", allow_hyphen_values = true)]
+    pub l1: Option<f64>,
+    /// Pocket semiaxis across the sliding direction (cm) [default: l1].
+    #[arg(long, value_name = "CM", allow_hyphen_values = true)]
+    pub l2: Option<f64>,
+    /// Texture period along the sliding direction (cm).
+    #[arg(long, value_name = "CM", allow_hyphen_values = true)]
+    pub per: Option<f64>,
+    /// Texture period across the sliding direction (cm) [default: per].
+    #[arg(long, value_name = "CM", allow_hyphen_values = true)]
+    pub width: Option<f64>,
+    /// Pocket depth (µm); absent or 0: untextured liner (solved as a steady 1D problem).
+    #[arg(long, value_name = "UM", allow_hyphen_values = true)]
+    pub depth: Option<f64>,
+    /// x1 position of a pocket centre at t = 0 (cm): the texture's initial phase.
+    #[arg(
+        long,
+        value_name = "CM",
+        allow_hyphen_values = true,
+        default_value_t = 0.0
+    )]
+    pub phase: f64,
+    /// Fidelity tier: draft (256x8, dt 8e-4), fast (512x8, 4e-4), paper (512x32, 4e-4) or
+    /// fine (1024x16, 2e-4). --mesh and --dt override its parts.
+    #[arg(long, value_enum, default_value_t = Fidelity::Paper)]
+    pub fidelity: Fidelity,
+    /// Mesh N1xN2: cells along x1 over 0.2 cm and along x2 over half a texture cell
+    /// [default: from --fidelity, N2 raised where a pocket would span fewer than 4 cells
+    /// across (2 at draft), as in studies].
+    #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
+    pub mesh: Option<(usize, usize)>,
+    /// Largest time step (ms); the step used divides the texture period exactly
+    /// [default: from --fidelity].
+    #[arg(long, value_name = "DT", allow_hyphen_values = true)]
+    pub dt: Option<f64>,
+    /// Shear threshold θ_s of the Couette friction switch.
+    #[arg(
+        long = "theta-s",
+        value_name = "THETA",
+        allow_hyphen_values = true,
+        default_value_t = 0.95
+    )]
+    pub theta_s: f64,
+    /// Inlet oil film thickness (µm); 20 is fully flooded.
+    #[arg(
+        long = "d-oil",
+        value_name = "UM",
+        allow_hyphen_values = true,
+        default_value_t = 20.0
+    )]
+    pub d_oil: f64,
+    /// Ring mass per unit width (units of 2.4e7 kg/m; the paper's compression ring: 2e-9).
+    #[arg(long, value_name = "M", default_value_t = 2.0e-9)]
+    pub mass: f64,
+    /// Relative tolerance of the periodic-regime test (estimated distance of the period-mean
+    /// friction and Z from their periodic limits) [default: the tier's: 1e-4 for draft and
+    /// fast, 1e-5 for paper and fine, as studies use them]
+    #[arg(long = "periodic-tol", value_name = "TOL", allow_hyphen_values = true)]
+    pub periodic_tol: Option<f64>,
+    /// Give up after this much simulated time (ms) and report converged = false.
+    #[arg(
+        long = "t-max",
+        value_name = "T",
+        allow_hyphen_values = true,
+        default_value_t = 30.0
+    )]
+    pub t_max: f64,
+    /// Initial state of the transient: equilibrium (untextured force balance, default) or
+    /// paper (Z = 2.5 µm at rest, docs/model.md §4). The periodic answer does not depend on it.
+    #[arg(long, value_enum, default_value_t = Start::Equilibrium)]
+    pub start: Start,
+    /// Do not jump the state along a dominant slow mode (simulate every period of the approach).
+    #[arg(long = "no-extrapolate")]
+    pub no_extrapolate: bool,
+    /// Coarse approach to the periodic regime: run the ring's transient on a mesh of N2 cells
+    /// along x2 (same N1 and dt), then carry the state over to the full mesh and run on to
+    /// its own periodic regime (the answer is the full mesh's); `off` to run every step on
+    /// the full mesh. Only meshes with more x2 cells use it. [default: the tier's: 8 for
+    /// paper and fine, off for draft and fast]
+    #[arg(long = "approach-n2", value_name = "N2|off", value_parser = parse_approach)]
+    pub approach_n2: Option<ApproachN2>,
+    /// Accept pockets that break thin-film validity (10⁴·l < 5·depth).
+    #[arg(long = "allow-thick-pockets")]
+    pub allow_thick_pockets: bool,
+    /// Solve an untextured liner with the 2D transient too (default: steady 1D force balance).
+    #[arg(long)]
+    pub transient: bool,
+    /// Print one JSON object (inputs and outcomes) instead of the summary.
+    #[arg(long)]
+    pub json: bool,
+    /// Write the time series (t, Z, W_h, f and its three terms per step) as CSV to FILE.
+    #[arg(long, value_name = "FILE")]
+    pub series: Option<PathBuf>,
+    /// When stderr is not a terminal (a log, a batch job) or with --json: print the progress
+    /// line (period, t, f̄, Z̄, estimated periodic error) at the end of a period at most this
+    /// often, in seconds (0: every period). On a terminal without --json the line updates
+    /// in place at every period.
+    #[arg(long = "progress-every", value_name = "S", default_value_t = 10.0, value_parser = parse_seconds)]
+    pub progress_every: f64,
+}
+
+pub(super) fn parse_seconds(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        _ => Err(format!(
+            "expected a number of seconds ≥ 0 (e.g. 10), got {s:?}"
+        )),
+    }
+}
+
+pub(super) fn parse_radius(s: &str) -> Result<f64, String> {
+    let t = s.trim();
+    if t.eq_ignore_ascii_case("inf") || t.eq_ignore_ascii_case("infinity") {
+        return Ok(f64::INFINITY);
+    }
+    t.parse::<f64>()
+        .map_err(|_| format!("expected a radius in cm (e.g. 0.8) or \"inf\", got {s:?}"))
+}
+
+/// `--approach-n2`: a cell count, or `off`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ApproachN2(pub Option<usize>);
+
+pub(super) fn parse_approach(s: &str) -> Result<ApproachN2, String> {
+    let t = s.trim();
+    if t.eq_ignore_ascii_case("off") {
+        return Ok(ApproachN2(None));
+    }
+    match t.parse::<usize>() {
+        Ok(n) if n > 0 => Ok(ApproachN2(Some(n))),
+        _ => Err(format!(
+            "expected a number of x2 cells ≥ 1 (e.g. 8) or \"off\", got {s:?}"
+        )),
+    }
+}
+
+pub(super) fn parse_mesh(s: &str) -> Result<(usize, usize), String> {
+    let err = || format!("expected N1xN2 with whole numbers, e.g. 512x32, got {s:?}");
+    let (a, b) = s.split_once(['x', 'X']).ok_or_else(err)?;
+    let n1 = a.trim().parse::<usize>().map_err(|_| err())?;
+    let n2 = b.trim().parse::<usize>().map_err(|_| err())?;
+    Ok((n1, n2))
+}

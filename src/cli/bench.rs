@@ -1,0 +1,84 @@
+//! `texopt bench`: the fixed benchmark cases, timed, into results/bench/.
+
+use super::{BenchArgs, CmdError};
+use crate::time::Numerics;
+
+pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
+    let all = crate::study::bench::cases();
+    for name in &a.cases {
+        if !all.iter().any(|c| c.name == name) {
+            let names: Vec<_> = all.iter().map(|c| c.name).collect();
+            return Err(CmdError::Input(format!(
+                "--case {name}: no such benchmark case; choose from {}",
+                names.join(", ")
+            )));
+        }
+    }
+    if a.repeat == 0 {
+        return Err(CmdError::Input(
+            "--repeat 0: each case must run at least once; give 1 or more".into(),
+        ));
+    }
+    let out = a.out_path();
+    let dir = out
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(std::path::Path::new("."));
+    // The default directory is made; one the user names must exist.
+    if a.out.is_none() {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| CmdError::Other(format!("cannot create {}: {e}", dir.display())))?;
+    }
+    if !dir.is_dir() {
+        return Err(CmdError::Input(format!(
+            "--out {}: the directory {} does not exist; create it or choose another path",
+            out.display(),
+            dir.display()
+        )));
+    }
+    let fidelity = a.fidelity;
+    let tier = fidelity.numerics();
+    let num = Numerics {
+        start: a.start,
+        approach_n2: a.approach_n2.map_or(tier.approach_n2, |x| x.0),
+        ..tier
+    };
+    let mut rows = Vec::new();
+    let mut failed = 0;
+    for c in all
+        .iter()
+        .filter(|c| a.cases.is_empty() || a.cases.iter().any(|n| n == c.name))
+    {
+        eprintln!("running {} ({}) …", c.name, c.case.label());
+        match crate::study::bench::run_case(c, fidelity, &num, a.repeat) {
+            Ok(row) => {
+                println!("{}", row.line());
+                rows.push(row);
+            }
+            Err(e) => {
+                failed += 1;
+                println!("{:16} FAILED: {e}", c.name);
+            }
+        }
+    }
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let report = serde_json::json!({
+        "texopt_version": env!("CARGO_PKG_VERSION"),
+        "unix_time": secs,
+        "threads_available": std::thread::available_parallelism().map_or(1, |n| n.get()),
+        "threads_used": 1,
+        "repeat": a.repeat,
+        "fidelity": fidelity.name(),
+        "numerics": num,
+        "cases": rows,
+    });
+    std::fs::write(
+        &out,
+        serde_json::to_string_pretty(&report).unwrap_or_default(),
+    )
+    .map_err(|e| CmdError::Other(format!("could not write --out {}: {e}", out.display())))?;
+    eprintln!("wrote {}", out.display());
+    Ok(if failed > 0 { 1 } else { 0 })
+}

@@ -1,0 +1,50 @@
+//! `texopt cache`: inspect, export or clear the evaluation cache.
+
+use super::{open_cache, CacheAction, CacheArgs, CmdError};
+use crate::study::cache::{path_from, CacheError};
+
+pub(super) fn run(a: &CacheArgs) -> Result<i32, CmdError> {
+    // Inspecting or clearing must not create a cache (nor its directories): a mistyped path
+    // would otherwise show an empty cache as if it were the one meant.
+    let path = path_from(a.cache.as_deref());
+    if !path.exists() {
+        return Err(CmdError::Input(format!(
+            "no cache at {}: nothing has been evaluated there yet (`texopt study` and `texopt optimise` create it); check --cache or $TEXOPT_CACHE",
+            path.display()
+        )));
+    }
+    let cache = open_cache(Some(&path))?;
+    let other = |e: CacheError| CmdError::Other(e.to_string());
+    match &a.action {
+        CacheAction::Stats => {
+            let s = cache.stats().map_err(other)?;
+            let ok = cache.integrity_check().map_err(other)?;
+            println!("cache {}", cache.path().display());
+            println!(
+                "  {} evaluations done, {} failed; {:.1} s of compute stored; {} bytes; integrity: {ok}",
+                s.done, s.failed, s.compute_seconds, s.file_bytes
+            );
+        }
+        CacheAction::Export { out } => {
+            let n = match out {
+                Some(p) => {
+                    let mut f = std::fs::File::create(p).map_err(|e| {
+                        CmdError::Input(format!("--out {}: cannot create it: {e}", p.display()))
+                    })?;
+                    cache.export(&mut f).map_err(other)?
+                }
+                None => cache.export(&mut std::io::stdout().lock()).map_err(other)?,
+            };
+            eprintln!("exported {n} evaluations");
+        }
+        CacheAction::Clear { failed } => {
+            let n = cache.clear(*failed).map_err(other)?;
+            println!(
+                "deleted {n} {}evaluations from {}",
+                if *failed { "failed " } else { "" },
+                cache.path().display()
+            );
+        }
+    }
+    Ok(0)
+}

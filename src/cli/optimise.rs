@@ -1,0 +1,178 @@
+//! `texopt optimise --R R`: the settings from flags, else a `--config` file, else the
+//! defaults; then the optimiser's driver and its report.
+
+use std::path::PathBuf;
+
+use super::args::OptimiseFile;
+use super::{
+    directory_can_be_made, flag, input_message, install_ctrl_c, open_cache, CmdError, OptimiseArgs,
+    STOP,
+};
+use crate::model::case::{CaseSpec, InputError};
+use crate::optimise::driver::{optimise, table, Settings};
+use crate::optimise::space::{Bounds, Constraints, Space, SwarmSettings};
+use crate::study::NumericsOverride;
+use crate::time::Fidelity;
+
+pub(super) fn run(a: &OptimiseArgs) -> Result<i32, CmdError> {
+    let settings = settings(a)?;
+    let out_dir = settings.out_dir.clone().unwrap_or_default();
+    let cache = open_cache(a.cache.as_deref())?;
+    install_ctrl_c();
+    let cache = std::sync::Mutex::new(cache);
+    let report = optimise(&settings, &cache, &STOP).map_err(CmdError::Other)?;
+    if a.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&report).unwrap_or_default()
+        );
+    } else {
+        print!("{}", table(&report));
+        eprintln!(
+            "wrote {}/optimise_R{}.json, .csv, _front.png, _z_t.png, _f_t.png",
+            out_dir.display(),
+            report.r
+        );
+    }
+    Ok(0)
+}
+
+/// The settings of a run: each from its flag, else the config file, else its default;
+/// every one checked before anything runs.
+fn settings(a: &OptimiseArgs) -> Result<Settings, CmdError> {
+    let base = CaseSpec::paper(a.r);
+    base.validate(false)?;
+    let file = config(a)?;
+    let space = space(a, &file);
+    space.validate().map_err(|e| space_error(&e))?;
+    let particles = a.particles.or(file.particles).unwrap_or(8);
+    let iterations = a.iterations.or(file.iterations).unwrap_or(3);
+    let balanced = a
+        .balanced
+        .clone()
+        .or(file.balanced)
+        .unwrap_or_else(|| vec![0.5]);
+    let out_dir = a
+        .out
+        .clone()
+        .or(file.out)
+        .unwrap_or_else(|| PathBuf::from("results/optimise"));
+    if particles < 2 || iterations == 0 {
+        return Err(CmdError::Input(
+            "--particles must be ≥ 2 and --iterations ≥ 1".into(),
+        ));
+    }
+    if let Some(w) = balanced.iter().find(|w| !(**w > 0.0 && **w < 1.0)) {
+        return Err(CmdError::Input(format!(
+            "--balanced {w}: each weight must lie strictly between 0 and 1"
+        )));
+    }
+    check_numerics(a)?;
+    // A directory that cannot be made stops the search now, not after its simulations.
+    directory_can_be_made(&out_dir).map_err(|why| {
+        CmdError::Input(format!(
+            "--out {}: cannot create it: {why}; choose another directory",
+            out_dir.display()
+        ))
+    })?;
+    Ok(Settings {
+        base,
+        space,
+        search_fidelity: a
+            .search_fidelity
+            .or(file.search_fidelity)
+            .unwrap_or(Fidelity::Draft),
+        report_fidelity: a.fidelity.or(file.fidelity).unwrap_or(Fidelity::Fast),
+        overrides: NumericsOverride {
+            n1: a.mesh.map(|m| m.0),
+            n2: a.mesh.map(|m| m.1),
+            dt: a.dt,
+            ..Default::default()
+        },
+        swarm: SwarmSettings {
+            particles,
+            iterations,
+            seed: a.seed.or(file.seed).unwrap_or(1),
+        },
+        balanced,
+        jobs: a
+            .jobs
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
+        progress: true,
+        out_dir: Some(out_dir),
+    })
+}
+
+/// The `--config` file's settings (none without one).
+fn config(a: &OptimiseArgs) -> Result<OptimiseFile, CmdError> {
+    let Some(p) = &a.config else {
+        return Ok(OptimiseFile::default());
+    };
+    let text = std::fs::read_to_string(p)
+        .map_err(|e| CmdError::Input(format!("--config {}: cannot read it: {e}", p.display())))?;
+    toml::from_str(&text).map_err(|e| {
+        CmdError::Input(format!(
+            "--config {}: {}",
+            p.display(),
+            e.to_string()
+                .lines()
+                .map(str::trim)
+                .filter(|l| !l.is_empty())
+                .collect::<Vec<_>>()
+                .join(" ")
+        ))
+    })
+}
+
+/// The design space: bounds and constraints from the flags, the file, the defaults.
+fn space(a: &OptimiseArgs, file: &OptimiseFile) -> Space {
+    let (d, c) = (Bounds::default(), Constraints::default());
+    Space {
+        bounds: Bounds {
+            l1: a.l1.or(file.l1).unwrap_or(d.l1),
+            l2: a.l2.or(file.l2).unwrap_or(d.l2),
+            per: a.per.or(file.per).unwrap_or(d.per),
+            width: a.free_width.or(file.free_width),
+            depth: a.depth.or(file.depth).unwrap_or(d.depth),
+        },
+        cons: Constraints {
+            w_min: a.w_min.or(file.w_min).map_or(c.w_min, |um| um * 1e-4),
+            max_area: a.max_area.or(file.max_area),
+            max_depth_ratio: a.max_depth_ratio.or(file.max_depth_ratio),
+            allow_thick: a.allow_thick_pockets || file.allow_thick_pockets.unwrap_or(false),
+        },
+    }
+}
+
+/// A design-space error in flag names (the free width across sliding is `--free-width`).
+fn space_error(e: &InputError) -> CmdError {
+    CmdError::Input(input_message(e, |p| match p {
+        "width" => "--free-width".into(),
+        "constraints" => "constraints".into(),
+        other => flag(other),
+    }))
+}
+
+/// `--jobs`, `--dt` and `--mesh`, checked before the search.
+fn check_numerics(a: &OptimiseArgs) -> Result<(), CmdError> {
+    if a.jobs == Some(0) {
+        return Err(CmdError::Input(
+            "--jobs 0: need at least one worker thread".into(),
+        ));
+    }
+    if let Some(dt) = a.dt {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(CmdError::Input(format!(
+                "--dt {dt}: must be a finite number > 0"
+            )));
+        }
+    }
+    if let Some((n1, n2)) = a.mesh {
+        if n1 < 16 || n2 < 1 {
+            return Err(CmdError::Input(format!(
+                "--mesh {n1}x{n2}: needs at least 16 cells along x1 and 1 along x2"
+            )));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,248 @@
+//! `texopt simulate`: one case to its periodic regime, as a summary, JSON or a time series.
+
+use std::io::{IsTerminal, Write};
+
+use super::{flag, input_message, CmdError, SimulateArgs};
+use crate::model::case::{bad, CaseSpec, InputError, Texture};
+use crate::time::{
+    simulate_with, Numerics, Outcome, Progress, RunOptions, RunResult, SeriesRow, Watch,
+};
+
+/// The case and numerics named by the flags, validated (errors name the flags).
+pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), String> {
+    resolve(a).map_err(|e| input_message(&e, flag))
+}
+
+fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
+    let mut case = CaseSpec::paper(a.r);
+    case.theta_s = a.theta_s;
+    case.d_oil = a.d_oil;
+    case.mass = a.mass;
+    let depth = a.depth.unwrap_or(0.0);
+    if !depth.is_finite() || depth < 0.0 {
+        return Err(bad(
+            "depth",
+            depth,
+            "must be a finite depth ≥ 0 µm (0 or absent: untextured)",
+        ));
+    }
+    if depth > 0.0 {
+        let need = |name: &str, v: Option<f64>| {
+            v.ok_or_else(|| {
+                bad(
+                    name,
+                    "missing",
+                    format!("a textured liner (--depth {depth}) needs --{name}"),
+                )
+            })
+        };
+        let l1 = need("l1", a.l1)?;
+        let per = need("per", a.per)?;
+        case.texture = Some(Texture {
+            l1,
+            l2: a.l2.unwrap_or(l1),
+            per,
+            width: a.width.unwrap_or(per),
+            depth,
+            phase: a.phase,
+        });
+    }
+    // The tier as studies use it: N2 raised where a pocket would span too few cells across,
+    // so that `simulate` reproduces a study's row.
+    let tier = a.fidelity.numerics_for(&case);
+    let num = Numerics {
+        n1: a.mesh.map_or(tier.n1, |m| m.0),
+        n2: a.mesh.map_or(tier.n2, |m| m.1),
+        dt: a.dt.unwrap_or(tier.dt),
+        periodic_tol: a.periodic_tol.unwrap_or(tier.periodic_tol),
+        t_max: a.t_max,
+        start: a.start,
+        extrapolate: !a.no_extrapolate,
+        approach_n2: a.approach_n2.map_or(tier.approach_n2, |x| x.0),
+        ..Numerics::default()
+    };
+    case.validate(a.allow_thick_pockets)?;
+    num.validate(&case)?;
+    Ok((case, num))
+}
+
+/// Rings at least this flat (cm) get a note when the time step exceeds [`CONFORMAL_DT`]: the
+/// time-step error of the film grows with R (`fast` against 2048×8 at dt = 1e-4 with the
+/// Case I pocket: 0.3 % at R = 5, 0.8–1.0 % at R = 12.8, 3 % at R = 51.2; docs/validation.md),
+/// while the tiers keep the paper's dt = 4e-4.
+const CONFORMAL_R_CM: f64 = 10.0;
+/// The time step (L/U units) that keeps R = 51.2 within ≈ 0.7 % of the 2048-cell reference.
+const CONFORMAL_DT: f64 = 1e-4;
+
+pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
+    let (case, num) = case_from_args(a).map_err(CmdError::Input)?;
+    if case.texture.is_none()
+        && (a.l1.is_some() || a.per.is_some() || a.l2.is_some() || a.width.is_some())
+    {
+        eprintln!("note: --depth is 0 or absent, so the liner is untextured; the pocket flags are not used");
+    }
+    if case.texture.is_some() && case.r >= CONFORMAL_R_CM && num.dt > CONFORMAL_DT {
+        eprintln!(
+            "note: R = {} cm is a conformal ring, where the time step sets the error: dt = {:.0e} can be several % off in f and C_min; --dt {CONFORMAL_DT:.0e} keeps it near 1 % (docs/validation.md)",
+            case.r, num.dt
+        );
+    }
+    let transient = case.texture.is_some() || a.transient;
+    if let Some(path) = &a.series {
+        if !transient {
+            return Err(CmdError::Input(format!(
+                "--series {}: an untextured liner is solved as a steady 1D problem with no time series; add --transient to run it as a 2D transient",
+                path.display()
+            )));
+        }
+        let dir = path
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(std::path::Path::new("."));
+        if !dir.is_dir() {
+            return Err(CmdError::Input(format!(
+                "--series {}: the directory {} does not exist; create it or choose another path",
+                path.display(),
+                dir.display()
+            )));
+        }
+    }
+
+    // On a terminal the line is redrawn every period; elsewhere (or beside --json output) a
+    // plain line at most every `--progress-every` seconds, so that long runs in batch jobs
+    // show that they advance without flooding the log.
+    let show = std::io::stderr().is_terminal() && !a.json;
+    // Beyond what a Duration holds (1e300 s): never, as far as a run can tell.
+    let every = std::time::Duration::try_from_secs_f64(a.progress_every)
+        .unwrap_or(std::time::Duration::MAX);
+    let began = std::time::Instant::now();
+    let mut last_line = began;
+    let mut observe = |p: &Progress| {
+        let line = format!(
+            "  period {:4}  t = {:7.3}  f̄ = {:.5}  Z̄ = {:.4} µm  est. periodic error {:.1e}",
+            p.period, p.t, p.f_mean, p.z_mean, p.periodic_error
+        );
+        if show {
+            eprint!("\r{line}   ");
+            let _ = std::io::stderr().flush();
+        } else if last_line.elapsed() >= every {
+            last_line = std::time::Instant::now();
+            eprintln!("{line}  ({:.0} s)", began.elapsed().as_secs_f64());
+        }
+    };
+    let opts = RunOptions {
+        series: a.series.is_some(),
+        transient,
+        ..RunOptions::default()
+    };
+    let mut watch = Watch {
+        on_window: Some(&mut observe),
+        on_step: None,
+    };
+    let result = simulate_with(&case, &num, &opts, &mut watch);
+    if show && transient {
+        eprintln!();
+    }
+    let RunResult {
+        outcome, series, ..
+    } = result.map_err(|e| CmdError::Other(e.to_string()))?;
+
+    if let (Some(path), Some(rows)) = (&a.series, &series) {
+        write_series(path, rows).map_err(|e| {
+            CmdError::Other(format!("could not write --series {}: {e}", path.display()))
+        })?;
+    }
+    if a.json {
+        let report = serde_json::json!({
+            "inputs": { "case": case, "numerics": num, "mesh": format!("{}x{}", num.n1, num.n2) },
+        });
+        let mut obj = report.as_object().cloned().unwrap_or_default();
+        if let serde_json::Value::Object(o) = serde_json::to_value(&outcome).unwrap_or_default() {
+            obj.extend(o);
+        }
+        println!("{}", serde_json::Value::Object(obj));
+    } else {
+        print_summary(&case, &num, &outcome);
+    }
+    if !outcome.converged {
+        eprintln!(
+            "warning: the periodic regime was not reached by t = {} (estimated error {:.1e} > tolerance {:.1e}); the numbers above are not final. Raise --t-max or loosen --periodic-tol.",
+            num.t_max, outcome.periodic_error, num.periodic_tol
+        );
+        return Ok(1);
+    }
+    Ok(0)
+}
+
+fn write_series(path: &std::path::Path, rows: &[SeriesRow]) -> std::io::Result<()> {
+    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+    writeln!(w, "t,Z,W_h,f,f_couette,f_poiseuille,f_pressure")?;
+    for r in rows {
+        writeln!(
+            w,
+            "{},{},{},{},{},{},{}",
+            r.t, r.z, r.w_h, r.f, r.f_couette, r.f_poiseuille, r.f_pressure
+        )?;
+    }
+    w.flush()
+}
+
+fn print_summary(case: &CaseSpec, num: &Numerics, o: &Outcome) {
+    let ring = if case.r.is_infinite() {
+        "flat ring".to_string()
+    } else {
+        format!("ring face radius R = {} cm", case.r)
+    };
+    match &case.texture {
+        None => println!("texopt simulate: {ring}, untextured liner"),
+        Some(t) => println!(
+            "texopt simulate: {ring}; pockets l1 = {} cm, l2 = {} cm, depth = {} µm on a {} × {} cm lattice (textured area {:.1} %)",
+            t.l1, t.l2, t.depth, t.per, t.width, 100.0 * t.area_fraction()
+        ),
+    }
+    if o.method == "steady-1d" {
+        println!("  steady 1D force balance on {} cells", num.n1);
+    } else {
+        println!(
+            "  transient on {}x{} cells, dt = {:.4e} ms: {} periods, {} steps, t = {:.3} ms; periodic regime {} (est. error {:.1e})",
+            num.n1,
+            num.n2,
+            o.dt,
+            o.periods,
+            o.steps,
+            o.t_end,
+            if o.converged { "reached" } else { "NOT reached" },
+            o.periodic_error
+        );
+        if let (true, Some(coarse)) = (o.approach_steps > 0, num.approach_numerics(case)) {
+            println!(
+                "  (the first {} steps on {}x{} cells, the coarse approach: the outcomes are those of the full mesh; --approach-n2 off to run every step on it)",
+                o.approach_steps, coarse.n1, coarse.n2
+            );
+        }
+    }
+    println!(
+        "  mean friction coefficient  f = {:.5}   (eq. 11; the paper prints f/10 = {:.6})",
+        o.f_mean,
+        o.f_mean / 10.0
+    );
+    println!(
+        "    Couette {:.5}, Poiseuille {:.5}, pressure {:.5}",
+        o.f_couette, o.f_poiseuille, o.f_pressure
+    );
+    println!(
+        "  ring position Z: mean {:.4} µm, min {:.4} µm, max {:.4} µm",
+        o.z_mean, o.z_min, o.z_max
+    );
+    println!("  minimum clearance C_min = {:.4} µm", o.c_min);
+    if o.method == "steady-1d" {
+        println!("  wall time {:.3} s", o.wall_time_s);
+    } else {
+        println!(
+            "  wall time {:.2} s ({:.2} ms/step, {:.2} active-set iterations per step)",
+            o.wall_time_s,
+            1e3 * o.wall_time_s / o.steps.max(1) as f64,
+            o.iterations_per_step
+        );
+    }
+}

@@ -1,0 +1,81 @@
+//! `texopt study FILE`: a study file's cases through the cache, and its report.
+
+use super::{directory_can_be_made, install_ctrl_c, open_cache, CmdError, StudyArgs, STOP};
+
+pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
+    let study = crate::study::load(&a.file).map_err(|e| CmdError::Input(e.to_string()))?;
+    if a.jobs == Some(0) {
+        return Err(CmdError::Input(
+            "--jobs 0: need at least one worker thread".into(),
+        ));
+    }
+    let jobs = a
+        .jobs
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    eprintln!(
+        "study {}: {} cases at fidelity {} ({} invalid combinations skipped)",
+        study.name,
+        study.jobs.len(),
+        study.fidelity.name(),
+        study.skipped_total()
+    );
+    for (rule, n) in &study.skipped {
+        eprintln!("  skipped {n} × {rule}");
+    }
+    if a.dry_run {
+        for j in &study.jobs {
+            println!(
+                "{}  [{}x{}, dt {}]",
+                j.case.label(),
+                j.numerics.n1,
+                j.numerics.n2,
+                j.numerics.dt
+            );
+        }
+        return Ok(0);
+    }
+    // A report directory that cannot be made stops the study now, not after its simulations.
+    if !a.no_report {
+        let dir = std::path::Path::new(&study.report.dir);
+        directory_can_be_made(dir).map_err(|why| {
+            CmdError::Input(format!(
+                "{}: the report directory {} cannot be made: {why}; change [report] dir, or run with --no-report",
+                a.file.display(),
+                dir.display()
+            ))
+        })?;
+    }
+    let cache = open_cache(a.cache.as_deref())?;
+    eprintln!("cache {}", cache.path().display());
+    install_ctrl_c();
+    let cache = std::sync::Mutex::new(cache);
+    let opt = crate::study::sweep::Options {
+        jobs,
+        retry_failed: a.retry_failed,
+        progress: true,
+    };
+    let stop_now = std::sync::atomic::AtomicBool::new(true);
+    let stop = if a.cached_only { &stop_now } else { &STOP };
+    let (sum, results) = crate::study::sweep::run(&study.jobs, &cache, &opt, stop)
+        .map_err(|e| CmdError::Other(e.to_string()))?;
+    let threads = if jobs == 1 { "thread" } else { "threads" };
+    let note = format!(
+        "{} cases: {} from the cache, {} computed in {} simulations, {} failed, {} not run; {:.1} s wall time with {jobs} worker {threads}",
+        sum.cases, sum.cached, sum.computed, sum.simulations, sum.failed, sum.not_run, sum.wall_time_s
+    );
+    println!("{note}");
+    if sum.stopped && !a.cached_only {
+        println!("stopped before the end: run the same command again to compute the rest");
+        return Ok(130);
+    }
+    if !a.no_report {
+        let w = crate::study::report::write(&study, &results, &note).map_err(CmdError::Other)?;
+        for l in &w.headline {
+            println!("  {l}");
+        }
+        for f in &w.files {
+            eprintln!("wrote {}", f.display());
+        }
+    }
+    Ok(if sum.failed > 0 { 1 } else { 0 })
+}

@@ -1,0 +1,81 @@
+//! The gap h over the mesh as an affine function of the ring position Z (eq. 15,
+//! docs/model.md §2): only the node columns under the ring depend on Z.
+
+use super::Grid;
+
+/// The gap at the new time level as an affine function of the ring position:
+/// h = base + Z on the node columns under the ring, h = base elsewhere (eq. 15).
+#[derive(Clone, Debug, Default)]
+pub struct Gap {
+    /// Gap without Z (µm), per node.
+    pub base: Vec<f64>,
+    /// Per node column i: whether it lies under the ring (a < x_i < b), where ∂h/∂Z = 1.
+    pub ring: Vec<bool>,
+}
+
+impl Gap {
+    /// The gap at every node for ring position z into `out` (column by column: no index
+    /// division in the hot loop).
+    pub fn fill(&self, grid: &Grid, z: f64, out: &mut Vec<f64>) {
+        out.clear();
+        let n2 = grid.n2;
+        for (i, &under) in self.ring.iter().enumerate() {
+            let col = &self.base[i * n2..(i + 1) * n2];
+            if under {
+                out.extend(col.iter().map(|b| b + z));
+            } else {
+                out.extend_from_slice(col);
+            }
+        }
+    }
+
+    /// Refills `out`, which holds this gap at another ring position, for `z`: only the
+    /// columns under the ring depend on Z (the same values as [`Gap::fill`]). `cols`:
+    /// [`Gap::ring_columns`], computed once by the caller.
+    pub fn refill_ring(&self, grid: &Grid, z: f64, cols: std::ops::Range<usize>, out: &mut [f64]) {
+        let n2 = grid.n2;
+        let span = cols.start * n2..cols.end * n2;
+        for (i, (o, col)) in out[span.clone()]
+            .chunks_exact_mut(n2)
+            .zip(self.base[span].chunks_exact(n2))
+            .enumerate()
+        {
+            if self.ring[cols.start + i] {
+                for (o, b) in o.iter_mut().zip(col) {
+                    *o = b + z;
+                }
+            }
+        }
+    }
+
+    /// The node columns from the first under the ring to the last (empty without one).
+    pub fn ring_columns(&self) -> std::ops::Range<usize> {
+        match (
+            self.ring.iter().position(|&r| r),
+            self.ring.iter().rposition(|&r| r),
+        ) {
+            (Some(a), Some(b)) => a..b + 1,
+            _ => 0..0,
+        }
+    }
+
+    /// The smallest gap without Z under the ring (∞ when no column lies under it).
+    pub fn ring_min_base(&self, grid: &Grid) -> f64 {
+        let n2 = grid.n2;
+        self.ring
+            .iter()
+            .enumerate()
+            .filter(|(_, &under)| under)
+            .flat_map(|(i, _)| self.base[i * n2..(i + 1) * n2].iter().copied())
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    #[inline]
+    pub fn h(&self, grid: &Grid, k: usize, z: f64) -> f64 {
+        if self.ring[k / grid.n2] {
+            self.base[k] + z
+        } else {
+            self.base[k]
+        }
+    }
+}

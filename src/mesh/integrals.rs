@@ -1,0 +1,103 @@
+//! Integrals of the film over the mesh: the hydrodynamic load (eq. 16), the friction terms
+//! (eq. 17) and the mass flows through the ends of the domain (docs/model.md §3–5), by nodal
+//! quadrature over the node columns under the ring.
+
+use super::{FilmState, Gap, Grid};
+use crate::model::film::x1_flux;
+use crate::model::friction::{
+    couette_shear, poiseuille_term, pressure_term, Friction, FrictionModel,
+};
+use crate::model::units::friction_coefficient;
+
+/// Hydrodynamic load per unit width W_h = (1/B)∫∫_ring p dx1 dx2 (eq. 16), as the nodal sum
+/// over the node columns under the ring.
+pub fn load(g: &Grid, ring: &[bool], p: &[f64]) -> f64 {
+    let mut s = 0.0;
+    for (i, &r) in ring.iter().enumerate() {
+        if r {
+            s += p[i * g.n2..(i + 1) * g.n2].iter().sum::<f64>();
+        }
+    }
+    s * g.dx * g.dy / g.width
+}
+
+/// Mass flow rates of φ = hθ through the x1 boundaries of the interior control volumes,
+/// summed over the simulated width: (inflow through the face at x1 = dx/2, outflow through
+/// the face at x1 = length − dx/2), with the flux of [`x1_flux`]. Over a step,
+/// Σ(φ^{n+1} − φ^n)·dx·dy = dt·(inflow − outflow) at the new level.
+pub fn boundary_flows(g: &Grid, gap: &Gap, z: f64, u: f64, state: &FilmState) -> (f64, f64) {
+    let n1 = g.n1;
+    let flux = |i: usize, j: usize| {
+        let (k, kn) = (g.idx(i, j), g.idx(i + 1, j));
+        let hf = 0.5 * (gap.h(g, k, z) + gap.h(g, kn, z));
+        x1_flux(u, state.phi[k], hf, state.p[kn] - state.p[k], g.dx)
+    };
+    let inflow = (0..g.n2).map(|j| flux(0, j) * g.dy).sum();
+    let outflow = (0..g.n2).map(|j| flux(n1 - 1, j) * g.dy).sum();
+    (inflow, outflow)
+}
+
+/// Friction coefficients of the current state (eq. 17 by nodal quadrature over the ring,
+/// ∂p/∂x1 and ∂h_L/∂x1 by centred differences of nodal values). `hl` is the texture depth h_L
+/// per node (µm).
+pub fn friction(
+    g: &Grid,
+    gap: &Gap,
+    z: f64,
+    hl: &[f64],
+    state: &FilmState,
+    model: &FrictionModel,
+) -> Friction {
+    friction_thresholds(g, gap, z, hl, state, model, &[]).0
+}
+
+/// As [`friction`], also for the further shear thresholds `extra_theta_s`, in one pass over
+/// the ring: θ_s enters only the Couette term (eq. 9), so the Poiseuille and pressure terms
+/// are shared, and each threshold's Couette sum adds the same terms in the same order as
+/// its own pass would (the same bits).
+pub fn friction_thresholds(
+    g: &Grid,
+    gap: &Gap,
+    z: f64,
+    hl: &[f64],
+    state: &FilmState,
+    model: &FrictionModel,
+    extra_theta_s: &[f64],
+) -> (Friction, Vec<Friction>) {
+    let n2 = g.n2;
+    let (mut fc, mut fp, mut fpr) = (0.0, 0.0, 0.0);
+    let mut fc_extra = vec![0.0; extra_theta_s.len()];
+    for i in 1..g.n1 {
+        if !gap.ring[i] {
+            continue;
+        }
+        for j in 0..n2 {
+            let k = i * n2 + j;
+            let h = gap.h(g, k, z);
+            let theta = state.phi[k] / h;
+            let shear = couette_shear(model.u, theta, h);
+            if theta > model.theta_s {
+                fc += shear;
+            }
+            for (sum, &theta_s) in fc_extra.iter_mut().zip(extra_theta_s) {
+                if theta > theta_s {
+                    *sum += shear;
+                }
+            }
+            let dpdx = (state.p[k + n2] - state.p[k - n2]) / (2.0 * g.dx);
+            fp += poiseuille_term(h, dpdx);
+            let dhl = (hl[k + n2] - hl[k - n2]) / (2.0 * g.dx);
+            fpr += pressure_term(state.p[k], dhl);
+        }
+    }
+    let w = g.dx * g.dy / g.width;
+    let with_couette = |fc: f64| Friction {
+        couette: friction_coefficient(fc * w, model.w_ps),
+        poiseuille: friction_coefficient(fp * w, model.w_ps),
+        pressure: friction_coefficient(fpr * w, model.w_ps),
+    };
+    (
+        with_couette(fc),
+        fc_extra.into_iter().map(with_couette).collect(),
+    )
+}

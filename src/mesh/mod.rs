@@ -1,0 +1,15 @@
+//! The discretised contact (docs/model.md §2–3): the grid, the gap over it, the texture placed
+//! at a time, the film fields, and integrals over the film (load, friction, flows).
+
+mod faces;
+mod fields;
+mod gap;
+mod grid;
+pub mod integrals;
+mod scene;
+
+pub use faces::face_conductances;
+pub use fields::FilmState;
+pub use gap::Gap;
+pub use grid::Grid;
+pub use scene::Scene;

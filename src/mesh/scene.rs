@@ -1,0 +1,66 @@
+//! The discretised contact: mesh, gap and texture depth at a given time (docs/model.md §2–3).
+
+use super::{Gap, Grid};
+use crate::model::case::CaseSpec;
+use crate::model::geometry::Contact;
+
+/// Mesh plus the fields the geometry imposes on it.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub contact: Contact,
+    pub grid: Grid,
+    /// h = gap.base (+ Z under the ring), at the time of the last `place`.
+    pub gap: Gap,
+    /// Texture depth h_L per node (µm), at the time of the last `place`.
+    pub hl: Vec<f64>,
+    /// Liner speed u.
+    pub u: f64,
+}
+
+impl Scene {
+    /// The 2D half-cell scene of a case: n1 × n2 over [0, 0.2] × [0, width/2]; an untextured
+    /// liner has no x2 structure, so its width is nominal (1 cm).
+    pub fn new(case: &CaseSpec, n1: usize, n2: usize) -> Self {
+        let contact = case.contact();
+        let width = case.texture.as_ref().map_or(1.0, |t| 0.5 * t.width);
+        Self::with_grid(contact, Grid::new(n1, n2, 0.2, width), case.u)
+    }
+
+    pub fn with_grid(contact: Contact, grid: Grid, u: f64) -> Self {
+        let ring = (0..=grid.n1)
+            .map(|i| contact.under_ring(grid.x(i)))
+            .collect();
+        let n = grid.nodes();
+        let mut s = Scene {
+            contact,
+            grid,
+            gap: Gap {
+                base: vec![0.0; n],
+                ring,
+            },
+            hl: vec![0.0; n],
+            u,
+        };
+        s.place(0.0);
+        s
+    }
+
+    /// Moves the texture to time t: h_L(x1 − u·t, x2) and the gap without Z (eq. 15).
+    pub fn place(&mut self, t: f64) {
+        let g = &self.grid;
+        for i in 0..=g.n1 {
+            let x = g.x(i);
+            let ring_part = if self.gap.ring[i] {
+                self.contact.ring.sag_um(x - self.contact.x_center_cm)
+            } else {
+                self.contact.e_um
+            };
+            for j in 0..g.n2 {
+                let k = g.idx(i, j);
+                let hl = self.contact.liner.depth_um(x - self.u * t, g.y(j));
+                self.hl[k] = hl;
+                self.gap.base[k] = hl + ring_part;
+            }
+        }
+    }
+}

@@ -1,0 +1,321 @@
+//! The physical case of one evaluation: the ring, the liner texture and the operating point
+//! (docs/model.md §1–4, §7), with the validity rules of docs/model.md §2 checked up front.
+//! Errors name the case's fields (`R`, `l1`, `per`, …): the command line and study files
+//! translate them into their own flag or key names.
+
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+use super::film::Boundary;
+use super::geometry::{CircularArc, Contact, HalfEllipsoid, Liner};
+
+/// A lattice of half-ellipsoidal pockets (model.md §2). Lengths in cm, depth in µm.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Texture {
+    /// Pocket semiaxis along the sliding direction x1 (cm).
+    pub l1: f64,
+    /// Pocket semiaxis across the sliding direction (cm).
+    pub l2: f64,
+    /// Lattice period along x1 (cm).
+    pub per: f64,
+    /// Lattice period along x2 (cm).
+    pub width: f64,
+    /// Pocket depth (µm).
+    pub depth: f64,
+    /// x1 of a pocket centre at t = 0 (cm): the texture's initial phase.
+    #[serde(default)]
+    pub phase: f64,
+}
+
+impl Texture {
+    /// Square lattice of circular pockets (the paper's family): l2 = l1, width = per.
+    pub fn circular(l1: f64, per: f64, depth: f64) -> Self {
+        Texture {
+            l1,
+            l2: l1,
+            per,
+            width: per,
+            depth,
+            phase: 0.0,
+        }
+    }
+    /// Textured area fraction π·l1·l2/(per·width).
+    pub fn area_fraction(&self) -> f64 {
+        std::f64::consts::PI * self.l1 * self.l2 / (self.per * self.width)
+    }
+}
+
+/// One physical case. Defaults are the paper's operating point (model.md §1–4, §7).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CaseSpec {
+    /// Ring face radius R (cm); f64::INFINITY for a flat ring (written "inf").
+    #[serde(rename = "R", with = "radius")]
+    pub r: f64,
+    /// None: untextured liner.
+    pub texture: Option<Texture>,
+    /// Liner speed u (units of U = 10 m/s).
+    pub u: f64,
+    /// Ring pre-stress load per unit width W_ps (units of 2.4e7 N/m).
+    pub w_ps: f64,
+    /// Ring mass per unit width m (units of 2.4e7 kg/m).
+    pub mass: f64,
+    /// Inlet oil film thickness (µm).
+    pub d_oil: f64,
+    /// Shear threshold θ_s of the Couette switch (eq. 9).
+    pub theta_s: f64,
+    /// Gap outside the ring e (µm).
+    pub e: f64,
+    /// Initial ring position Z(0) (µm) and velocity Z'(0).
+    pub z0: f64,
+    pub v0: f64,
+}
+
+impl CaseSpec {
+    /// The film's boundary data (model.md §3): p = 0 at both ends, the oil supply d_oil
+    /// carried in at x1 = 0 by the liner's speed.
+    pub fn film_boundary(&self) -> Boundary {
+        Boundary {
+            u: self.u,
+            p_left: 0.0,
+            p_right: 0.0,
+            phi_inlet: self.d_oil,
+        }
+    }
+
+    /// The paper's operating point for a ring of radius R, untextured liner.
+    pub fn paper(r: f64) -> Self {
+        CaseSpec {
+            r,
+            texture: None,
+            u: 1.0,
+            w_ps: 1.66e-6,
+            mass: 2.0e-9,
+            d_oil: 20.0,
+            theta_s: 0.95,
+            e: 1000.0,
+            z0: 2.5,
+            v0: 0.0,
+        }
+    }
+    pub fn with_texture(mut self, t: Texture) -> Self {
+        self.texture = Some(t);
+        self
+    }
+
+    /// The contact geometry (paper's domain and ring width).
+    pub fn contact(&self) -> Contact {
+        let liner = match &self.texture {
+            None => Liner::smooth(),
+            Some(t) => Liner {
+                pocket: Some(Arc::new(HalfEllipsoid {
+                    l1_cm: t.l1,
+                    l2_cm: t.l2,
+                    depth_um: t.depth,
+                })),
+                per_cm: t.per,
+                width_cm: t.width,
+                phase_cm: t.phase,
+            },
+        };
+        let mut c = Contact::paper(Arc::new(CircularArc { radius_cm: self.r }), liner);
+        c.e_um = self.e;
+        c
+    }
+
+    /// Short label for messages, e.g. "R=0.8 l1=0.01 l2=0.01 per=0.06 width=0.06 depth=5".
+    pub fn label(&self) -> String {
+        let mut s = format!("R={}", self.r);
+        if let Some(t) = &self.texture {
+            s += &format!(
+                " l1={} l2={} per={} width={} depth={}",
+                t.l1, t.l2, t.per, t.width, t.depth
+            );
+            if t.phase != 0.0 {
+                s += &format!(" phase={}", t.phase);
+            }
+        } else {
+            s += " untextured";
+        }
+        s
+    }
+}
+
+/// An input that breaks a rule: names the parameter (a field of the case or of the
+/// numerics, e.g. `l1`, `n1`), its value and the rule.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{param} = {value}: {rule}")]
+pub struct InputError {
+    pub param: String,
+    pub value: String,
+    pub rule: String,
+    /// A rule the user may waive on purpose, if this is one.
+    pub waiver: Option<Waiver>,
+}
+
+/// Rules a user may lift on purpose (each front end names its own switch for it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Waiver {
+    /// The thin-film rule 10⁴·l ≥ 5·depth (docs/model.md §2).
+    ThickPockets,
+}
+
+/// The error for `param` = `value` breaking `rule`.
+pub fn bad(param: &str, value: impl std::fmt::Display, rule: impl Into<String>) -> InputError {
+    InputError {
+        param: param.to_string(),
+        value: value.to_string(),
+        rule: rule.into(),
+        waiver: None,
+    }
+}
+
+/// `v` must be finite and positive.
+pub fn positive(param: &str, v: f64) -> Result<(), InputError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(bad(param, v, "must be a finite number > 0"))
+    }
+}
+
+/// Half the ring width (cm): the smallest radius an arc spanning the ring can have.
+pub const RING_HALF_WIDTH: f64 = 0.04;
+
+impl CaseSpec {
+    /// Checks docs/model.md §2's rules. `allow_thick` lifts the thin-film rule
+    /// 10⁴·l ≥ 5·depth.
+    pub fn validate(&self, allow_thick: bool) -> Result<(), InputError> {
+        if self.r.is_nan() || self.r <= RING_HALF_WIDTH {
+            return Err(bad(
+                "R",
+                self.r,
+                format!(
+                    "the ring face radius must exceed half the ring width ({RING_HALF_WIDTH} cm); use inf for a flat ring"
+                ),
+            ));
+        }
+        positive("u", self.u)?;
+        positive("w_ps", self.w_ps)?;
+        positive("mass", self.mass)?;
+        positive("d_oil", self.d_oil)?;
+        positive("e", self.e)?;
+        positive("z0", self.z0)?;
+        if !self.v0.is_finite() {
+            return Err(bad("v0", self.v0, "must be finite"));
+        }
+        if !(self.theta_s.is_finite() && (0.0..1.0).contains(&self.theta_s)) {
+            return Err(bad("theta_s", self.theta_s, "must lie in [0, 1)"));
+        }
+        if let Some(t) = &self.texture {
+            positive("l1", t.l1)?;
+            positive("l2", t.l2)?;
+            positive("per", t.per)?;
+            positive("width", t.width)?;
+            positive("depth", t.depth)?;
+            if !t.phase.is_finite() {
+                return Err(bad("phase", t.phase, "must be finite"));
+            }
+            if 2.0 * t.l1 > t.per * (1.0 + 1e-12) {
+                return Err(bad(
+                    "l1",
+                    t.l1,
+                    format!(
+                        "2·l1 must not exceed per = {} (pockets would overlap)",
+                        t.per
+                    ),
+                ));
+            }
+            if 2.0 * t.l2 > t.width * (1.0 + 1e-12) {
+                return Err(bad(
+                    "l2",
+                    t.l2,
+                    format!(
+                        "2·l2 must not exceed width = {} (pockets would overlap)",
+                        t.width
+                    ),
+                ));
+            }
+            if !allow_thick {
+                for (name, l) in [("l1", t.l1), ("l2", t.l2)] {
+                    if 1e4 * l < 5.0 * t.depth * (1.0 - 1e-12) {
+                        return Err(InputError {
+                            waiver: Some(Waiver::ThickPockets),
+                            ..bad(
+                                name,
+                                l,
+                                format!(
+                                    "thin-film validity needs 10⁴·l ≥ 5·depth (depth = {} µm needs l ≥ {} cm)",
+                                    t.depth,
+                                    5.0 * t.depth * 1e-4
+                                ),
+                            )
+                        });
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Serialises R with "inf" for a flat ring (JSON has no infinity).
+mod radius {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(r: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if r.is_infinite() {
+            s.serialize_str("inf")
+        } else {
+            s.serialize_f64(*r)
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum R {
+            Num(f64),
+            Text(String),
+        }
+        match R::deserialize(d)? {
+            R::Num(v) => Ok(v),
+            R::Text(t) if t == "inf" => Ok(f64::INFINITY),
+            R::Text(t) => Err(serde::de::Error::custom(format!(
+                "R must be a number of cm or \"inf\", not {t:?}"
+            ))),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flat_ring_round_trips_through_json() {
+        let c = CaseSpec::paper(f64::INFINITY);
+        let s = serde_json::to_string(&c).unwrap();
+        assert!(s.contains("\"R\":\"inf\""));
+        let back: CaseSpec = serde_json::from_str(&s).unwrap();
+        assert_eq!(back, c);
+    }
+
+    #[test]
+    fn rules_of_docs_model_md_section_2() {
+        let ok = CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0));
+        assert!(ok.validate(false).is_ok());
+        let overlap = CaseSpec::paper(0.8).with_texture(Texture::circular(0.04, 0.06, 5.0));
+        assert_eq!(overlap.validate(false).unwrap_err().param, "l1");
+        let thick = CaseSpec::paper(0.8).with_texture(Texture::circular(0.005, 0.06, 20.0));
+        let e = thick.validate(false).unwrap_err();
+        assert_eq!(
+            (e.param.as_str(), e.waiver),
+            ("l1", Some(Waiver::ThickPockets))
+        );
+        assert!(thick.validate(true).is_ok());
+        assert_eq!(
+            CaseSpec::paper(0.03).validate(false).unwrap_err().param,
+            "R"
+        );
+    }
+}

@@ -1,0 +1,10 @@
+//! The physics (docs/model.md): scales, geometry of ring and liner, the case's inputs and their
+//! validity, the film equation and its stencil, the ring's dynamics and the friction terms.
+//! Nothing here knows a mesh beyond the stencil's column of nodes, nor how anything is solved.
+
+pub mod case;
+pub mod film;
+pub mod friction;
+pub mod geometry;
+pub mod ring;
+pub mod units;

@@ -1,0 +1,286 @@
+//! The product's film solver: the active-set Newton iteration ([`super::newton`]) with every
+//! linear system solved exactly by the band LU over the pressurised range, factors reused per
+//! [`super::reuse`].
+
+use super::newton::{
+    apply_correction, assemble, fill_pressurised, pressurised_range, ring_sensitivity, ring_update,
+    update_active_set, upwind_sweep, RingWork,
+};
+use super::problem::{check_finite, finish, impose_boundary, GapCache};
+use super::reuse::{Plan, Reuse, CHORD_CONFIRM, ROUNDED_FACTORS};
+use super::{FilmError, FilmMethod, KeptFactors, Method, SolveStats, Stencil5, Step, Tolerance};
+use crate::mesh::{face_conductances, FilmState};
+use crate::model::film::Faces;
+
+/// The band-LU film solver and its work arrays.
+#[derive(Debug, Default, Clone)]
+pub struct FilmSolver {
+    tol: Tolerance,
+    gap: GapCache,
+    reuse: Reuse,
+    /// The Newton matrix of the current iteration (taken by the factorisation).
+    a: Stencil5,
+    /// −F, then the Newton correction; ∂F/∂Z, then the ring's sensitivity (y2).
+    y1: Vec<f64>,
+    y2: Vec<f64>,
+    rhs2: Vec<f64>,
+    /// y1 and y2 interleaved during their substitutions.
+    pairs: Vec<[f64; 2]>,
+    ring: RingWork,
+    /// The gap and face conductances at the factors' Z, when the matrix is frozen there.
+    jh: Vec<f64>,
+    jcx: Vec<f64>,
+    jcy: Vec<f64>,
+}
+
+/// What one iteration did, for the stopping rule.
+struct Iterate {
+    dz: f64,
+    /// The Z of the iteration's matrix (None when nothing was pressurised), whether it was a
+    /// chord or frozen one, whether its factors were rounded, and its relative correction.
+    z_matrix: Option<f64>,
+    chorded: bool,
+    rounded: bool,
+    correction: f64,
+}
+
+impl Iterate {
+    /// Nothing pressurised: W_h = 0, and the ring's update is explicit.
+    fn unpressurised(step: &Step, z: f64) -> Self {
+        Iterate {
+            dz: step
+                .ring
+                .map_or(0.0, |link| link.z_pred - link.kappa * link.w_ps - z),
+            z_matrix: None,
+            chorded: false,
+            rounded: false,
+            correction: 0.0,
+        }
+    }
+
+    /// Whether what a further iteration would change is negligible: a Newton step that
+    /// moved Z by at most z_abs, or any step whose estimated leftover is. At a fixed set the
+    /// problem is nonlinear only through h(Z), so what is left is about the matrix's relative
+    /// error at the final Z (c: the drift of chord or frozen factors, or a Newton step's own
+    /// Z change; rounded factors add theirs) times this iteration's change, in Z and in p, φ.
+    fn settled(&self, z: f64, ring_min_base: f64, z_abs: f64) -> bool {
+        (self.dz.abs() <= z_abs && !self.chorded && !self.rounded)
+            || self.z_matrix.is_some_and(|zm| {
+                let c = 3.0 * (z - zm).abs() / (z + ring_min_base)
+                    + if self.rounded { ROUNDED_FACTORS } else { 0.0 };
+                c * self.dz.abs() <= z_abs && c * self.correction <= CHORD_CONFIRM
+            })
+    }
+}
+
+impl FilmSolver {
+    pub fn new(method: Method) -> Self {
+        FilmSolver {
+            reuse: Reuse::new(method == Method::Reference),
+            ..Default::default()
+        }
+    }
+
+    /// The iteration to a settled active set and ring. Returns the iterations taken.
+    fn iterate(
+        &mut self,
+        step: &Step,
+        state: &mut FilmState,
+        z: &mut f64,
+    ) -> Result<usize, FilmError> {
+        let g = step.grid;
+        let ring_min_base = step.gap.ring_min_base(g);
+        let stretch = self.reuse.may_stretch(g.n2);
+        let mut iterations = 0;
+        loop {
+            iterations += 1;
+            self.gap.set_gap(step, *z)?;
+            fill_pressurised(g, state, self.gap.h());
+            let range = if self.reuse.is_reference() {
+                Some((1, g.n1 - 1))
+            } else {
+                pressurised_range(g, &state.pressurised)
+            };
+            // Outside the range every node is cavitated with p = 0 around it: exact sweeps.
+            let (lo, hi) = range.unwrap_or((g.n1, g.n1 - 1));
+            upwind_sweep(step, &self.gap.faces(), state, 1..lo);
+            let it = match range {
+                Some(r) => self.newton_step(step, state, *z, r, ring_min_base, stretch)?,
+                None => Iterate::unpressurised(step, *z),
+            };
+            *z += it.dz;
+            upwind_sweep(step, &self.gap.faces(), state, hi + 1..g.n1);
+            self.gap.fill_h(step, *z);
+            let changes = update_active_set(g, state, self.gap.h());
+            check_finite(g, state, *z)?;
+            if changes == 0 && it.settled(*z, ring_min_base, self.tol.z_abs) {
+                return Ok(iterations);
+            }
+            if iterations >= g.n1 + self.tol.extra_iterations {
+                return Err(FilmError::NotConverged {
+                    iterations,
+                    changes,
+                    dz: it.dz.abs(),
+                    z: *z,
+                });
+            }
+        }
+    }
+
+    /// One Newton step over the columns lo..=hi: matrix (factored, or factors at hand),
+    /// ring bordered, correction applied. Returns what it did.
+    fn newton_step(
+        &mut self,
+        step: &Step,
+        state: &mut FilmState,
+        z: f64,
+        range: (usize, usize),
+        ring_min_base: f64,
+        stretch: bool,
+    ) -> Result<Iterate, FilmError> {
+        let n2 = step.grid.n2;
+        let block = range.0 * n2..(range.1 + 1) * n2;
+        let plan: Plan = self.reuse.plan(
+            range,
+            &state.pressurised[block.clone()],
+            z,
+            ring_min_base,
+            n2,
+            stretch,
+        );
+        if let Some(zf) = plan.frozen {
+            step.gap.fill(step.grid, zf, &mut self.jh);
+            face_conductances(step.grid, &self.jh, None, &mut self.jcx, &mut self.jcy);
+        }
+        let faces = self.gap.faces();
+        let jfaces = match plan.frozen {
+            Some(_) => Faces {
+                cx: &self.jcx,
+                cy: &self.jcy,
+            },
+            None => faces,
+        };
+        assemble(
+            step,
+            state,
+            &faces,
+            &jfaces,
+            range,
+            &mut self.a,
+            &mut self.y1,
+        );
+        if !plan.chord {
+            let z_of = plan.frozen.unwrap_or(z);
+            self.reuse
+                .factor(&mut self.a, range, &state.pressurised[block], z_of)?;
+        }
+        let rounded = self.reuse.rounded();
+        let dz = match step.ring {
+            Some(link) => {
+                ring_sensitivity(
+                    step,
+                    state,
+                    self.gap.h(),
+                    range,
+                    &mut self.ring,
+                    &mut self.rhs2,
+                );
+                // y2 takes ∂F/∂Z (rhs2 gets y2's old buffer, which the next one clears).
+                std::mem::swap(&mut self.rhs2, &mut self.y2);
+                self.reuse
+                    .solve2(&mut self.y1, &mut self.y2, &mut self.pairs);
+                ring_update(
+                    step,
+                    link,
+                    state,
+                    range,
+                    &mut self.y1,
+                    &self.y2,
+                    z,
+                    ring_min_base,
+                )
+            }
+            None => {
+                self.reuse.solve(&mut self.y1);
+                0.0
+            }
+        };
+        let correction = apply_correction(step.grid, state, self.gap.h(), &self.y1, range);
+        Ok(Iterate {
+            dz,
+            z_matrix: Some(plan.z_matrix),
+            chorded: plan.chord || plan.frozen.is_some(),
+            rounded,
+            correction,
+        })
+    }
+}
+
+impl FilmMethod for FilmSolver {
+    fn solve(
+        &mut self,
+        step: &Step,
+        state: &mut FilmState,
+        z: &mut f64,
+    ) -> Result<SolveStats, FilmError> {
+        self.reuse.begin();
+        self.gap.begin(step);
+        impose_boundary(step, state, *z);
+        let iterations = self.iterate(step, state, z)?;
+        let stats = finish(&mut self.gap, step, state, *z, iterations, 0)?;
+        Ok(SolveStats {
+            factorisations: self.reuse.factorisations,
+            eliminated_rows: self.reuse.eliminated_rows,
+            ..stats
+        })
+    }
+
+    fn keeps_factors(&self) -> bool {
+        !self.reuse.is_reference()
+    }
+
+    fn inherit_factors(&mut self, kept: &mut KeptFactors) {
+        self.reuse.inherit(kept);
+    }
+
+    fn keep_factors(&mut self, slot: &mut KeptFactors) {
+        self.reuse.keep(slot);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{Gap, Grid};
+    use crate::model::film::Boundary;
+
+    #[test]
+    fn a_closed_gap_is_an_error_not_a_number() {
+        let g = Grid::new(16, 1, 1.0, 1.0);
+        let mut base = vec![1.0; 17];
+        base[8] = 0.0;
+        let gap = Gap {
+            base,
+            ring: vec![false; 17],
+        };
+        let phi_old = vec![1.0; 17];
+        let step = Step {
+            grid: &g,
+            gap: &gap,
+            phi_old: &phi_old,
+            inv_dt: 0.0,
+            boundary: Boundary {
+                u: 1.0,
+                p_left: 0.0,
+                p_right: 0.0,
+                phi_inlet: 1.0,
+            },
+            ring: None,
+        };
+        let mut st = FilmState::flooded(&g, &gap, 0.0);
+        let err = FilmSolver::new(Method::Direct)
+            .solve(&step, &mut st, &mut 0.0)
+            .unwrap_err();
+        assert!(matches!(err, FilmError::GapClosed { x1, .. } if (x1 - 0.5).abs() < 1e-12));
+    }
+}

@@ -1,0 +1,329 @@
+//! The pieces of the primal–dual active-set (semi-smooth Newton) iteration with Z bordered
+//! (docs/solver.md, "Complementarity"): each is one step of an iteration, written once and
+//! used by the product's solver ([`super::FilmSolver`]) and by the lab's inexact ones.
+//!
+//! For a fixed active set the film balance F (the stencil, [`Column::balance`]) is linear in
+//! the unknowns x (p on the pressurised set, φ on the cavitated set) and nonlinear in Z only
+//! through h(Z). A Newton iteration solves ∂F/∂x · y1 = −F and ∂F/∂x · y2 = ∂F/∂Z, then the
+//! ring equation G = Z − z_pred − κ(W_h(p) − W_ps) = 0 for δZ (the Schur complement), and
+//! moves x by y1 − y2·δZ; then nodes switch sets: a negative pressure cavitates, an over-full
+//! film pressurises.
+
+use super::problem::limit_closing;
+use super::{Stencil5, Step};
+use crate::mesh::integrals::load;
+use crate::mesh::{FilmState, Grid};
+use crate::model::film::{Column, Faces};
+use crate::model::ring::RingLink;
+
+/// Switching threshold of the active set, relative to the largest pressure: round-off.
+const SWITCH_EPS: f64 = 1e-13;
+
+/// θ = 1 on the pressurised set: φ = h there (interior nodes).
+pub fn fill_pressurised(g: &Grid, state: &mut FilmState, h: &[f64]) {
+    let interior = g.n2..g.n1 * g.n2;
+    for ((phi, &pr), &h) in state.phi[interior.clone()]
+        .iter_mut()
+        .zip(&state.pressurised[interior.clone()])
+        .zip(&h[interior])
+    {
+        if pr {
+            *phi = h;
+        }
+    }
+}
+
+/// The x1-range [lo, hi] of node columns holding every pressurised node, with one column of
+/// margin, within 1..=n1 − 1; None when nothing is pressurised.
+pub fn pressurised_range(g: &Grid, pressurised: &[bool]) -> Option<(usize, usize)> {
+    let (n1, n2) = (g.n1, g.n2);
+    let (mut lo, mut hi) = (usize::MAX, 0);
+    for i in 1..n1 {
+        if pressurised[i * n2..(i + 1) * n2].contains(&true) {
+            lo = lo.min(i);
+            hi = i;
+        }
+    }
+    (lo != usize::MAX).then(|| (lo.saturating_sub(1).max(1), (hi + 1).min(n1 - 1)))
+}
+
+/// Exact upwind sweep over node columns `cols`, all cavitated with p = 0 around them: the
+/// stencil is affine in φ_ij with slope adv + at, and a node's balance reads φ of its own
+/// node and the one upstream only, so each node is solved in order.
+pub fn upwind_sweep(
+    step: &Step,
+    faces: &Faces,
+    state: &mut FilmState,
+    cols: std::ops::Range<usize>,
+) {
+    let n2 = step.grid.n2;
+    let (adv, at) = step.coefficients();
+    let phi_old = step.phi_old();
+    for i in cols {
+        let (done, rest) = state.phi.split_at_mut(i * n2);
+        let col = Column::new(n2, faces, &state.p, done, phi_old, i);
+        for (j, phi) in rest[..n2].iter_mut().enumerate() {
+            let r = col.balance_with(adv, at, j, *phi);
+            *phi -= r / (adv + at);
+        }
+    }
+}
+
+/// Assembles over node columns lo..=hi the Newton matrix ∂F/∂x of the current active set
+/// into `a` and −F into `rhs`. F is evaluated with the conductances `faces` (the current Z);
+/// the matrix with `jfaces` (the same, or those of another Z when the matrix is frozen).
+#[allow(clippy::too_many_arguments)]
+pub fn assemble(
+    step: &Step,
+    state: &FilmState,
+    faces: &Faces,
+    jfaces: &Faces,
+    (lo, hi): (usize, usize),
+    a: &mut Stencil5,
+    rhs: &mut Vec<f64>,
+) {
+    let n2 = step.grid.n2;
+    let (adv, at) = step.coefficients();
+    let phi_old = step.phi_old();
+    // Every entry is written below.
+    a.reshape(hi - lo + 1, n2);
+    rhs.clear();
+    for i in lo..=hi {
+        let col = Column::new(n2, faces, &state.p, &state.phi, phi_old, i);
+        // The matrix's conductances and the active set around column i, and its rows, as
+        // slices of length n2 (no index checked per entry).
+        let (cx_w, cx_e) = (&jfaces.cx[(i - 1) * n2..][..n2], &jfaces.cx[i * n2..][..n2]);
+        let cy = &jfaces.cy[i * (n2 - 1)..][..n2 - 1];
+        let pr_w = &state.pressurised[(i - 1) * n2..][..n2];
+        let pr = &state.pressurised[i * n2..][..n2];
+        let pr_e = &state.pressurised[(i + 1) * n2..][..n2];
+        let r0 = (i - lo) * n2;
+        let ac = &mut a.c[r0..][..n2];
+        let aw = &mut a.w[r0..][..n2];
+        let ae = &mut a.e[r0..][..n2];
+        let a_s = &mut a.s[r0..][..n2];
+        let an = &mut a.n[r0..][..n2];
+        for j in 0..n2 {
+            rhs.push(-col.balance(adv, at, j));
+            let cw = cx_w[j];
+            let ce = cx_e[j];
+            let cs = if j > 0 { cy[j - 1] } else { 0.0 };
+            let cn = if j + 1 < n2 { cy[j] } else { 0.0 };
+            // Diagonal: ∂F/∂p_ij = Σc on the pressurised set, ∂F/∂φ_ij = adv + at on the
+            // cavitated set.
+            ac[j] = if pr[j] { cw + ce + cs + cn } else { adv + at };
+            // Off-diagonals depend on the neighbour's unknown only: its pressure enters
+            // through −c, the upstream φ through −adv, downstream φ not at all.
+            aw[j] = if i == lo {
+                0.0
+            } else if pr_w[j] {
+                -cw
+            } else {
+                -adv
+            };
+            let coupled = |on: bool, c: f64| if on { -c } else { 0.0 };
+            ae[j] = coupled(i < hi && pr_e[j], ce);
+            a_s[j] = coupled(j > 0 && pr[j - 1], cs);
+            an[j] = coupled(j + 1 < n2 && pr[j + 1], cn);
+        }
+    }
+}
+
+/// Work arrays of the ring's sensitivity ∂F/∂Z.
+#[derive(Debug, Default, Clone)]
+pub struct RingWork {
+    dcx: Vec<f64>,
+    dcy: Vec<f64>,
+    dphi: Vec<f64>,
+}
+
+/// ∂(face conductance)/∂Z = 3·h_f²·∂h_f/∂Z·(geometry factor), ∂h_f/∂Z the mean of the nodal
+/// ∂h/∂Z (1 under the ring, 0 elsewhere).
+fn face_conductance_derivatives(
+    g: &Grid,
+    h: &[f64],
+    ring: &[bool],
+    dcx: &mut Vec<f64>,
+    dcy: &mut Vec<f64>,
+) {
+    let (n1, n2) = (g.n1, g.n2);
+    let (sx, sy) = (g.dy / g.dx, g.dx / g.dy);
+    let dz = |i: usize| if ring[i] { 1.0 } else { 0.0 };
+    // Zero away from the ring (the same +0.0 the product gives), computed under it only:
+    // the ring columns are the same in every call, so the zeros stay once written.
+    if dcx.len() != n1 * n2 || dcy.len() != (n1 + 1) * n2.saturating_sub(1) {
+        dcx.clear();
+        dcx.resize(n1 * n2, 0.0);
+        dcy.clear();
+        dcy.resize((n1 + 1) * n2.saturating_sub(1), 0.0);
+    }
+    for i in 0..=n1 {
+        if i < n1 && (ring[i] || ring[i + 1]) {
+            for k in i * n2..(i + 1) * n2 {
+                let hf = 0.5 * (h[k] + h[k + n2]);
+                dcx[k] = 3.0 * hf * hf * 0.5 * (dz(i) + dz(i + 1)) * sx;
+            }
+        }
+        if ring[i] {
+            for j in 0..n2.saturating_sub(1) {
+                let k = i * n2 + j;
+                let hf = 0.5 * (h[k] + h[k + 1]);
+                dcy[i * (n2 - 1) + j] = 3.0 * hf * hf * dz(i) * sy;
+            }
+        }
+    }
+}
+
+/// ∂F/∂Z over node columns lo..=hi into `rhs`: the same stencil with conductances ∂c/∂Z and
+/// φ' = ∂h/∂Z on the pressurised set (φ = h there), without the old-time term. Only the
+/// columns under the ring and their neighbours see Z; elsewhere ∂F/∂Z is exactly zero.
+pub fn ring_sensitivity(
+    step: &Step,
+    state: &FilmState,
+    h: &[f64],
+    (lo, hi): (usize, usize),
+    work: &mut RingWork,
+    rhs: &mut Vec<f64>,
+) {
+    let (g, ring) = (step.grid, &step.gap.ring);
+    let n2 = g.n2;
+    let (adv, at) = step.coefficients();
+    let cols = ring_columns(step);
+    face_conductance_derivatives(g, h, ring, &mut work.dcx, &mut work.dcy);
+    // φ' is read only in the columns that see Z and the one upstream of them.
+    work.dphi.resize(ring.len() * n2, 0.0);
+    let read = cols.start.saturating_sub(1)..cols.end.min(ring.len());
+    for i in read {
+        let col = &state.pressurised[i * n2..(i + 1) * n2];
+        let out = &mut work.dphi[i * n2..(i + 1) * n2];
+        for (d, &pr) in out.iter_mut().zip(col) {
+            *d = if pr && ring[i] { 1.0 } else { 0.0 };
+        }
+    }
+    let dfaces = Faces {
+        cx: &work.dcx,
+        cy: &work.dcy,
+    };
+    rhs.clear();
+    rhs.resize((hi - lo + 1) * n2, 0.0);
+    for i in cols.start.max(lo)..cols.end.min(hi + 1) {
+        let col = Column::new(n2, &dfaces, &state.p, &work.dphi, None, i);
+        let out = &mut rhs[(i - lo) * n2..(i - lo + 1) * n2];
+        for (j, r) in out.iter_mut().enumerate() {
+            *r = col.balance(adv, at, j);
+        }
+    }
+}
+
+/// Node columns whose balance depends on Z: under the ring and one either side.
+fn ring_columns(step: &Step) -> std::ops::Range<usize> {
+    match step.gap.ring_columns() {
+        c if c.is_empty() => 0..0,
+        c => c.start.saturating_sub(1)..c.end + 1,
+    }
+}
+
+/// The ring's Newton update δZ from the bordered system (y1 = −(∂F/∂x)⁻¹F, y2 =
+/// (∂F/∂x)⁻¹∂F/∂Z over columns lo..=hi), limited so that no iterate closes the gap; y1 then
+/// becomes the correction of x, y1 − y2·δZ.
+#[allow(clippy::too_many_arguments)]
+pub fn ring_update(
+    step: &Step,
+    link: RingLink,
+    state: &FilmState,
+    (lo, hi): (usize, usize),
+    y1: &mut [f64],
+    y2: &[f64],
+    z: f64,
+    ring_min_base: f64,
+) -> f64 {
+    let (g, ring) = (step.grid, &step.gap.ring);
+    let n2 = g.n2;
+    // G = Z − z_pred − κ(W_h(p) − W_ps) = 0, ∂G/∂p_k = −κ·w_k.
+    let w_h = load(g, ring, &state.p);
+    let gres = z - link.z_pred - link.kappa * (w_h - link.w_ps);
+    let (mut gy1, mut gy2) = (0.0, 0.0);
+    for i in (lo..=hi).filter(|&i| ring[i]) {
+        for j in 0..n2 {
+            if state.pressurised[i * n2 + j] {
+                let r = (i - lo) * n2 + j;
+                gy1 += y1[r];
+                gy2 += y2[r];
+            }
+        }
+    }
+    let load_weight = g.dx * g.dy / g.width;
+    let gx = -link.kappa * load_weight;
+    let dz = -(gres + gx * gy1) / (1.0 - gx * gy2);
+    let dz = limit_closing(dz, z, ring_min_base);
+    for (a, b) in y1.iter_mut().zip(y2) {
+        *a -= b * dz;
+    }
+    dz
+}
+
+/// Moves the unknowns of columns lo..=hi by `y` (p on the pressurised set, φ elsewhere);
+/// returns the correction's size relative to the solution: max(|δp|/p_max, |δφ|/h).
+pub fn apply_correction(
+    g: &Grid,
+    state: &mut FilmState,
+    h: &[f64],
+    y: &[f64],
+    (lo, hi): (usize, usize),
+) -> f64 {
+    let n2 = g.n2;
+    let (mut dp, mut dphi, mut pmax) = (0.0f64, 0.0f64, 0.0f64);
+    let span = lo * n2..(hi + 1) * n2;
+    for ((((&d, &pr), p), phi), &h) in y
+        .iter()
+        .zip(&state.pressurised[span.clone()])
+        .zip(&mut state.p[span.clone()])
+        .zip(&mut state.phi[span.clone()])
+        .zip(&h[span])
+    {
+        if pr {
+            *p += d;
+            dp = dp.max(d.abs());
+            pmax = pmax.max(p.abs());
+        } else {
+            *phi += d;
+            dphi = dphi.max(d.abs() / h);
+        }
+    }
+    dphi.max(if pmax > 0.0 { dp / pmax } else { 0.0 })
+}
+
+/// Active-set update with the gap `h` at the new Z: a pressure below −ε·p_max cavitates its
+/// node (p = 0, φ = h to start from), a film over h·(1 + ε) pressurises it (p = 0, φ = h);
+/// ε at round-off. Returns the number of switches.
+pub fn update_active_set(g: &Grid, state: &mut FilmState, h: &[f64]) -> usize {
+    let interior = g.n2..g.n1 * g.n2;
+    let pmax = state.pressurised[interior.clone()]
+        .iter()
+        .zip(&state.p[interior.clone()])
+        .filter(|(&pr, _)| pr)
+        .fold(0.0f64, |m, (_, &p)| m.max(p));
+    let p_eps = SWITCH_EPS * pmax;
+    let mut changes = 0;
+    for (((pr, p), phi), &hk) in state.pressurised[interior.clone()]
+        .iter_mut()
+        .zip(&mut state.p[interior.clone()])
+        .zip(&mut state.phi[interior.clone()])
+        .zip(&h[interior])
+    {
+        if *pr {
+            if *p < -p_eps {
+                *pr = false;
+                *p = 0.0;
+                *phi = hk;
+                changes += 1;
+            }
+        } else if *phi > hk * (1.0 + SWITCH_EPS) {
+            *pr = true;
+            *p = 0.0;
+            *phi = hk;
+            changes += 1;
+        }
+    }
+    changes
+}

@@ -1,0 +1,511 @@
+//! The persistent evaluation cache: an embedded SQLite database (WAL journal, so several
+//! processes may share one file on a local disk and a killed writer loses at most the
+//! evaluation it was writing).
+//!
+//! Key: SHA-256 of the canonical JSON of everything that determines the answer — the model
+//! version (`MODEL_VERSION`), every physical input (CaseSpec) and the numerics (mesh, dt,
+//! tolerances, solver, start). Value: the outcomes (or the failure and its reason) with run
+//! metadata (wall time, steps, texopt version, date).
+
+use rusqlite::{params, Connection, OpenFlags, OptionalExtension};
+use serde::Serialize;
+use sha2::{Digest, Sha256};
+use std::path::{Path, PathBuf};
+
+use crate::model::case::CaseSpec;
+use crate::solve::Method;
+use crate::time::{Numerics, Outcome, Start};
+
+/// Changes whenever a change of the code changes the answers for the same inputs; old
+/// entries then stop matching (they stay in the file until `texopt cache clear`).
+/// 2: averaging windows of whole periods ≥ 0.06 ms; screening tiers at periodic_tol 1e-4.
+/// 3: the periodic test reads a damped oscillation's limit and jumps along it (runs stop
+/// sooner, within their tolerance), and requires the film to hold the same oil at every
+/// window end (runs on a draining oil bank go on, or fail at t_max).
+/// 4: contact once Z ≤ 1 nm (`run::CONTACT_Z`), not Z ≤ 0, which a ring pushed into the liner
+/// approached without ever reaching (a run that touched the liner in its transient and
+/// lifted off again used to report its periodic regime).
+/// (Kept at 4 by stop 17's jump rule, `run::JUMP_TOL`: it moves runs along another path to
+/// the same periodic regime, within the periodic tolerance and with the same statuses, so
+/// the answers cached before remain answers of this model to that tolerance. Kept at 4 too
+/// by stop 18's film stop at 1e-8 relative, `film::CHORD_CONFIRM`: outcomes moved by
+/// ≤ 1.6e-10, far inside every tolerance; and by stop 27's single-precision kept factors at
+/// wide bands, `film::KeptFactors`: `paper`/`fine` outcomes within ≈ 1e-11, `fast` and
+/// `draft` the same bits.)
+pub const MODEL_VERSION: &str = "texopt-model-4";
+
+/// SQLite `application_id` of a texopt cache ("TXOP").
+const APPLICATION_ID: i32 = 0x5458_4f50;
+/// Schema version (`user_version`).
+const SCHEMA: i32 = 1;
+
+/// Default cache file, relative to the working directory (git-ignored); `TEXOPT_CACHE`
+/// or `--cache` choose another.
+pub const DEFAULT_PATH: &str = ".texopt/cache.sqlite";
+
+/// The cache path: the flag, else `TEXOPT_CACHE`, else `DEFAULT_PATH`.
+pub fn path_from(flag: Option<&Path>) -> PathBuf {
+    flag.map(Path::to_path_buf)
+        .or_else(|| std::env::var_os("TEXOPT_CACHE").map(PathBuf::from))
+        .unwrap_or_else(|| PathBuf::from(DEFAULT_PATH))
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum CacheError {
+    #[error("cache {path}: {why}; it was left untouched — move it away or choose another file with --cache")]
+    Foreign { path: String, why: String },
+    #[error("cache {path}: {source}")]
+    Sqlite {
+        path: String,
+        source: rusqlite::Error,
+    },
+    #[error("cache {path}: {why}")]
+    Io { path: String, why: String },
+}
+
+/// What the cache holds for one key.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Entry {
+    Done(Outcome),
+    Failed(String),
+}
+
+/// The canonical key of an evaluation and its hash.
+#[derive(Clone, Debug)]
+pub struct Key {
+    pub hash: String,
+    pub json: String,
+}
+
+#[derive(Serialize)]
+struct KeyInputs<'a> {
+    model: &'a str,
+    case: &'a CaseSpec,
+    numerics: KeyNumerics,
+}
+
+/// The numerics as keys hold them: every field of [`Numerics`] in its order, and after
+/// `solver` the film solve's tolerance and cycle count of the key format, constants
+/// (changing the format would orphan every evaluation stored).
+#[derive(Serialize)]
+struct KeyNumerics {
+    n1: usize,
+    n2: usize,
+    dt: f64,
+    periodic_tol: f64,
+    t_max: f64,
+    min_periods: usize,
+    solver: Method,
+    solve_tol: f64,
+    cycles: usize,
+    start: Start,
+    extrapolate: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    approach_n2: Option<usize>,
+}
+
+impl KeyNumerics {
+    fn of(n: &Numerics) -> Self {
+        let Numerics {
+            n1,
+            n2,
+            dt,
+            periodic_tol,
+            t_max,
+            min_periods,
+            solver,
+            start,
+            extrapolate,
+            approach_n2,
+        } = n.clone();
+        KeyNumerics {
+            n1,
+            n2,
+            dt,
+            periodic_tol,
+            t_max,
+            min_periods,
+            solver,
+            solve_tol: 1e-8,
+            cycles: 8,
+            start,
+            extrapolate,
+            approach_n2,
+        }
+    }
+}
+
+impl Key {
+    pub fn of(case: &CaseSpec, numerics: &Numerics) -> Key {
+        let json = serde_json::to_string(&KeyInputs {
+            model: MODEL_VERSION,
+            case,
+            numerics: KeyNumerics::of(numerics),
+        })
+        .expect("plain data serialises");
+        let hash = Sha256::digest(json.as_bytes())
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect();
+        Key { hash, json }
+    }
+}
+
+/// Counts for `texopt cache stats`.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Stats {
+    pub done: usize,
+    pub failed: usize,
+    pub compute_seconds: f64,
+    pub file_bytes: u64,
+}
+
+pub struct Cache {
+    conn: Connection,
+    path: PathBuf,
+}
+
+impl Cache {
+    /// Opens the cache file, creating it (and its directory) if missing. A file that is not
+    /// an SQLite database, or another application's database, is reported and left alone.
+    pub fn open(path: &Path) -> Result<Cache, CacheError> {
+        let shown = path.display().to_string();
+        let exists = path.exists();
+        if exists {
+            let mut head = [0u8; 16];
+            use std::io::Read;
+            let n = std::fs::File::open(path)
+                .and_then(|mut f| f.read(&mut head))
+                .map_err(|e| CacheError::Io {
+                    path: shown.clone(),
+                    why: e.to_string(),
+                })?;
+            if n > 0 && (n < 16 || &head != b"SQLite format 3\0") {
+                return Err(CacheError::Foreign {
+                    path: shown,
+                    why: "not a texopt cache (not an SQLite database)".into(),
+                });
+            }
+        } else if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| CacheError::Io {
+                path: shown.clone(),
+                why: format!("cannot create directory {}: {e}", dir.display()),
+            })?;
+        }
+        let sql = |source| CacheError::Sqlite {
+            path: shown.clone(),
+            source,
+        };
+        let conn = Connection::open_with_flags(
+            path,
+            OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_CREATE,
+        )
+        .map_err(sql)?;
+        conn.busy_timeout(std::time::Duration::from_secs(120))
+            .map_err(sql)?;
+        let damaged = |e: rusqlite::Error| match e.sqlite_error_code() {
+            Some(rusqlite::ErrorCode::DatabaseCorrupt | rusqlite::ErrorCode::NotADatabase) => {
+                CacheError::Foreign {
+                    path: shown.clone(),
+                    why: format!("the cache file is damaged ({e})"),
+                }
+            }
+            _ => sql(e),
+        };
+        // The first read: a file that is not a database, or a damaged one, fails here and is
+        // reported before anything is written to it.
+        conn.query_row("PRAGMA application_id", [], |r| r.get::<_, i32>(0))
+            .map_err(damaged)?;
+        let check: String = conn
+            .query_row("PRAGMA quick_check", [], |r| r.get(0))
+            .map_err(damaged)?;
+        if check != "ok" {
+            let first = check.lines().find(|l| !l.starts_with("***")).unwrap_or("");
+            return Err(CacheError::Foreign {
+                path: shown,
+                why: format!(
+                    "the cache file is damaged (SQLite quick_check: {first}; {} problems)",
+                    check.lines().count()
+                ),
+            });
+        }
+        // What the file holds, read in one snapshot (another process may be creating it).
+        let identity = |conn: &Connection| -> rusqlite::Result<(i32, i64)> {
+            let app: i32 = conn.query_row("PRAGMA application_id", [], |r| r.get(0))?;
+            let tables: i64 =
+                conn.query_row("SELECT count(*) FROM sqlite_master", [], |r| r.get(0))?;
+            Ok((app, tables))
+        };
+        conn.execute_batch("BEGIN").map_err(sql)?;
+        let seen = identity(&conn);
+        conn.execute_batch("COMMIT").map_err(sql)?;
+        let (app, tables) = seen.map_err(sql)?;
+        if app != APPLICATION_ID && tables > 0 {
+            return Err(CacheError::Foreign {
+                path: shown,
+                why: "not a texopt cache (an SQLite database of another application)".into(),
+            });
+        }
+        if app == APPLICATION_ID {
+            let v: i32 = conn
+                .query_row("PRAGMA user_version", [], |r| r.get(0))
+                .map_err(sql)?;
+            if v != SCHEMA {
+                return Err(CacheError::Foreign {
+                    path: shown,
+                    why: format!(
+                        "a texopt cache of schema version {v}; this texopt reads {SCHEMA} (export it with the texopt that wrote it)"
+                    ),
+                });
+            }
+        }
+        // Switching a fresh file to WAL needs it to itself for a moment; SQLite may answer
+        // "busy" at once instead of waiting, so wait here (bounded like the busy timeout).
+        let t0 = std::time::Instant::now();
+        loop {
+            match conn.pragma_update(None, "journal_mode", "WAL") {
+                Err(e)
+                    if e.sqlite_error_code() == Some(rusqlite::ErrorCode::DatabaseBusy)
+                        && t0.elapsed().as_secs() < 120 =>
+                {
+                    std::thread::sleep(std::time::Duration::from_millis(20));
+                }
+                r => break r.map_err(sql)?,
+            }
+        }
+        conn.pragma_update(None, "synchronous", "NORMAL")
+            .map_err(sql)?;
+        if app != APPLICATION_ID {
+            // Created under the write lock, after checking again that nobody else did.
+            conn.execute_batch("BEGIN IMMEDIATE").map_err(sql)?;
+            let create = match identity(&conn) {
+                Ok((APPLICATION_ID, _)) => Ok(()),
+                Ok((_, 0)) => conn.execute_batch(&format!(
+                    "CREATE TABLE IF NOT EXISTS evaluations (
+                         hash TEXT PRIMARY KEY,
+                         key TEXT NOT NULL,
+                         status TEXT NOT NULL CHECK (status IN ('done', 'failed')),
+                         outcome TEXT,
+                         reason TEXT,
+                         wall_time_s REAL NOT NULL,
+                         steps INTEGER NOT NULL,
+                         texopt_version TEXT NOT NULL,
+                         created TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now'))
+                     );
+                     PRAGMA application_id = {APPLICATION_ID};
+                     PRAGMA user_version = {SCHEMA};"
+                )),
+                Ok(_) => {
+                    let _ = conn.execute_batch("ROLLBACK");
+                    return Err(CacheError::Foreign {
+                        path: shown,
+                        why: "not a texopt cache (an SQLite database of another application)"
+                            .into(),
+                    });
+                }
+                Err(e) => Err(e),
+            };
+            match create {
+                Ok(()) => conn.execute_batch("COMMIT").map_err(sql)?,
+                Err(e) => {
+                    let _ = conn.execute_batch("ROLLBACK");
+                    return Err(sql(e));
+                }
+            }
+        }
+        Ok(Cache {
+            conn,
+            path: path.to_path_buf(),
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    fn sql(&self, source: rusqlite::Error) -> CacheError {
+        CacheError::Sqlite {
+            path: self.path.display().to_string(),
+            source,
+        }
+    }
+
+    pub fn get(&self, key: &Key) -> Result<Option<Entry>, CacheError> {
+        let row: Option<(String, Option<String>, Option<String>)> = self
+            .conn
+            .query_row(
+                "SELECT status, outcome, reason FROM evaluations WHERE hash = ?1",
+                [&key.hash],
+                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
+            )
+            .optional()
+            .map_err(|e| self.sql(e))?;
+        Ok(match row {
+            None => None,
+            Some((s, Some(o), _)) if s == "done" => match serde_json::from_str(&o) {
+                Ok(out) => Some(Entry::Done(out)),
+                Err(_) => None, // unreadable (older layout): recompute
+            },
+            Some((_, _, reason)) => Some(Entry::Failed(reason.unwrap_or_default())),
+        })
+    }
+
+    /// Stores a finished evaluation (replacing a stored failure).
+    pub fn put_done(&self, key: &Key, out: &Outcome) -> Result<(), CacheError> {
+        self.conn
+            .execute(
+                "INSERT OR REPLACE INTO evaluations
+                 (hash, key, status, outcome, reason, wall_time_s, steps, texopt_version)
+                 VALUES (?1, ?2, 'done', ?3, NULL, ?4, ?5, ?6)",
+                params![
+                    key.hash,
+                    key.json,
+                    serde_json::to_string(out).expect("plain data"),
+                    out.wall_time_s,
+                    out.steps as i64,
+                    env!("CARGO_PKG_VERSION")
+                ],
+            )
+            .map(|_| ())
+            .map_err(|e| self.sql(e))
+    }
+
+    /// Stores a failed evaluation with its reason (never as a result).
+    pub fn put_failed(&self, key: &Key, reason: &str, wall_time_s: f64) -> Result<(), CacheError> {
+        self.conn
+            .execute(
+                "INSERT OR REPLACE INTO evaluations
+                 (hash, key, status, outcome, reason, wall_time_s, steps, texopt_version)
+                 VALUES (?1, ?2, 'failed', NULL, ?3, ?4, 0, ?5)",
+                params![
+                    key.hash,
+                    key.json,
+                    reason,
+                    wall_time_s,
+                    env!("CARGO_PKG_VERSION")
+                ],
+            )
+            .map(|_| ())
+            .map_err(|e| self.sql(e))
+    }
+
+    pub fn stats(&self) -> Result<Stats, CacheError> {
+        let (done, failed, secs): (i64, i64, f64) = self
+            .conn
+            .query_row(
+                "SELECT coalesce(sum(status = 'done'), 0), coalesce(sum(status = 'failed'), 0),
+                        coalesce(sum(wall_time_s), 0.0) FROM evaluations",
+                [],
+                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
+            )
+            .map_err(|e| self.sql(e))?;
+        Ok(Stats {
+            done: done as usize,
+            failed: failed as usize,
+            compute_seconds: secs,
+            file_bytes: std::fs::metadata(&self.path).map_or(0, |m| m.len()),
+        })
+    }
+
+    /// Every entry as JSON lines: {hash, key, status, outcome, reason, wall_time_s, steps,
+    /// texopt_version, created}.
+    pub fn export(&self, out: &mut dyn std::io::Write) -> Result<usize, CacheError> {
+        let mut st = self
+            .conn
+            .prepare(
+                "SELECT hash, key, status, outcome, reason, wall_time_s, steps, texopt_version, created
+                 FROM evaluations ORDER BY created, hash",
+            )
+            .map_err(|e| self.sql(e))?;
+        let rows = st
+            .query_map([], |r| {
+                let key: String = r.get(1)?;
+                let outcome: Option<String> = r.get(3)?;
+                Ok(serde_json::json!({
+                    "hash": r.get::<_, String>(0)?,
+                    "key": serde_json::from_str::<serde_json::Value>(&key).unwrap_or(serde_json::Value::String(key)),
+                    "status": r.get::<_, String>(2)?,
+                    "outcome": outcome.and_then(|o| serde_json::from_str::<serde_json::Value>(&o).ok()),
+                    "reason": r.get::<_, Option<String>>(4)?,
+                    "wall_time_s": r.get::<_, f64>(5)?,
+                    "steps": r.get::<_, i64>(6)?,
+                    "texopt_version": r.get::<_, String>(7)?,
+                    "created": r.get::<_, String>(8)?,
+                }))
+            })
+            .map_err(|e| self.sql(e))?;
+        let mut n = 0;
+        for row in rows {
+            let v = row.map_err(|e| self.sql(e))?;
+            writeln!(out, "{v}").map_err(|e| CacheError::Io {
+                path: self.path.display().to_string(),
+                why: format!("export: {e}"),
+            })?;
+            n += 1;
+        }
+        Ok(n)
+    }
+
+    /// Deletes entries: only the failures when `failed_only`. Returns how many.
+    pub fn clear(&self, failed_only: bool) -> Result<usize, CacheError> {
+        let sql = if failed_only {
+            "DELETE FROM evaluations WHERE status = 'failed'"
+        } else {
+            "DELETE FROM evaluations"
+        };
+        self.conn.execute(sql, []).map_err(|e| self.sql(e))
+    }
+
+    /// SQLite's own integrity check: "ok" or the problems it lists.
+    pub fn integrity_check(&self) -> Result<String, CacheError> {
+        let mut st = self
+            .conn
+            .prepare("PRAGMA integrity_check")
+            .map_err(|e| self.sql(e))?;
+        let rows: Vec<String> = st
+            .query_map([], |r| r.get(0))
+            .map_err(|e| self.sql(e))?
+            .collect::<Result<_, _>>()
+            .map_err(|e| self.sql(e))?;
+        Ok(rows.join("; "))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Processes (here: threads with their own connections) opening one fresh cache file at
+    /// the same moment all get it: no "database is locked" from the one-time set-up.
+    #[test]
+    fn many_openers_of_a_fresh_cache_all_succeed() {
+        for round in 0..20 {
+            let p = std::env::temp_dir().join(format!(
+                "texopt-cache-race-{}-{round}.sqlite",
+                std::process::id()
+            ));
+            for ext in ["", "-wal", "-shm"] {
+                let _ = std::fs::remove_file(format!("{}{ext}", p.display()));
+            }
+            let barrier = std::sync::Barrier::new(6);
+            let results: Vec<Result<(), String>> = std::thread::scope(|s| {
+                let handles: Vec<_> = (0..6)
+                    .map(|_| {
+                        s.spawn(|| {
+                            barrier.wait();
+                            let c = Cache::open(&p).map_err(|e| e.to_string())?;
+                            c.stats().map(|_| ()).map_err(|e| e.to_string())
+                        })
+                    })
+                    .collect();
+                handles.into_iter().map(|h| h.join().unwrap()).collect()
+            });
+            for r in &results {
+                assert!(r.is_ok(), "round {round}: {r:?}");
+            }
+            for ext in ["", "-wal", "-shm"] {
+                let _ = std::fs::remove_file(format!("{}{ext}", p.display()));
+            }
+        }
+    }
+}

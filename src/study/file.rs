@@ -1,0 +1,581 @@
+//! Study files: a TOML file naming the model parameters and the values to combine (lists,
+//! ranges or ties to another parameter), expanded into evaluations with model.md §2's
+//! validity rules applied — invalid combinations are skipped and counted, never simulated.
+//!
+//! ```toml
+//! [study]
+//! name = "paper"              # names the outputs: results/paper.csv, …
+//! fidelity = "fast"           # draft | fast | paper | fine (case.rs, Fidelity)
+//! untextured = true           # add the plain liner for every combination of the rest
+//!
+//! [parameters]                # a number, a list, a range, or the name of another parameter
+//! R = [0.2, 0.4, 0.8]
+//! l1 = { from = 0.005, to = 0.03, count = 6 }            # linear, ends included
+//! per = { from = 0.005, to = 0.08, factor = 2 }          # geometric
+//! l2 = "l1"
+//! depth = [2, 5, 10]
+//! ```
+
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use crate::model::case::{CaseSpec, InputError, Texture, Waiver};
+use crate::solve::Method;
+use crate::time::{Fidelity, Numerics};
+
+/// The parameters a study may vary, with their units (model.md §1). Texture parameters
+/// first-class; the rest default to the paper's operating point (CaseSpec::paper).
+pub const PARAMETERS: [(&str, &str); 15] = [
+    ("R", "ring face radius, cm (\"inf\" for a flat ring)"),
+    ("l1", "pocket semiaxis along sliding, cm"),
+    ("l2", "pocket semiaxis across sliding, cm"),
+    ("per", "texture period along sliding, cm"),
+    ("width", "texture period across sliding, cm"),
+    ("depth", "pocket depth, µm"),
+    ("phase", "x1 of a pocket centre at t = 0, cm"),
+    ("u", "liner speed, units of 10 m/s"),
+    ("w_ps", "ring load per unit width, units of 2.4e7 N/m"),
+    ("mass", "ring mass per unit width, units of 2.4e7 kg/m"),
+    ("d_oil", "inlet oil film, µm"),
+    ("theta_s", "shear threshold of the Couette switch"),
+    ("e", "gap outside the ring, µm"),
+    ("z0", "initial ring position, µm"),
+    ("v0", "initial ring velocity"),
+];
+
+const TEXTURE: [&str; 6] = ["l1", "l2", "per", "width", "depth", "phase"];
+
+/// A study file is wrong: where and how to fix it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}: {message}")]
+pub struct StudyError {
+    pub file: String,
+    pub message: String,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileToml {
+    study: Header,
+    parameters: toml::Table,
+    #[serde(default)]
+    numerics: NumericsOverride,
+    #[serde(default)]
+    report: ReportToml,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Header {
+    name: String,
+    #[serde(default)]
+    description: String,
+    #[serde(default = "fast")]
+    fidelity: Fidelity,
+    #[serde(default)]
+    untextured: bool,
+    #[serde(default)]
+    allow_thick_pockets: bool,
+}
+
+fn fast() -> Fidelity {
+    Fidelity::Fast
+}
+
+/// Optional changes to the tier's numerics, applied to every case.
+#[derive(Deserialize, Default, Clone, Debug, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct NumericsOverride {
+    pub n1: Option<usize>,
+    pub n2: Option<usize>,
+    pub dt: Option<f64>,
+    pub periodic_tol: Option<f64>,
+    pub t_max: Option<f64>,
+    pub solver: Option<Method>,
+}
+
+/// Where the report of a study goes and which small-/large-R classes Table 1 uses.
+#[derive(Deserialize, Clone, Debug, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ReportToml {
+    /// Directory of the outputs (relative to the working directory); empty in the file:
+    /// `results/<study name>`.
+    #[serde(default)]
+    pub dir: String,
+    /// File name of the best-texture table (default "<name>_table1.md").
+    pub table: Option<String>,
+    /// Rings with R at most this are "small R" in the table (cm).
+    #[serde(default = "small_r")]
+    pub small_r_max: f64,
+    /// Rings with R at least this are "large R" (cm).
+    #[serde(default = "large_r")]
+    pub large_r_min: f64,
+}
+
+fn small_r() -> f64 {
+    0.8
+}
+fn large_r() -> f64 {
+    3.2
+}
+
+impl Default for ReportToml {
+    fn default() -> Self {
+        ReportToml {
+            dir: String::new(),
+            table: None,
+            small_r_max: small_r(),
+            large_r_min: large_r(),
+        }
+    }
+}
+
+/// One evaluation of a study.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Job {
+    pub case: CaseSpec,
+    pub numerics: Numerics,
+}
+
+/// An expanded study.
+#[derive(Clone, Debug)]
+pub struct Study {
+    pub name: String,
+    pub description: String,
+    pub fidelity: Fidelity,
+    pub jobs: Vec<Job>,
+    /// Invalid combinations skipped, counted by the rule they break.
+    pub skipped: BTreeMap<String, usize>,
+    pub report: ReportToml,
+}
+
+impl Study {
+    pub fn skipped_total(&self) -> usize {
+        self.skipped.values().sum()
+    }
+}
+
+/// Reads and expands a study file.
+pub fn load(path: &Path) -> Result<Study, StudyError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| StudyError {
+        file: file.clone(),
+        message: format!("cannot read the study file: {e}"),
+    })?;
+    parse(&text, &file)
+}
+
+/// Parses and expands study text (`file` names it in errors).
+pub fn parse(text: &str, file: &str) -> Result<Study, StudyError> {
+    let err = |message: String| StudyError {
+        file: file.to_string(),
+        message,
+    };
+    let raw: FileToml = toml::from_str(text).map_err(|e| {
+        let msg = e.to_string();
+        // toml's message spans several lines (a source excerpt); keep it on one.
+        err(msg
+            .lines()
+            .filter(|l| !l.trim().is_empty())
+            .map(str::trim)
+            .collect::<Vec<_>>()
+            .join(" "))
+    })?;
+    if raw.study.name.trim().is_empty()
+        || !raw
+            .study
+            .name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+    {
+        return Err(err(format!(
+            "[study] name = {:?}: use letters, digits, '-' or '_' (it names the output files)",
+            raw.study.name
+        )));
+    }
+    let r = &raw.report;
+    if !(r.small_r_max.is_finite() && r.large_r_min.is_finite() && r.small_r_max < r.large_r_min) {
+        return Err(err(format!(
+            "[report] small_r_max = {} must be below large_r_min = {}",
+            r.small_r_max, r.large_r_min
+        )));
+    }
+    // Parameters: known names, values expanded; ties resolved after.
+    let mut values: BTreeMap<String, Values> = BTreeMap::new();
+    for (key, v) in &raw.parameters {
+        if !PARAMETERS.iter().any(|(n, _)| n == key) {
+            let names: Vec<_> = PARAMETERS.iter().map(|(n, _)| *n).collect();
+            return Err(err(format!(
+                "[parameters] unknown parameter {key:?}; known: {}",
+                names.join(", ")
+            )));
+        }
+        values.insert(key.clone(), expand(key, v).map_err(&err)?);
+    }
+    if !values.contains_key("R") {
+        return Err(err(
+            "[parameters] R is missing: give the ring radius (cm) or a list of radii".into(),
+        ));
+    }
+    let textured = TEXTURE.iter().any(|k| values.contains_key(*k));
+    if textured {
+        for k in ["l1", "per", "depth"] {
+            if !values.contains_key(k) {
+                return Err(err(format!(
+                    "[parameters] {k} is missing: a textured study needs l1, per and depth (l2 defaults to l1, width to per)"
+                )));
+            }
+        }
+        values
+            .entry("l2".into())
+            .or_insert(Values::Tie("l1".into()));
+        values
+            .entry("width".into())
+            .or_insert(Values::Tie("per".into()));
+    }
+    for (k, v) in &values {
+        if let Values::Tie(other) = v {
+            match values.get(other) {
+                None => {
+                    return Err(err(format!(
+                        "[parameters] {k} = {other:?}: {other} is not given; tie to a parameter that has values"
+                    )))
+                }
+                Some(Values::Tie(_)) => {
+                    return Err(err(format!(
+                        "[parameters] {k} = {other:?}: {other} is itself a tie; tie to a parameter with values"
+                    )))
+                }
+                Some(Values::List(_)) => {}
+            }
+        }
+    }
+    // Cartesian product over the free parameters in PARAMETERS order (R outermost).
+    let free: Vec<(&str, &Vec<f64>)> = PARAMETERS
+        .iter()
+        .filter_map(|(n, _)| match values.get(*n) {
+            Some(Values::List(v)) => Some((*n, v)),
+            _ => None,
+        })
+        .collect();
+    let mut jobs = Vec::new();
+    let mut skipped = BTreeMap::new();
+    let mut seen = std::collections::HashSet::new();
+    let total: usize = free.iter().map(|(_, v)| v.len()).product();
+    let mut index = vec![0usize; free.len()];
+    for _ in 0..total {
+        let mut point: BTreeMap<&str, f64> = BTreeMap::new();
+        for (d, (n, v)) in free.iter().enumerate() {
+            point.insert(n, v[index[d]]);
+        }
+        for (k, v) in &values {
+            if let Values::Tie(other) = v {
+                let x = point[other.as_str()];
+                point.insert(k.as_str(), x);
+            }
+        }
+        let mut cases = Vec::new();
+        if textured {
+            cases.push(case_at(&point, true));
+        }
+        if raw.study.untextured || !textured {
+            cases.push(case_at(&point, false));
+        }
+        for case in cases {
+            let key = serde_json::to_string(&case).unwrap_or_default();
+            if !seen.insert(key) {
+                continue; // the plain liner repeats across texture combinations
+            }
+            match check(&case, raw.study.allow_thick_pockets) {
+                Err(rule) => *skipped.entry(rule).or_insert(0) += 1,
+                Ok(()) => {
+                    let numerics = numerics_for(&case, raw.study.fidelity, &raw.numerics);
+                    if let Err(e) = numerics.validate(&case) {
+                        return Err(err(format!(
+                            "[numerics] for case {}: {}",
+                            case.label(),
+                            e.rule
+                        )));
+                    }
+                    jobs.push(Job { case, numerics });
+                }
+            }
+        }
+        // Next index (odometer, last parameter fastest).
+        for d in (0..free.len()).rev() {
+            index[d] += 1;
+            if index[d] < free[d].1.len() {
+                break;
+            }
+            index[d] = 0;
+        }
+    }
+    if jobs.is_empty() {
+        return Err(err(format!(
+            "no valid case: all {} combinations break a rule ({}); widen the ranges",
+            skipped.values().sum::<usize>(),
+            skipped.keys().cloned().collect::<Vec<_>>().join("; ")
+        )));
+    }
+    let dir = match raw.report.dir.as_str() {
+        "" => format!("results/{}", raw.study.name),
+        d => d.to_string(),
+    };
+    Ok(Study {
+        name: raw.study.name,
+        description: raw.study.description,
+        fidelity: raw.study.fidelity,
+        jobs,
+        skipped,
+        report: ReportToml { dir, ..raw.report },
+    })
+}
+
+/// The tier's numerics for the case with the study's overrides; N2 is then raised where a
+/// pocket would span fewer cells across than the tier asks (`Fidelity::pocket_cells`).
+pub fn numerics_for(case: &CaseSpec, fidelity: Fidelity, o: &NumericsOverride) -> Numerics {
+    let mut n = fidelity.numerics();
+    if let Some(v) = o.n1 {
+        n.n1 = v;
+    }
+    if let Some(v) = o.n2 {
+        n.n2 = v;
+    }
+    if let Some(v) = o.dt {
+        n.dt = v;
+    }
+    if let Some(v) = o.periodic_tol {
+        n.periodic_tol = v;
+    }
+    if let Some(v) = o.t_max {
+        n.t_max = v;
+    }
+    if let Some(v) = o.solver {
+        n.solver = v;
+    }
+    n.resolve_pockets(case, fidelity.pocket_cells());
+    n
+}
+
+/// The rule a case breaks, in words that group alike cases ("2·l1 > per", "thin film").
+fn check(case: &CaseSpec, allow_thick: bool) -> Result<(), String> {
+    case.validate(allow_thick).map_err(|e: InputError| {
+        if e.rule.contains("overlap") {
+            format!(
+                "{} too large for the period (pockets would overlap)",
+                e.param
+            )
+        } else if e.waiver == Some(Waiver::ThickPockets) {
+            "thin-film validity 10⁴·l ≥ 5·depth".to_string()
+        } else {
+            format!("{} {}", e.param, e.rule)
+        }
+    })
+}
+
+fn case_at(p: &BTreeMap<&str, f64>, textured: bool) -> CaseSpec {
+    let mut c = CaseSpec::paper(p["R"]);
+    let get = |k: &str, d: f64| p.get(k).copied().unwrap_or(d);
+    c.u = get("u", c.u);
+    c.w_ps = get("w_ps", c.w_ps);
+    c.mass = get("mass", c.mass);
+    c.d_oil = get("d_oil", c.d_oil);
+    c.theta_s = get("theta_s", c.theta_s);
+    c.e = get("e", c.e);
+    c.z0 = get("z0", c.z0);
+    c.v0 = get("v0", c.v0);
+    if textured {
+        c.texture = Some(Texture {
+            l1: p["l1"],
+            l2: p["l2"],
+            per: p["per"],
+            width: p["width"],
+            depth: p["depth"],
+            phase: get("phase", 0.0),
+        });
+    }
+    c
+}
+
+enum Values {
+    List(Vec<f64>),
+    Tie(String),
+}
+
+/// Most values one parameter may expand to (a typo in a range should not make a million).
+const MAX_VALUES: usize = 10_000;
+
+fn number(key: &str, v: &toml::Value) -> Result<f64, String> {
+    match v {
+        toml::Value::Float(x) => Ok(*x),
+        toml::Value::Integer(i) => Ok(*i as f64),
+        toml::Value::String(s) if s == "inf" && key == "R" => Ok(f64::INFINITY),
+        toml::Value::String(s) => Err(format!(
+            "[parameters] {key}: {s:?} is not a number; write plain numbers in the parameter's unit ({})",
+            unit(key)
+        )),
+        other => Err(format!(
+            "[parameters] {key}: expected a number in {}, found {}",
+            unit(key),
+            other.type_str()
+        )),
+    }
+}
+
+fn unit(key: &str) -> &'static str {
+    PARAMETERS
+        .iter()
+        .find(|(n, _)| *n == key)
+        .map_or("", |(_, u)| u)
+}
+
+fn expand(key: &str, v: &toml::Value) -> Result<Values, String> {
+    let list = match v {
+        toml::Value::String(s) if s != "inf" => {
+            if PARAMETERS.iter().any(|(n, _)| n == s) && s != key {
+                return Ok(Values::Tie(s.clone()));
+            }
+            return Err(format!(
+                "[parameters] {key} = {s:?}: not a number nor another parameter's name; write a number in {} (units are implied) or the name of the parameter it equals",
+                unit(key)
+            ));
+        }
+        toml::Value::Array(a) => {
+            if a.is_empty() {
+                return Err(format!(
+                    "[parameters] {key} = []: the list is empty; give at least one value"
+                ));
+            }
+            a.iter()
+                .map(|x| number(key, x))
+                .collect::<Result<Vec<_>, _>>()?
+        }
+        toml::Value::Table(t) => range(key, t)?,
+        other => vec![number(key, other)?],
+    };
+    if let Some(x) = list.iter().find(|x| x.is_nan()) {
+        return Err(format!("[parameters] {key}: {x} is not a number"));
+    }
+    Ok(Values::List(list))
+}
+
+/// `{ from, to, count }` (linear, `spacing = "log"` for geometric), `{ from, to, step }` or
+/// `{ from, to, factor }`; ends included.
+fn range(key: &str, t: &toml::Table) -> Result<Vec<f64>, String> {
+    for k in t.keys() {
+        if !["from", "to", "count", "step", "factor", "spacing"].contains(&k.as_str()) {
+            return Err(format!(
+                "[parameters] {key}: unknown range key {k:?}; a range is {{ from, to, count [, spacing = \"log\"] }}, {{ from, to, step }} or {{ from, to, factor }}"
+            ));
+        }
+    }
+    let get = |k: &str| t.get(k).map(|v| number(key, v)).transpose();
+    let (from, to) = match (get("from")?, get("to")?) {
+        (Some(a), Some(b)) => (a, b),
+        _ => {
+            return Err(format!(
+                "[parameters] {key}: a range needs both from and to"
+            ))
+        }
+    };
+    if !(from.is_finite() && to.is_finite()) || from > to {
+        return Err(format!(
+            "[parameters] {key}: range from = {from} to = {to} is empty or inverted; need from ≤ to"
+        ));
+    }
+    let log = match t.get("spacing").map(|v| v.as_str()) {
+        None => false,
+        Some(Some("linear")) => false,
+        Some(Some("log")) => true,
+        Some(_) => {
+            return Err(format!(
+                "[parameters] {key}: spacing must be \"linear\" or \"log\""
+            ))
+        }
+    };
+    let mut out = Vec::new();
+    let n_given = [
+        t.contains_key("count"),
+        t.contains_key("step"),
+        t.contains_key("factor"),
+    ]
+    .iter()
+    .filter(|x| **x)
+    .count();
+    if n_given != 1 {
+        return Err(format!(
+            "[parameters] {key}: give exactly one of count, step or factor in a range"
+        ));
+    }
+    if let Some(c) = get("count")? {
+        if !(c >= 1.0 && c.fract() == 0.0 && c as usize <= MAX_VALUES) {
+            return Err(format!(
+                "[parameters] {key}: count = {c} must be a whole number from 1 to {MAX_VALUES}"
+            ));
+        }
+        let n = c as usize;
+        if log && from <= 0.0 {
+            return Err(format!("[parameters] {key}: a log range needs from > 0"));
+        }
+        for i in 0..n {
+            let s = if n == 1 {
+                0.0
+            } else {
+                i as f64 / (n - 1) as f64
+            };
+            out.push(if log {
+                from * (to / from).powf(s)
+            } else {
+                from + s * (to - from)
+            });
+        }
+    } else if let Some(step) = get("step")? {
+        if step.is_nan() || step <= 0.0 || ((to - from) / step) as usize > MAX_VALUES {
+            return Err(format!(
+                "[parameters] {key}: step = {step} must be > 0 and give at most {MAX_VALUES} values"
+            ));
+        }
+        let n = ((to - from) / step + 1e-9).floor() as usize;
+        out.extend((0..=n).map(|i| from + i as f64 * step));
+    } else if let Some(f) = get("factor")? {
+        if f.is_nan() || f <= 1.0 || from <= 0.0 || (to / from).ln() / f.ln() > MAX_VALUES as f64 {
+            return Err(format!(
+                "[parameters] {key}: factor = {f} needs factor > 1 and from > 0"
+            ));
+        }
+        let mut x = from;
+        while x <= to * (1.0 + 1e-9) {
+            out.push(x);
+            x *= f;
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_and_ties_expand() {
+        let s = parse(
+            r#"
+            [study]
+            name = "t"
+            untextured = true
+            [parameters]
+            R = { from = 0.2, to = 0.8, factor = 2 }
+            l1 = { from = 0.01, to = 0.02, count = 2 }
+            per = 0.06
+            depth = [2, 5]
+            "#,
+            "t.toml",
+        )
+        .unwrap();
+        // 3 R × 2 l1 × 2 depth textured + 3 plain liners.
+        assert_eq!(s.jobs.len(), 15);
+        let t = s.jobs[0].case.texture.as_ref().unwrap();
+        assert_eq!((t.l2, t.width), (t.l1, t.per));
+    }
+}

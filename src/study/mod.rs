@@ -1,0 +1,10 @@
+//! Many evaluations: study files expanded into cases, the persistent evaluation cache, the
+//! parallel runner through it, the study report, and the benchmark.
+
+pub mod bench;
+pub mod cache;
+pub mod file;
+pub mod report;
+pub mod sweep;
+
+pub use file::{load, numerics_for, parse, Job, NumericsOverride, Study, StudyError};

@@ -1,0 +1,644 @@
+//! The report of a study in the paper's form (§3.4): one CSV row per case, Fig. 6 (friction
+//! and minimum clearance against R, one thin curve per texture, their envelopes, the plain
+//! liner thick), Fig. 11 (lower friction envelopes per θ_s) and Table 1 (best textures for
+//! small and large R), plus the headline figures.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::model::case::{CaseSpec, Texture};
+use crate::plot::{self, Chart, Scale, Series, Style};
+use crate::study::file::{Job, Study};
+use crate::study::sweep::CaseResult;
+use crate::time::Outcome;
+
+/// A case with its outcome and the plain liner's outcome for the same ring and operating
+/// point (when the study has it).
+struct Row<'a> {
+    job: &'a Job,
+    out: Option<&'a Outcome>,
+    reason: Option<&'a str>,
+    plain: Option<&'a Outcome>,
+}
+
+impl Row<'_> {
+    fn f_ratio(&self) -> Option<f64> {
+        Some(self.out?.f_mean / self.plain?.f_mean)
+    }
+    fn c_ratio(&self) -> Option<f64> {
+        Some(self.out?.c_min / self.plain?.c_min)
+    }
+}
+
+/// The operating point without the texture: identifies the plain liner of a case.
+fn plain_key(c: &CaseSpec) -> String {
+    serde_json::to_string(&CaseSpec {
+        texture: None,
+        ..c.clone()
+    })
+    .unwrap_or_default()
+}
+
+/// Everything but R: identifies one curve of Fig. 6.
+fn curve_key(c: &CaseSpec) -> String {
+    serde_json::to_string(&CaseSpec {
+        r: 0.0,
+        ..c.clone()
+    })
+    .unwrap_or_default()
+}
+
+fn texture_label(t: &Texture) -> String {
+    if t.l2 == t.l1 && t.width == t.per {
+        format!("l1={} per={} depth={}", t.l1, t.per, t.depth)
+    } else {
+        format!(
+            "l1={} l2={} per={} width={} depth={}",
+            t.l1, t.l2, t.per, t.width, t.depth
+        )
+    }
+}
+
+/// Files written by `write`.
+pub struct Written {
+    pub files: Vec<PathBuf>,
+    /// The headline lines (also in the summary file).
+    pub headline: Vec<String>,
+}
+
+/// Writes the report of a finished study into `study.report.dir`.
+pub fn write(study: &Study, results: &[CaseResult], wall_note: &str) -> Result<Written, String> {
+    let dir = Path::new(&study.report.dir);
+    std::fs::create_dir_all(dir)
+        .map_err(|e| format!("cannot create the report directory {}: {e}", dir.display()))?;
+    let mut plain: BTreeMap<String, &Outcome> = BTreeMap::new();
+    for (j, r) in study.jobs.iter().zip(results) {
+        if let (None, Some(Ok(o))) = (&j.case.texture, r) {
+            plain.insert(plain_key(&j.case), o);
+        }
+    }
+    let rows: Vec<Row> = study
+        .jobs
+        .iter()
+        .zip(results)
+        .map(|(job, r)| Row {
+            job,
+            out: r.as_ref().and_then(|r| r.as_ref().ok()),
+            reason: r
+                .as_ref()
+                .and_then(|r| r.as_ref().err())
+                .map(String::as_str),
+            plain: plain.get(&plain_key(&job.case)).copied(),
+        })
+        .collect();
+    let mut files = Vec::new();
+    let name = &study.name;
+
+    let csv_path = dir.join(format!("{name}.csv"));
+    write_csv(&csv_path, study, &rows)?;
+    files.push(csv_path);
+
+    // The θ_s values of the study, the first (in file order) for Fig. 6 and Table 1.
+    let mut thetas: Vec<f64> = Vec::new();
+    for j in &study.jobs {
+        if !thetas.contains(&j.case.theta_s) {
+            thetas.push(j.case.theta_s);
+        }
+    }
+    let main_theta = thetas[0];
+    let main: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.job.case.theta_s == main_theta)
+        .collect();
+    let textured = main.iter().any(|r| r.job.case.texture.is_some());
+    let radii: Vec<f64> = {
+        let mut v: Vec<f64> = main.iter().map(|r| r.job.case.r).collect();
+        v.sort_by(f64::total_cmp);
+        v.dedup();
+        v
+    };
+    if textured && radii.len() >= 2 {
+        for (what, file) in [
+            ("friction", "fig6_friction"),
+            ("clearance", "fig6_clearance"),
+        ] {
+            let p = dir.join(format!("{name}_{file}.png"));
+            fig6(&p, &main, what == "friction", main_theta)?;
+            files.push(p);
+        }
+    }
+    if textured && thetas.len() >= 2 && radii.len() >= 2 {
+        let p = dir.join(format!("{name}_fig11.png"));
+        fig11(&p, &rows, &thetas)?;
+        files.push(p);
+    }
+    let mut md = String::new();
+    let headline = headline(&main, main_theta, study.fidelity);
+    let _ = writeln!(md, "# Study `{name}`: summary\n");
+    if !study.description.is_empty() {
+        let _ = writeln!(md, "{}\n", study.description);
+    }
+    let _ = writeln!(md, "This run: {wall_note}\n");
+    let compute: f64 = rows
+        .iter()
+        .filter_map(|r| r.out)
+        .map(|o| o.wall_time_s)
+        .sum();
+    let _ = writeln!(
+        md,
+        "Compute behind these results: {:.0} s of single-core simulation (sum of the cases' wall times; cases that differ only in θs share one simulation and count it each).\n",
+        compute
+    );
+    let _ = writeln!(
+        md,
+        "Cases: {} simulated or cached ({} failed); {} combinations skipped as invalid:",
+        study.jobs.len(),
+        rows.iter().filter(|r| r.reason.is_some()).count(),
+        study.skipped_total()
+    );
+    for (rule, n) in &study.skipped {
+        let _ = writeln!(md, "- {n} × {rule}");
+    }
+    let _ = writeln!(md, "\n## Headline (θ_s = {main_theta})\n");
+    for l in &headline {
+        let _ = writeln!(md, "- {l}");
+    }
+    let failures: Vec<&Row> = rows.iter().filter(|r| r.reason.is_some()).collect();
+    if !failures.is_empty() {
+        let _ = writeln!(md, "\n## Failed cases ({})\n", failures.len());
+        for r in failures {
+            let _ = writeln!(md, "- {}", r.reason.unwrap_or_default());
+        }
+    }
+    let summary_path = dir.join(format!("{name}_summary.md"));
+    std::fs::write(&summary_path, md)
+        .map_err(|e| format!("cannot write {}: {e}", summary_path.display()))?;
+    files.push(summary_path);
+    if textured && !radii.is_empty() {
+        let table = study
+            .report
+            .table
+            .clone()
+            .unwrap_or_else(|| format!("{name}_table1.md"));
+        let p = dir.join(table);
+        std::fs::write(&p, table1(study, &main, &radii))
+            .map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+        files.push(p);
+    }
+    Ok(Written { files, headline })
+}
+
+fn write_csv(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {
+    let err = |e: &dyn std::fmt::Display| format!("cannot write {}: {e}", path.display());
+    let mut w = csv::Writer::from_path(path).map_err(|e| err(&e))?;
+    w.write_record([
+        "R",
+        "textured",
+        "l1",
+        "l2",
+        "per",
+        "width",
+        "depth",
+        "area_fraction",
+        "theta_s",
+        "d_oil",
+        "u",
+        "w_ps",
+        "mass",
+        "e",
+        "fidelity",
+        "n1",
+        "n2",
+        "dt",
+        "status",
+        "f_mean",
+        "f_couette",
+        "f_poiseuille",
+        "f_pressure",
+        "z_mean",
+        "z_min",
+        "z_max",
+        "c_min",
+        "f_over_plain",
+        "c_min_over_plain",
+        "periods",
+        "steps",
+        "wall_time_s",
+        "reason",
+    ])
+    .map_err(|e| err(&e))?;
+    let num = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v}"));
+    for r in rows {
+        let c = &r.job.case;
+        let t = c.texture.as_ref();
+        let o = r.out;
+        let n = &r.job.numerics;
+        w.write_record([
+            format!("{}", c.r),
+            format!("{}", t.is_some()),
+            num(t.map(|t| t.l1)),
+            num(t.map(|t| t.l2)),
+            num(t.map(|t| t.per)),
+            num(t.map(|t| t.width)),
+            num(t.map(|t| t.depth)),
+            num(Some(t.map_or(0.0, Texture::area_fraction))),
+            format!("{}", c.theta_s),
+            format!("{}", c.d_oil),
+            format!("{}", c.u),
+            format!("{}", c.w_ps),
+            format!("{}", c.mass),
+            format!("{}", c.e),
+            study.fidelity.name().to_string(),
+            format!("{}", n.n1),
+            format!("{}", n.n2),
+            format!("{}", n.dt),
+            match (o, r.reason) {
+                (Some(_), _) => "done".into(),
+                (None, Some(_)) => "failed".into(),
+                _ => "not run".into(),
+            },
+            num(o.map(|o| o.f_mean)),
+            num(o.map(|o| o.f_couette)),
+            num(o.map(|o| o.f_poiseuille)),
+            num(o.map(|o| o.f_pressure)),
+            num(o.map(|o| o.z_mean)),
+            num(o.map(|o| o.z_min)),
+            num(o.map(|o| o.z_max)),
+            num(o.map(|o| o.c_min)),
+            num(r.f_ratio()),
+            num(r.c_ratio()),
+            num(o.map(|o| o.periods as f64)),
+            num(o.map(|o| o.steps as f64)),
+            num(o.map(|o| o.wall_time_s)),
+            r.reason.unwrap_or_default().to_string(),
+        ])
+        .map_err(|e| err(&e))?;
+    }
+    w.flush().map_err(|e| err(&e))
+}
+
+/// Per R: the textured rows' values and the plain liner's, for one operating point.
+struct Family {
+    curves: Vec<Vec<(f64, f64)>>,
+    lower: Vec<(f64, f64)>,
+    upper: Vec<(f64, f64)>,
+    plain: Vec<(f64, f64)>,
+}
+
+fn family(rows: &[&Row], value: &dyn Fn(&Outcome) -> f64) -> Family {
+    let mut curves: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
+    let mut plain: BTreeMap<u64, (f64, f64)> = BTreeMap::new();
+    let mut lo: BTreeMap<u64, (f64, f64)> = BTreeMap::new();
+    let mut hi: BTreeMap<u64, (f64, f64)> = BTreeMap::new();
+    for r in rows {
+        let Some(o) = r.out else { continue };
+        let (x, y) = (r.job.case.r, value(o));
+        let k = x.to_bits();
+        if r.job.case.texture.is_none() {
+            plain.insert(k, (x, y));
+            continue;
+        }
+        curves
+            .entry(curve_key(&r.job.case))
+            .or_default()
+            .push((x, y));
+        let e = lo.entry(k).or_insert((x, y));
+        if y < e.1 {
+            *e = (x, y);
+        }
+        let e = hi.entry(k).or_insert((x, y));
+        if y > e.1 {
+            *e = (x, y);
+        }
+    }
+    let sorted = |m: BTreeMap<u64, (f64, f64)>| {
+        let mut v: Vec<_> = m.into_values().collect();
+        v.sort_by(|a, b| a.0.total_cmp(&b.0));
+        v
+    };
+    Family {
+        curves: curves
+            .into_values()
+            .map(|mut c| {
+                c.sort_by(|a, b| a.0.total_cmp(&b.0));
+                c
+            })
+            .collect(),
+        lower: sorted(lo),
+        upper: sorted(hi),
+        plain: sorted(plain),
+    }
+}
+
+fn fig6(path: &Path, rows: &[&Row], friction: bool, theta_s: f64) -> Result<(), String> {
+    let fam = family(rows, &|o: &Outcome| {
+        if friction {
+            o.f_mean
+        } else {
+            o.c_min
+        }
+    });
+    let n = fam.curves.len();
+    let mut series: Vec<Series> = fam
+        .curves
+        .iter()
+        .enumerate()
+        .map(|(i, c)| Series {
+            name: if i == 0 {
+                format!("{n} textures")
+            } else {
+                String::new()
+            },
+            points: c,
+            style: Style::Faint,
+            colour: 0,
+        })
+        .collect();
+    let env = if friction { &fam.lower } else { &fam.upper };
+    series.push(Series {
+        name: if friction {
+            "lower envelope (least friction)".into()
+        } else {
+            "upper envelope (largest clearance)".into()
+        },
+        points: env,
+        style: Style::Line,
+        colour: 0,
+    });
+    series.push(Series {
+        name: "untextured liner".into(),
+        points: &fam.plain,
+        style: Style::Thick,
+        colour: 1,
+    });
+    let title = if friction {
+        format!("Mean friction coefficient against ring radius (θs = {theta_s})")
+    } else {
+        format!("Minimum clearance against ring radius (θs = {theta_s})")
+    };
+    plot::xy(
+        path,
+        &Chart {
+            title: &title,
+            x_label: "ring face radius R (cm)",
+            y_label: if friction {
+                "mean friction coefficient f (eq. 11)"
+            } else {
+                "minimum clearance C_min (µm)"
+            },
+            x_scale: Scale::Log,
+            y_scale: Scale::Log,
+        },
+        &series,
+    )
+}
+
+fn fig11(path: &Path, rows: &[Row], thetas: &[f64]) -> Result<(), String> {
+    let mut fams = Vec::new();
+    for &th in thetas {
+        let sel: Vec<&Row> = rows.iter().filter(|r| r.job.case.theta_s == th).collect();
+        fams.push((th, family(&sel, &|o: &Outcome| o.f_mean)));
+    }
+    let mut series = Vec::new();
+    for (i, (th, f)) in fams.iter().enumerate() {
+        series.push(Series {
+            name: format!("θs = {th}: lower envelope"),
+            points: &f.lower,
+            style: Style::Line,
+            colour: i,
+        });
+        series.push(Series {
+            name: format!("θs = {th}: untextured"),
+            points: &f.plain,
+            style: Style::Thick,
+            colour: i,
+        });
+    }
+    plot::xy(
+        path,
+        &Chart {
+            title: "Lower friction envelopes for several θs, with their untextured liners",
+            x_label: "ring face radius R (cm)",
+            y_label: "mean friction coefficient f (eq. 11)",
+            x_scale: Scale::Log,
+            y_scale: Scale::Log,
+        },
+        &series,
+    )
+}
+
+/// The largest friction reduction and clearance gain against the plain liner, and the R
+/// below which no texture beats it.
+fn headline(rows: &[&Row], theta_s: f64, fidelity: crate::time::Fidelity) -> Vec<String> {
+    let mut out = Vec::new();
+    let best = |ratio: &dyn Fn(&Row) -> Option<f64>, lower: bool| {
+        rows.iter()
+            .filter(|r| r.job.case.texture.is_some())
+            .filter_map(|r| Some((ratio(r)?, *r)))
+            .filter(|(x, _)| x.is_finite())
+            .min_by(|a, b| {
+                if lower {
+                    a.0.total_cmp(&b.0)
+                } else {
+                    b.0.total_cmp(&a.0)
+                }
+            })
+    };
+    if let Some((x, r)) = best(&|r: &Row| r.f_ratio(), true) {
+        out.push(format!(
+            "{}: {:.1} % ({}, f = {:.5} vs {:.5})",
+            if x < 1.0 {
+                "largest friction reduction against the untextured liner"
+            } else {
+                "no texture lowers friction; the least increase"
+            },
+            100.0 * (1.0 - x).abs(),
+            r.job.case.label(),
+            r.out.map_or(f64::NAN, |o| o.f_mean),
+            r.plain.map_or(f64::NAN, |o| o.f_mean)
+        ));
+    }
+    if let Some((x, r)) = best(&|r: &Row| r.c_ratio(), false) {
+        out.push(format!(
+            "{}: {:.1} % ({}, C_min = {:.4} vs {:.4} µm)",
+            if x > 1.0 {
+                "largest minimum-clearance increase against the untextured liner"
+            } else {
+                "no texture raises the minimum clearance; the least decrease"
+            },
+            100.0 * (x - 1.0).abs(),
+            r.job.case.label(),
+            r.out.map_or(f64::NAN, |o| o.c_min),
+            r.plain.map_or(f64::NAN, |o| o.c_min)
+        ));
+    }
+    let mut radii: Vec<f64> = rows.iter().map(|r| r.job.case.r).collect();
+    radii.sort_by(f64::total_cmp);
+    radii.dedup();
+    // "Beats" means by more than the fidelity's measured error; smaller gains are reported
+    // but not counted (they are not resolved).
+    type Gain<'a> = &'a dyn Fn(&Row) -> Option<f64>;
+    let f_gain: Gain = &|r: &Row| r.f_ratio().map(|x| 1.0 - x);
+    let c_gain: Gain = &|r: &Row| r.c_ratio().map(|x| x - 1.0);
+    for (what, gain, err) in [
+        ("friction", f_gain, fidelity.f_error()),
+        ("clearance", c_gain, fidelity.c_error()),
+    ] {
+        let textured = || rows.iter().filter(|r| r.job.case.texture.is_some());
+        let first = radii
+            .iter()
+            .copied()
+            .find(|&rr| textured().any(|r| r.job.case.r == rr && gain(r).is_some_and(|g| g > err)));
+        let best_below = textured()
+            .filter(|r| first.is_none_or(|f| r.job.case.r < f))
+            .filter_map(|r| Some((gain(r)?, r)))
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+        let margin = format!(
+            "by more than the {} tier's error ({:.2} %)",
+            fidelity.name(),
+            100.0 * err
+        );
+        let mut line = match first {
+            Some(rr) if rr == radii[0] => format!(
+                "{what}: some texture beats the untextured liner {margin} already at the smallest R = {rr}"
+            ),
+            Some(rr) => format!(
+                "{what}: no texture beats the untextured liner {margin} below R = {rr} (the first R where one does)"
+            ),
+            None => format!("{what}: no texture beats the untextured liner {margin} at any R"),
+        };
+        if let (Some((g, r)), true) = (best_below, first != Some(radii[0])) {
+            line += &format!(
+                "; {} the largest gain is {:+.2} % ({})",
+                if first.is_some() {
+                    "below it"
+                } else {
+                    "at best"
+                },
+                100.0 * g,
+                r.job.case.label()
+            );
+        }
+        out.push(line);
+    }
+    out.push(format!(
+        "(friction per eq. 11 with θs = {theta_s}; the paper prints f/10)"
+    ));
+    out
+}
+
+/// (f̄/f̄_plain, C_min/C_min,plain) of one texture by R (as f64 bits).
+type RatiosByR = BTreeMap<u64, (f64, f64)>;
+
+/// Table 1: the best textures for small and large R, ranked by the class mean of the ratio
+/// to the plain liner; and the best texture at each R.
+fn table1(study: &Study, rows: &[&Row], radii: &[f64]) -> String {
+    let (small, large) = (study.report.small_r_max, study.report.large_r_min);
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "# Best textures of study `{}` (Table 1 of the paper)\n",
+        study.name
+    );
+    let _ = writeln!(
+        md,
+        "Ranking rule: for each texture, the mean over the rings of a class of the ratio of its outcome to the untextured liner's on the same ring — f̄/f̄_plain (lower is better) for friction, C_min/C_min,plain (higher is better) for clearance. Small R: R ≤ {small} cm; large R: R ≥ {large} cm. A texture enters a class only if every ring of the class has a result for it. Fidelity `{}` (see {}.csv for the mesh of each case). Ratios below 1 (friction) or above 1 (clearance) beat the plain liner.\n",
+        study.fidelity.name(),
+        study.name
+    );
+    let class_r: [(&str, Vec<f64>); 2] = [
+        (
+            "Small R",
+            radii.iter().copied().filter(|&r| r <= small).collect(),
+        ),
+        (
+            "Large R",
+            radii.iter().copied().filter(|&r| r >= large).collect(),
+        ),
+    ];
+    // Ratios by texture (curve key) and R.
+    let mut by_tex: BTreeMap<String, (Texture, RatiosByR)> = BTreeMap::new();
+    for r in rows {
+        let (Some(t), Some(fr), Some(cr)) = (&r.job.case.texture, r.f_ratio(), r.c_ratio()) else {
+            continue;
+        };
+        by_tex
+            .entry(curve_key(&r.job.case))
+            .or_insert_with(|| (t.clone(), BTreeMap::new()))
+            .1
+            .insert(r.job.case.r.to_bits(), (fr, cr));
+    }
+    for (title, which) in [
+        ("(a) Best textures in terms of friction", 0),
+        ("(b) Best textures in terms of clearance", 1),
+    ] {
+        let _ = writeln!(md, "## {title}\n");
+        for (class, rs) in &class_r {
+            if rs.is_empty() {
+                continue;
+            }
+            let mut ranked: Vec<(f64, &Texture)> = by_tex
+                .values()
+                .filter_map(|(t, m)| {
+                    let v: Option<Vec<f64>> = rs
+                        .iter()
+                        .map(|r| {
+                            m.get(&r.to_bits())
+                                .map(|p| if which == 0 { p.0 } else { p.1 })
+                        })
+                        .collect();
+                    let v = v?;
+                    Some((v.iter().sum::<f64>() / v.len() as f64, t))
+                })
+                .collect();
+            if which == 0 {
+                ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+            } else {
+                ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
+            }
+            let rlist: Vec<String> = rs.iter().map(|r| format!("{r}")).collect();
+            let _ = writeln!(
+                md,
+                "{class} (R = {}; {} textures ranked)\n\n| # | l1 = l2 | per | depth | mean ratio |\n|---|---|---|---|---|",
+                rlist.join(", "),
+                ranked.len()
+            );
+            for (i, (m, t)) in ranked.iter().take(5).enumerate() {
+                let _ = writeln!(
+                    md,
+                    "| {} | {} | {} | {} | {:.4} |",
+                    i + 1,
+                    t.l1,
+                    t.per,
+                    t.depth,
+                    m
+                );
+            }
+            let _ = writeln!(md);
+        }
+    }
+    let _ = writeln!(
+        md,
+        "## Best texture at each R\n\n| R | least friction | f̄/f̄_plain | largest clearance | C_min/C_min,plain |\n|---|---|---|---|---|"
+    );
+    for &rr in radii {
+        let at: Vec<(&Texture, f64, f64)> = by_tex
+            .values()
+            .filter_map(|(t, m)| m.get(&rr.to_bits()).map(|p| (t, p.0, p.1)))
+            .collect();
+        let bf = at.iter().min_by(|a, b| a.1.total_cmp(&b.1));
+        let bc = at.iter().max_by(|a, b| a.2.total_cmp(&b.2));
+        if let (Some(bf), Some(bc)) = (bf, bc) {
+            let _ = writeln!(
+                md,
+                "| {rr} | {} | {:.4} | {} | {:.4} |",
+                texture_label(bf.0),
+                bf.1,
+                texture_label(bc.0),
+                bc.2
+            );
+        }
+    }
+    md
+}

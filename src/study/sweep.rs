@@ -1,0 +1,262 @@
+//! Many evaluations through the cache, in parallel (rayon): each missing case is simulated
+//! once and stored as soon as it finishes, so an interrupted sweep loses at most the cases
+//! in flight. Cases that differ only in θ_s share one simulation (model.md §5: θ_s enters
+//! only the Couette friction term).
+
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::io::IsTerminal;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use crate::model::case::CaseSpec;
+use crate::study::cache::{Cache, CacheError, Entry, Key};
+use crate::study::file::Job;
+use crate::time::{simulate_with, Numerics, Outcome, RunOptions, Watch};
+
+/// How a sweep runs.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Worker threads (≥ 1).
+    pub jobs: usize,
+    /// Simulate again the cases stored as failed.
+    pub retry_failed: bool,
+    /// Show progress on stderr (a bar on a terminal, a line every 10 s otherwise).
+    pub progress: bool,
+}
+
+/// The result of one case: its outcome, or why it failed; None when it was not run
+/// (the sweep was stopped first).
+pub type CaseResult = Option<Result<Outcome, String>>;
+
+/// What a sweep did.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct Summary {
+    pub cases: usize,
+    /// Cases answered by the cache (done or failed before).
+    pub cached: usize,
+    /// Cases computed now, and the simulations that computed them (θ_s variants share one).
+    pub computed: usize,
+    pub simulations: usize,
+    /// Cases that failed (now or before), and cases not run because the sweep was stopped.
+    pub failed: usize,
+    pub not_run: usize,
+    pub stopped: bool,
+    pub wall_time_s: f64,
+}
+
+/// The θ_s-free part of a case: cases equal in it share one simulation.
+fn shared_key(case: &CaseSpec, num: &Numerics) -> String {
+    let c = CaseSpec {
+        theta_s: 0.0,
+        ..case.clone()
+    };
+    Key::of(&c, num).hash
+}
+
+/// Evaluates every job: from the cache where it has the answer, else by simulation
+/// (stored at once). `stop` is polled before each simulation starts.
+pub fn run(
+    jobs: &[Job],
+    cache: &Mutex<Cache>,
+    opt: &Options,
+    stop: &AtomicBool,
+) -> Result<(Summary, Vec<CaseResult>), CacheError> {
+    let start = Instant::now();
+    let keys: Vec<Key> = jobs.iter().map(|j| Key::of(&j.case, &j.numerics)).collect();
+    let mut results: Vec<CaseResult> = vec![None; jobs.len()];
+    let mut missing: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    let mut summary = Summary {
+        cases: jobs.len(),
+        ..Summary::default()
+    };
+    {
+        let c = cache.lock().expect("cache lock");
+        for (i, k) in keys.iter().enumerate() {
+            match c.get(k)? {
+                Some(Entry::Done(o)) => results[i] = Some(Ok(o)),
+                Some(Entry::Failed(r)) if !opt.retry_failed => results[i] = Some(Err(r)),
+                _ => {
+                    missing
+                        .entry(shared_key(&jobs[i].case, &jobs[i].numerics))
+                        .or_default()
+                        .push(i);
+                }
+            }
+        }
+    }
+    summary.cached = results.iter().filter(|r| r.is_some()).count();
+    let groups: Vec<Vec<usize>> = missing.into_values().collect();
+    let to_compute: usize = groups.iter().map(Vec::len).sum();
+
+    let bar = Display::new(opt.progress, summary.cached, jobs.len(), to_compute);
+    let done = AtomicUsize::new(0);
+    let failed_now = AtomicUsize::new(0);
+    let cache_error: Mutex<Option<CacheError>> = Mutex::new(None);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opt.jobs.max(1))
+        .build()
+        .map_err(|e| CacheError::Io {
+            path: "-".into(),
+            why: format!("cannot start {} worker threads: {e}", opt.jobs),
+        })?;
+    let computed: Vec<Vec<(usize, Result<Outcome, String>)>> = pool.install(|| {
+        groups
+            .par_iter()
+            .map(|group| {
+                if stop.load(Ordering::SeqCst) {
+                    return Vec::new();
+                }
+                let out = evaluate_group(jobs, group);
+                let c = cache.lock().expect("cache lock");
+                for (i, r) in &out {
+                    let stored = match r {
+                        Ok(o) => c.put_done(&keys[*i], o),
+                        Err(reason) => c.put_failed(&keys[*i], reason, 0.0),
+                    };
+                    if let Err(e) = stored {
+                        stop.store(true, Ordering::SeqCst);
+                        cache_error.lock().expect("lock").get_or_insert(e);
+                    }
+                }
+                drop(c);
+                let nf = out.iter().filter(|(_, r)| r.is_err()).count();
+                failed_now.fetch_add(nf, Ordering::SeqCst);
+                let d = done.fetch_add(out.len(), Ordering::SeqCst) + out.len();
+                bar.tick(d, failed_now.load(Ordering::SeqCst));
+                out
+            })
+            .collect()
+    });
+    bar.finish();
+    if let Some(e) = cache_error.into_inner().expect("lock") {
+        return Err(e);
+    }
+    for (i, r) in computed.into_iter().flatten() {
+        results[i] = Some(r);
+    }
+    summary.computed = done.load(Ordering::SeqCst);
+    summary.simulations = groups.iter().filter(|g| results[g[0]].is_some()).count();
+    summary.failed = results.iter().filter(|r| matches!(r, Some(Err(_)))).count();
+    summary.not_run = results.iter().filter(|r| r.is_none()).count();
+    summary.stopped = summary.not_run > 0;
+    summary.wall_time_s = start.elapsed().as_secs_f64();
+    Ok((summary, results))
+}
+
+/// One simulation for a group of cases differing only in θ_s. A run that ends outside the
+/// periodic regime, errs or panics is a failure with its reason, never a result.
+fn evaluate_group(jobs: &[Job], group: &[usize]) -> Vec<(usize, Result<Outcome, String>)> {
+    let first = &jobs[group[0]];
+    let extra: Vec<f64> = group[1..].iter().map(|&i| jobs[i].case.theta_s).collect();
+    let t0 = Instant::now();
+    let run = std::panic::catch_unwind(|| {
+        let opts = RunOptions {
+            extra_theta_s: extra,
+            ..RunOptions::default()
+        };
+        simulate_with(&first.case, &first.numerics, &opts, &mut Watch::default())
+    });
+    let wall = t0.elapsed().as_secs_f64();
+    let fail = |why: String| group.iter().map(|&i| (i, Err(why.clone()))).collect();
+    match run {
+        Err(p) => {
+            let msg = p
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_default();
+            fail(format!(
+                "case {}: internal error (panic: {msg}); please report it",
+                first.case.label()
+            ))
+        }
+        Ok(Err(e)) => fail(e.to_string()),
+        Ok(Ok(r)) if !r.outcome.converged => fail(format!(
+            "case {}: periodic regime not reached by t = {} ms (estimated distance {:.1e} > periodic_tol {:.0e}); raise t_max",
+            first.case.label(),
+            first.numerics.t_max,
+            r.outcome.periodic_error,
+            first.numerics.periodic_tol
+        )),
+        Ok(Ok(r)) => {
+            let mut out = vec![(group[0], Ok(with_wall(r.outcome, wall)))];
+            for (&i, (_, o)) in group[1..].iter().zip(r.extra) {
+                out.push((i, Ok(with_wall(o, wall))));
+            }
+            out
+        }
+    }
+}
+
+fn with_wall(mut o: Outcome, wall: f64) -> Outcome {
+    o.wall_time_s = wall;
+    o
+}
+
+/// Progress on stderr: an indicatif bar on a terminal, else a plain line every 10 s.
+struct Display {
+    bar: Option<ProgressBar>,
+    plain: bool,
+    cached: usize,
+    total: usize,
+    to_compute: usize,
+    start: Instant,
+    last_line: Mutex<Instant>,
+}
+
+impl Display {
+    fn new(enabled: bool, cached: usize, total: usize, to_compute: usize) -> Display {
+        let tty = std::io::stderr().is_terminal();
+        let bar = (enabled && tty && to_compute > 0).then(|| {
+            let b = ProgressBar::new(to_compute as u64);
+            b.set_style(
+                ProgressStyle::with_template(
+                    "{bar:40} {pos}/{len} computed ({msg}) {elapsed_precise} ETA {eta}",
+                )
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            );
+            b.set_message("0 failed");
+            b.enable_steady_tick(Duration::from_millis(500));
+            b
+        });
+        if enabled {
+            eprintln!("{total} cases: {cached} in the cache, {to_compute} to compute");
+        }
+        Display {
+            bar,
+            plain: enabled && !tty,
+            cached,
+            total,
+            to_compute,
+            start: Instant::now(),
+            last_line: Mutex::new(Instant::now()),
+        }
+    }
+
+    fn tick(&self, done: usize, failed: usize) {
+        if let Some(b) = &self.bar {
+            b.set_position(done as u64);
+            b.set_message(format!("{failed} failed"));
+        } else if self.plain {
+            let mut last = self.last_line.lock().expect("lock");
+            if last.elapsed() >= Duration::from_secs(10) || done == self.to_compute {
+                *last = Instant::now();
+                let el = self.start.elapsed().as_secs_f64();
+                let eta = el / done.max(1) as f64 * (self.to_compute - done) as f64;
+                eprintln!(
+                    "computed {done}/{} ({} cached, {} cases), {failed} failed, {el:.0} s elapsed, ETA {eta:.0} s",
+                    self.to_compute, self.cached, self.total
+                );
+            }
+        }
+    }
+
+    fn finish(&self) {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+    }
+}

@@ -1,0 +1,28 @@
+//! Time and workflow (docs/model.md §4–6): the coupled transient stepped to its periodic
+//! regime, the steady untextured balance, the numerics and fidelity tiers, what a run
+//! reports. The accelerators (period-old guesses, slow-mode jumps, the coarse approach) sit
+//! beside the step, outside the physics.
+
+mod approach;
+mod fidelity;
+mod jump;
+mod memory;
+mod numerics;
+mod outcome;
+mod periodic;
+mod run;
+mod steady;
+mod transient;
+
+#[cfg(test)]
+mod tests;
+
+pub use fidelity::{Fidelity, POCKET_CELLS};
+pub use numerics::{Numerics, Start, APPROACH_N2, APPROACH_TOL};
+pub use outcome::{Outcome, Progress, RunResult, SeriesRow, SolveError};
+pub use periodic::{window_periods, MIN_WINDOW};
+pub use run::{simulate, simulate_with, RunOptions, Watch};
+pub use steady::{solve_untextured, steady_outcome, Steady, SteadyError};
+pub use transient::{
+    equilibrium_start, paper_start, ApproachDone, Transient, CONTACT_Z, MASS_TOL, UNTEXTURED_PERIOD,
+};

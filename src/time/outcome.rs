@@ -1,0 +1,127 @@
+//! What a run reports: its outcomes, its time series, its progress, and why it failed.
+
+use serde::{Deserialize, Serialize};
+
+use super::steady::SteadyError;
+use super::transient::CONTACT_Z;
+use crate::model::friction::Friction;
+use crate::solve::FilmError;
+
+/// Outcomes of one evaluation (docs/model.md §6). Friction coefficients per eq. (11); Z and
+/// clearances in µm.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Outcome {
+    /// Period-mean friction coefficient f̄ and its Couette, Poiseuille and pressure terms.
+    pub f_mean: f64,
+    pub f_couette: f64,
+    pub f_poiseuille: f64,
+    pub f_pressure: f64,
+    /// Mean, minimum and maximum of Z over the last period (µm).
+    pub z_mean: f64,
+    pub z_min: f64,
+    pub z_max: f64,
+    /// Minimum clearance over the period: min over t and over the ring of h_U + Z (µm).
+    pub c_min: f64,
+    /// Texture periods simulated (0 for a steady solve).
+    pub periods: usize,
+    /// Time steps taken (0 for a steady solve).
+    pub steps: usize,
+    /// Whether the periodic regime (or the steady force balance) was reached.
+    pub converged: bool,
+    /// Estimated relative distance of f̄ and Z̄ from their periodic limits at the end.
+    pub periodic_error: f64,
+    /// "steady-1d" or "transient-2d".
+    pub method: String,
+    /// Time step used (divides the texture period exactly); 0 for steady.
+    pub dt: f64,
+    /// Simulated time at the end.
+    pub t_end: f64,
+    /// Mean complementarity/Newton iterations per step (per film solve when steady).
+    pub iterations_per_step: f64,
+    /// Largest relative nodal residual of the film equation over the run.
+    pub max_residual: f64,
+    pub wall_time_s: f64,
+    /// Of `steps` (and `periods`), those taken on the coarse approach mesh
+    /// (`Numerics::approach_n2`); 0 without one. Absent in records made before it existed.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub approach_steps: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
+}
+
+/// One row of the time series: values at the end of each step.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SeriesRow {
+    pub t: f64,
+    pub z: f64,
+    pub w_h: f64,
+    pub f: f64,
+    pub f_couette: f64,
+    pub f_poiseuille: f64,
+    pub f_pressure: f64,
+}
+
+/// A run's outcomes and, on request, its time series.
+#[derive(Clone, Debug)]
+pub struct RunResult {
+    pub outcome: Outcome,
+    pub series: Option<Vec<SeriesRow>>,
+    /// The outcomes for further shear thresholds θ_s asked for (same film and ring).
+    pub extra: Vec<(f64, Outcome)>,
+}
+
+impl Outcome {
+    /// This outcome with other friction terms (another θ_s of the same run).
+    pub fn with_friction(&self, f: &Friction) -> Outcome {
+        Outcome {
+            f_mean: f.total(),
+            f_couette: f.couette,
+            f_poiseuille: f.poiseuille,
+            f_pressure: f.pressure,
+            ..self.clone()
+        }
+    }
+}
+
+/// Why a run failed: always names the case and where.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    #[error("case {case}: film solve failed at t = {t:.5}: {source}")]
+    Film {
+        case: String,
+        t: f64,
+        source: FilmError,
+    },
+    #[error("case {case}: the ring reached the liner (Z = {z:.2e} µm, under the {floor} µm a lubricating film needs) at t = {t:.5}; contact is outside the lubrication model", floor = CONTACT_Z)]
+    Contact { case: String, t: f64, z: f64 },
+    #[error("case {case}: {quantity} = {value} at t = {t:.5}: the run is numerically unstable (try a smaller dt)")]
+    Unstable {
+        case: String,
+        t: f64,
+        quantity: String,
+        value: f64,
+    },
+    #[error("case {case}: mass not conserved at t = {t:.5}: the step's film content changed by {defect:.2e} of its throughflow more than the boundary flows carried (tolerance {tol:.0e}); {hint}")]
+    MassNotConserved {
+        case: String,
+        t: f64,
+        defect: f64,
+        tol: f64,
+        hint: String,
+    },
+    #[error("case {case}: steady force balance failed: {source}")]
+    Steady { case: String, source: SteadyError },
+}
+
+/// Reported after each texture period of a transient run.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    pub period: usize,
+    pub t: f64,
+    pub f_mean: f64,
+    pub z_mean: f64,
+    /// Estimated relative distance from the periodic regime (infinite until it can be told).
+    pub periodic_error: f64,
+}

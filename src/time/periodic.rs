@@ -1,0 +1,298 @@
+//! The periodic regime (docs/model.md §6; docs/solver.md, "Periodic regime"): means over
+//! averaging windows of whole texture periods, the estimated distance of the last ones from
+//! their periodic limits, and the slow modes that distance is read from.
+
+use super::numerics::Numerics;
+use super::outcome::SeriesRow;
+use crate::model::friction::Friction;
+
+/// Shortest averaging window (ms = L/U): as long as the pseudo-period of an untextured run.
+/// For short texture periods (per = 0.005 is 13 steps) the window-to-window change of a slow
+/// creep is tiny against its tail (ratio ≈ 0.993 a period at R = 102.4), so neither the
+/// periodicity estimate nor the slow-mode jump could read it period by period. Means over
+/// whole periods are the same in the periodic regime.
+pub const MIN_WINDOW: f64 = 0.06;
+
+/// Texture periods per averaging window for a texture period `period` (ms): the fewest
+/// whole periods spanning at least [`MIN_WINDOW`].
+pub fn window_periods(period: f64) -> usize {
+    ((MIN_WINDOW / period) - 1e-9).ceil().max(1.0) as usize
+}
+
+/// The window means of a run since its start or its last jump, and the stopping rule.
+#[derive(Default)]
+pub(crate) struct Windows {
+    history: Vec<PeriodMeans>,
+    /// Windows before this index precede the last jump: the rule reads only later ones.
+    since_jump: usize,
+}
+
+impl Windows {
+    pub fn push(&mut self, m: PeriodMeans) {
+        self.history.push(m);
+    }
+
+    /// The windows since the start or the last jump.
+    pub fn fresh(&self) -> &[PeriodMeans] {
+        &self.history[self.since_jump..]
+    }
+
+    /// After a jump: the rule starts afresh, so the reported regime is a simulated one.
+    pub fn restart(&mut self) {
+        self.since_jump = self.history.len();
+    }
+
+    /// Windows run in all.
+    pub fn len(&self) -> usize {
+        self.history.len()
+    }
+
+    pub fn last(&self) -> &PeriodMeans {
+        self.history.last().expect("at least one window")
+    }
+
+    /// The estimated distance from the periodic regime: it must hold at two consecutive
+    /// window ends, so that one lucky cancellation between a decaying oscillation and a
+    /// drift does not stop the run.
+    pub fn error(&self) -> f64 {
+        let fresh = self.fresh();
+        periodic_error(fresh).max(if fresh.len() > 3 {
+            periodic_error(&fresh[..fresh.len() - 1])
+        } else {
+            f64::INFINITY
+        })
+    }
+
+    /// Whether the run has reached its periodic regime at estimated distance `err`: at
+    /// least `min_periods` (and 4) fresh windows, and the distance within the tolerance.
+    pub fn periodic(&self, err: f64, num: &Numerics) -> bool {
+        self.fresh().len() >= num.min_periods.max(4) && err <= num.periodic_tol
+    }
+}
+
+/// Means over one averaging window (whole texture periods).
+#[derive(Clone, Debug)]
+pub(crate) struct PeriodMeans {
+    pub friction: Friction,
+    pub extra: Vec<Friction>,
+    pub z_mean: f64,
+    pub z_min: f64,
+    pub z_max: f64,
+    /// Oil the film holds at the window's end (∫ h·θ dx1 dx2 over the domain, nondimensional).
+    pub content: f64,
+    /// Oil through the domain over the window at the end's boundary flow rates (the larger
+    /// of inflow and outflow, times the window's length): the scale of a content change.
+    pub throughput: f64,
+}
+
+impl PeriodMeans {
+    pub fn empty() -> Self {
+        PeriodMeans {
+            friction: Friction::default(),
+            extra: Vec::new(),
+            z_mean: 0.0,
+            z_min: f64::INFINITY,
+            z_max: f64::NEG_INFINITY,
+            content: 0.0,
+            throughput: 0.0,
+        }
+    }
+    pub fn add(&mut self, row: &SeriesRow, f: &Friction, extra: &[Friction]) {
+        self.friction.add(f);
+        self.extra.resize(extra.len(), Friction::default());
+        for (a, e) in self.extra.iter_mut().zip(extra) {
+            a.add(e);
+        }
+        self.z_mean += row.z;
+        self.z_min = self.z_min.min(row.z);
+        self.z_max = self.z_max.max(row.z);
+    }
+    /// The samples at the n step ends of a period: their plain mean is the trapezoidal mean
+    /// of the periodic signal over the period.
+    pub fn finish(mut self, n: usize) -> Self {
+        self.friction = self.friction.scaled(1.0 / n as f64);
+        for e in &mut self.extra {
+            *e = e.scaled(1.0 / n as f64);
+        }
+        self.z_mean /= n as f64;
+        self
+    }
+}
+
+/// A slow mode of the approach to the periodic regime, as the recurrence its window-to-window
+/// changes obey: d_{i+1} = α·d_i + β·d_{i−1} (β = 0: one geometric mode of ratio α; β ≠ 0:
+/// a damped oscillation or two modes). Any sequence y_i that obeys it tends to
+/// y* = (y_k − α·y_{k−1} − β·y_{k−2}) / (1 − α − β).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SlowMode {
+    pub alpha: f64,
+    pub beta: f64,
+}
+
+impl SlowMode {
+    /// The limit y* from three consecutive values, oldest first.
+    pub fn limit(&self, y0: f64, y1: f64, y2: f64) -> f64 {
+        (y2 - self.alpha * y1 - self.beta * y0) / (1.0 - self.alpha - self.beta)
+    }
+
+    /// |λ| of the two roots of λ² = αλ + β, larger first (equal for a complex pair): the
+    /// decay per window of the slower and the faster mode.
+    fn radii(&self) -> (f64, f64) {
+        let (a, b) = (self.alpha, self.beta);
+        let disc = a * a + 4.0 * b;
+        if disc < 0.0 {
+            ((-b).sqrt(), (-b).sqrt())
+        } else {
+            (
+                0.5 * (a.abs() + disc.sqrt()),
+                0.5 * (a.abs() - disc.sqrt()).abs(),
+            )
+        }
+    }
+
+    /// Largest |λ|: the decay per window.
+    pub fn radius(&self) -> f64 {
+        self.radii().0
+    }
+
+    /// Smaller |λ| (equal to the larger for a complex pair).
+    pub fn second_radius(&self) -> f64 {
+        self.radii().1
+    }
+}
+
+/// The per-period decay ratio r of the period-mean Z when the last four periods show one
+/// monotone geometric mode (three successive ratios within 2 % of each other, 0.5 < r < 0.99,
+/// and the changes still well above round-off); None otherwise (oscillating or noisy).
+pub(crate) fn slow_mode_ratio(h: &[PeriodMeans]) -> Option<SlowMode> {
+    if h.len() < 5 {
+        return None;
+    }
+    let k = h.len() - 1;
+    let d: Vec<f64> = (k - 3..=k).map(|i| h[i].z_mean - h[i - 1].z_mean).collect();
+    if d.iter().any(|x| x.abs() < 1e-9 * h[k].z_mean.abs()) {
+        return None;
+    }
+    let r: Vec<f64> = d.windows(2).map(|w| w[1] / w[0]).collect();
+    let steady = r.iter().all(|&x| x > 0.5 && x < 0.99)
+        && r.windows(2).all(|w| (w[1] - w[0]).abs() <= 0.02 * w[1]);
+    steady.then_some(SlowMode {
+        alpha: r[2],
+        beta: 0.0,
+    })
+}
+
+/// The ring's slow mode as a damped oscillation: coefficients (α, β) of the recurrence
+/// d_{i+1} = α·d_i + β·d_{i−1} fitted by least squares to the last three changes of the
+/// period-mean Z̄ (six period means), when it fits them (RMS residual ≤ [`PAIR_FIT`] of the
+/// changes) and decays (both roots of λ² = αλ + β inside |λ| < [`PAIR_RADIUS`]); None
+/// otherwise, and for one monotone mode (the changes then lie on one line and β is
+/// undetermined: [`slow_mode_ratio`] and the geometric tail read it).
+///
+/// Why: near its periodic regime a textured ring settles by a complex pair of slow modes
+/// (Case III: |λ| ≈ 0.49 a period, a pseudo-period of ≈ 5 periods; Case I: 0.65, 7.5). Its
+/// cycle-to-cycle changes swing in size with the phase of the oscillation, so a ratio of two
+/// changes says nothing about the tail and the geometric estimate stayed infinite for a third
+/// of the periods: Case III at `fast` ran 24 periods at any tolerance from 1e-3 to 1e-5,
+/// to 3e-8 of its limit.
+pub(crate) fn slow_pair(h: &[PeriodMeans]) -> Option<SlowMode> {
+    if h.len() < 6 {
+        return None;
+    }
+    let d: Vec<f64> = h.windows(2).map(|w| w[1].z_mean - w[0].z_mean).collect();
+    let d = &d[d.len() - 5..];
+    // Normal equations of the 3×2 least-squares fit d[i] ≈ α d[i−1] + β d[i−2], i = 2..5.
+    let (mut s11, mut s12, mut s22, mut t1, mut t2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for i in 2..5 {
+        let (u, v, y) = (d[i - 1], d[i - 2], d[i]);
+        s11 += u * u;
+        s12 += u * v;
+        s22 += v * v;
+        t1 += u * y;
+        t2 += v * y;
+    }
+    let det = s11 * s22 - s12 * s12;
+    if !det.is_finite() || det <= 1e-6 * s11 * s22 {
+        return None;
+    }
+    let mode = SlowMode {
+        alpha: (t1 * s22 - t2 * s12) / det,
+        beta: (s11 * t2 - s12 * t1) / det,
+    };
+    let residual: f64 = (2..5)
+        .map(|i| (d[i] - mode.alpha * d[i - 1] - mode.beta * d[i - 2]).powi(2))
+        .sum();
+    let size: f64 = (2..5).map(|i| d[i].powi(2)).sum();
+    (residual <= PAIR_FIT * PAIR_FIT * size && mode.radius() < PAIR_RADIUS).then_some(mode)
+}
+
+/// Largest RMS residual of the slow pair's fit, relative to the changes it fits.
+const PAIR_FIT: f64 = 0.1;
+
+/// Slowest decay per period the slow pair may have: closer to 1, 1/(1 − α − β) amplifies
+/// the fit's error too much for the limit to be read from six periods.
+const PAIR_RADIUS: f64 = 0.95;
+
+/// Estimated relative distance of the last window means (f̄ and Z̄) from their periodic
+/// limits (docs/model.md §6), and never less than the film's oil imbalance over the last window
+/// ([`oil_imbalance`]). For the motion:
+/// - when the changes of Z̄ follow a damped oscillation ([`slow_pair`]: α, β), the limit of
+///   a sequence y_i obeying that recurrence, y* = (y_k − α y_{k−1} − β y_{k−2})/(1 − α − β),
+///   gives the distance |y_k − y*| (for f̄ with Z̄'s α, β: one mode moves both); never less
+///   than the last change |y_k − y_{k−1}|;
+/// - otherwise the cycle-to-cycle change d_k, extended by its geometric tail d_k/(1 − r)
+///   when the changes shrink monotonically at ratio r = d_k/d_{k−1} ∈ (0, 1) (a slow creep);
+///   infinite while fewer than three periods exist or while the changes grow.
+pub(crate) fn periodic_error(h: &[PeriodMeans]) -> f64 {
+    if h.len() < 3 {
+        return f64::INFINITY;
+    }
+    let k = h.len() - 1;
+    oil_imbalance(&h[k - 1], &h[k]).max(motion_error(h))
+}
+
+/// The change of the oil the film holds over the last window, relative to the oil through
+/// the domain in it: zero in the periodic regime (the film holds the same oil at every window
+/// end). Why: a ring that passes more oil than arrives (deep pockets carry it) drains the
+/// flooded bank in front of it at a steady rate, and with it Z and f̄ creep by less than the
+/// tolerance per window for as long as the bank lasts, then settle elsewhere (R = 0.2,
+/// pockets 0.02 / 0.04 / 30 µm at `fast`: 43 % more oil out than in, Z̄ creeping by 4e-6 a
+/// window for ≈ 190 windows, after which f̄ is 17 % lower; the motion alone had passed for
+/// periodic at window 36).
+fn oil_imbalance(before: &PeriodMeans, now: &PeriodMeans) -> f64 {
+    (now.content - before.content).abs() / now.throughput.max(f64::MIN_POSITIVE)
+}
+
+/// The periodic error of the motion: f̄ and Z̄ (see [`periodic_error`]).
+fn motion_error(h: &[PeriodMeans]) -> f64 {
+    let k = h.len() - 1;
+    if let Some(mode) = slow_pair(h) {
+        let est = |y: &dyn Fn(&PeriodMeans) -> f64| {
+            let (y0, y1, y2) = (y(&h[k - 2]), y(&h[k - 1]), y(&h[k]));
+            let limit = mode.limit(y0, y1, y2);
+            (y2 - limit).abs().max((y2 - y1).abs()) / y2.abs().max(f64::MIN_POSITIVE)
+        };
+        return est(&|p| p.friction.total()).max(est(&|p| p.z_mean));
+    }
+    let est = |y: &dyn Fn(&PeriodMeans) -> f64| {
+        let (y0, y1, y2) = (y(&h[k - 2]), y(&h[k - 1]), y(&h[k]));
+        let (d1, d2) = (y1 - y0, y2 - y1);
+        let scale = y2.abs().max(f64::MIN_POSITIVE);
+        if d2.abs() <= 1e-13 * scale {
+            return d2.abs() / scale;
+        }
+        let r = if d1 != 0.0 { d2 / d1 } else { f64::INFINITY };
+        let tail = if r > 0.0 && r < 1.0 {
+            d2.abs() / (1.0 - r)
+        } else if r <= 0.0 {
+            d2.abs()
+        } else {
+            // Growing changes say nothing of the tail, however small they are. (Reading them
+            // as 10× to 100× the change instead saved nothing at `fast`: 30 sampled study
+            // cases at 1e-4 took 1033–1035 periods against 1037.)
+            f64::INFINITY
+        };
+        tail / scale
+    };
+    est(&|p| p.friction.total()).max(est(&|p| p.z_mean))
+}

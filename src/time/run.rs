@@ -1,0 +1,196 @@
+//! A run: a case brought to its periodic regime (docs/model.md §6), or, for an untextured
+//! liner, the steady 1D force balance. The loop steps window by window; the stopping rule
+//! ([`super::periodic`]), the accelerator ([`super::jump`]) and the observers sit beside it.
+
+use std::time::Instant;
+
+use super::approach::start_transient;
+use super::jump::Extrapolator;
+use super::numerics::Numerics;
+use super::outcome::{Outcome, Progress, RunResult, SeriesRow, SolveError};
+use super::periodic::{window_periods, PeriodMeans, Windows};
+use super::steady::steady_outcome;
+use super::transient::Transient;
+use crate::model::case::CaseSpec;
+
+/// Who watches a run: a closure called after every averaging window, one after every step.
+#[derive(Default)]
+pub struct Watch<'a> {
+    pub on_window: Option<&'a mut dyn FnMut(&Progress)>,
+    pub on_step: Option<&'a mut dyn FnMut(&Transient)>,
+}
+
+impl Watch<'_> {
+    fn window(&mut self, p: &Progress) {
+        if let Some(f) = self.on_window.as_mut() {
+            f(p);
+        }
+    }
+    fn step(&mut self, t: &Transient) {
+        if let Some(f) = self.on_step.as_mut() {
+            f(t);
+        }
+    }
+}
+
+/// What a run records beside its outcome.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Record the time series (every step, a coarse approach's included).
+    pub series: bool,
+    /// Further shear thresholds θ_s to report outcomes for (θ_s enters only the Couette
+    /// term, docs/model.md §5: the film and the ring are simulated once).
+    pub extra_theta_s: Vec<f64>,
+    /// Run an untextured liner as a 2D transient too (by default it is the steady 1D
+    /// balance).
+    pub transient: bool,
+}
+
+/// One evaluation: an untextured liner is solved as the steady 1D force balance on n1
+/// cells; a textured one by the 2D transient to the periodic regime.
+pub fn simulate(case: &CaseSpec, num: &Numerics) -> Result<RunResult, SolveError> {
+    simulate_with(case, num, &RunOptions::default(), &mut Watch::default())
+}
+
+/// As [`simulate`], with the options and observers given.
+pub fn simulate_with(
+    case: &CaseSpec,
+    num: &Numerics,
+    opts: &RunOptions,
+    watch: &mut Watch,
+) -> Result<RunResult, SolveError> {
+    if case.texture.is_none() && !opts.transient {
+        let mut r = steady_outcome(case, num.n1)?;
+        for &theta_s in &opts.extra_theta_s {
+            let other = CaseSpec {
+                theta_s,
+                ..case.clone()
+            };
+            r.extra
+                .push((theta_s, steady_outcome(&other, num.n1)?.outcome));
+        }
+        return Ok(r);
+    }
+    let mut series = opts.series.then(Vec::new);
+    let mut t = start_transient(case, num, series.as_mut(), watch)?;
+    t.extra_theta_s.clone_from(&opts.extra_theta_s);
+    let mut r = t.run_to_periodic(num, opts.series, watch)?;
+    if let (Some(mut all), Some(rows)) = (series, r.series.take()) {
+        all.extend(rows);
+        r.series = Some(all);
+    }
+    Ok(r)
+}
+
+impl Transient {
+    /// Runs window by window until the periodic regime is detected or t_max is reached.
+    pub fn run_to_periodic(
+        &mut self,
+        num: &Numerics,
+        record_series: bool,
+        watch: &mut Watch,
+    ) -> Result<RunResult, SolveError> {
+        let start = Instant::now();
+        let mut series = record_series.then(Vec::new);
+        let mut windows = Windows::default();
+        let mut accelerator = Extrapolator::default();
+        let wp = self.window_periods();
+        let (converged, periodic_error) = loop {
+            let means = self.advance_window(wp, series.as_mut(), watch)?;
+            windows.push(means);
+            accelerator.after_window(self, &mut windows, num);
+            let err = windows.error();
+            let last = windows.last();
+            watch.window(&Progress {
+                period: self.approach.periods + windows.len() * wp,
+                t: self.t,
+                f_mean: last.friction.total(),
+                z_mean: last.z_mean,
+                periodic_error: err,
+            });
+            if windows.periodic(err, num) {
+                break (true, err);
+            }
+            if self.t + 1e-12 >= num.t_max {
+                break (false, err);
+            }
+        };
+        let periods = self.approach.periods + windows.len() * wp;
+        let outcome = self.outcome(windows.last(), periods, converged, periodic_error, start);
+        let extra = self
+            .extra_theta_s
+            .iter()
+            .zip(&windows.last().extra)
+            .map(|(&theta_s, f)| (theta_s, outcome.with_friction(f)))
+            .collect();
+        Ok(RunResult {
+            outcome,
+            series,
+            extra,
+        })
+    }
+
+    /// Texture periods per averaging window (see [`window_periods`]).
+    pub fn window_periods(&self) -> usize {
+        window_periods(self.dt * self.steps_per_period as f64)
+    }
+
+    /// Steps through one averaging window of `wp` texture periods: the window's means, the
+    /// oil held at its end and the oil through the domain in it.
+    fn advance_window(
+        &mut self,
+        wp: usize,
+        mut series: Option<&mut Vec<SeriesRow>>,
+        watch: &mut Watch,
+    ) -> Result<PeriodMeans, SolveError> {
+        let n = self.steps_per_period * wp;
+        let mut acc = PeriodMeans::empty();
+        for _ in 0..n {
+            self.step()?;
+            watch.step(self);
+            let row = self.row();
+            acc.add(&row, &self.friction, &self.extra_friction);
+            if let Some(s) = series.as_mut() {
+                s.push(row);
+            }
+        }
+        let (content, flow) = self.oil_held();
+        Ok(PeriodMeans {
+            content,
+            throughput: flow * n as f64 * self.dt,
+            ..acc.finish(n)
+        })
+    }
+
+    /// The outcome of the last window `last`.
+    fn outcome(
+        &self,
+        last: &PeriodMeans,
+        periods: usize,
+        converged: bool,
+        periodic_error: f64,
+        start: Instant,
+    ) -> Outcome {
+        Outcome {
+            f_mean: last.friction.total(),
+            f_couette: last.friction.couette,
+            f_poiseuille: last.friction.poiseuille,
+            f_pressure: last.friction.pressure,
+            z_mean: last.z_mean,
+            z_min: last.z_min,
+            z_max: last.z_max,
+            c_min: self.scene.contact.clearance_um(last.z_min),
+            periods,
+            steps: self.steps,
+            converged,
+            periodic_error,
+            method: "transient-2d".into(),
+            dt: self.dt,
+            t_end: self.t,
+            iterations_per_step: self.total_iterations as f64 / self.steps.max(1) as f64,
+            max_residual: self.max_residual,
+            wall_time_s: self.approach.wall_time_s + start.elapsed().as_secs_f64(),
+            approach_steps: self.approach.steps,
+        }
+    }
+}

@@ -1,0 +1,212 @@
+//! Untextured liner: the problem is 1D and steady (docs/model.md §6), solved as such — a
+//! steady Elrod–Adams film on one line of nodes (the same stencil and solver as the transient,
+//! without the time term) and a scalar root find on Z for the force balance W_h(Z) = W_ps.
+
+use std::time::Instant;
+
+use super::outcome::{Outcome, RunResult, SolveError};
+use crate::mesh::integrals::friction;
+use crate::mesh::{FilmState, Grid, Scene};
+use crate::model::case::CaseSpec;
+use crate::model::friction::{Friction, FrictionModel};
+use crate::solve::{FilmError, FilmMethod, FilmSolver, Method, Step};
+
+/// Force-balanced steady state of an untextured contact.
+#[derive(Clone, Debug)]
+pub struct Steady {
+    /// Ring position Z (µm) at which W_h = W_ps.
+    pub z: f64,
+    pub friction: Friction,
+    /// Film solves used by the root find.
+    pub film_solves: usize,
+    /// Pressure and film content along x1 at the balance.
+    pub x: Vec<f64>,
+    pub p: Vec<f64>,
+    pub theta: Vec<f64>,
+}
+
+/// Why a steady solve failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SteadyError {
+    #[error("{0}")]
+    Film(#[from] FilmError),
+    #[error("no force balance for Z in [{lo:.3e}, {hi:.3e}] µm (load there {w_lo:.3e} … {w_hi:.3e}, W_ps = {w_ps:.3e}); the film cannot carry the ring: {hint}")]
+    NoBracket {
+        lo: f64,
+        hi: f64,
+        w_lo: f64,
+        w_hi: f64,
+        w_ps: f64,
+        /// The likely cause, for the user.
+        hint: &'static str,
+    },
+}
+
+/// Solves the untextured steady contact on `n1` cells along x1.
+pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyError> {
+    let mut c = case.clone();
+    c.texture = None;
+    let contact = c.contact();
+    let scene = Scene::with_grid(contact, Grid::new(n1, 1, 0.2, 1.0), case.u);
+    let g = &scene.grid;
+    let phi_old = vec![0.0; g.nodes()];
+    let step = Step {
+        grid: g,
+        gap: &scene.gap,
+        phi_old: &phi_old,
+        inv_dt: 0.0,
+        boundary: case.film_boundary(),
+        ring: None,
+    };
+    let mut solver = FilmSolver::new(Method::Direct);
+    let mut state = FilmState::cavitated(g, &scene.gap, case.z0, case.d_oil);
+    let mut solves = 0;
+    // Residual of the force balance at Z (warm-started film solves).
+    let mut excess = |z: f64, state: &mut FilmState| -> Result<f64, FilmError> {
+        let mut zz = z;
+        solves += 1;
+        Ok(solver.solve(&step, state, &mut zz)?.w_h - case.w_ps)
+    };
+
+    // Bracket: W_h decreases with Z. Expand geometrically from Z0.
+    let (mut lo, mut hi) = (case.z0, case.z0);
+    let mut flo = excess(lo, &mut state)?;
+    let mut fhi = flo;
+    let mut expansions = 0;
+    while flo < 0.0 || fhi > 0.0 {
+        expansions += 1;
+        if expansions > 60 || lo < 1e-4 || hi > 1e5 {
+            return Err(SteadyError::NoBracket {
+                lo,
+                hi,
+                w_lo: flo + case.w_ps,
+                w_hi: fhi + case.w_ps,
+                w_ps: case.w_ps,
+                hint: if case.r.is_infinite() {
+                    "a flat ring on a plain liner has no converging wedge to build pressure"
+                } else {
+                    "is the inlet starved (--d-oil)?"
+                },
+            });
+        }
+        if flo < 0.0 {
+            hi = lo;
+            fhi = flo;
+            lo /= 1.5;
+            flo = excess(lo, &mut state)?;
+        } else {
+            lo = hi;
+            flo = fhi;
+            hi *= 1.5;
+            fhi = excess(hi, &mut state)?;
+        }
+    }
+    // Illinois false position in ln Z: W_h ≈ power law in Z, so this converges superlinearly.
+    let (mut a, mut b) = (lo.ln(), hi.ln());
+    let (mut fa, mut fb) = (flo, fhi);
+    let mut side = 0;
+    let mut z = lo;
+    for _ in 0..200 {
+        let c = if fa == fb {
+            0.5 * (a + b)
+        } else {
+            b - fb * (b - a) / (fb - fa)
+        };
+        z = c.exp();
+        let fc = excess(z, &mut state)?;
+        if fc == 0.0 || (b - a).abs() < 1e-13 || fc.abs() < 1e-13 * case.w_ps {
+            break;
+        }
+        if (fc > 0.0) == (fa > 0.0) {
+            a = c;
+            fa = fc;
+            if side == -1 {
+                fb *= 0.5;
+            }
+            side = -1;
+        } else {
+            b = c;
+            fb = fc;
+            if side == 1 {
+                fa *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    // Final state exactly at the returned Z.
+    excess(z, &mut state)?;
+    let model = FrictionModel {
+        u: case.u,
+        theta_s: case.theta_s,
+        w_ps: case.w_ps,
+    };
+    let friction = friction(g, &scene.gap, z, &scene.hl, &state, &model);
+    let theta = (0..g.nodes())
+        .map(|k| state.theta(g, &scene.gap, z, k))
+        .collect();
+    Ok(Steady {
+        z,
+        friction,
+        film_solves: solves,
+        x: (0..=g.n1).map(|i| g.x(i)).collect(),
+        p: state.p.clone(),
+        theta,
+    })
+}
+
+/// The steady untextured outcome in the common form.
+pub fn steady_outcome(case: &CaseSpec, n1: usize) -> Result<RunResult, SolveError> {
+    let start = Instant::now();
+    let s = solve_untextured(case, n1).map_err(|source| SolveError::Steady {
+        case: case.label(),
+        source,
+    })?;
+    let c_min = case.contact().clearance_um(s.z);
+    let outcome = Outcome {
+        f_mean: s.friction.total(),
+        f_couette: s.friction.couette,
+        f_poiseuille: s.friction.poiseuille,
+        f_pressure: s.friction.pressure,
+        z_mean: s.z,
+        z_min: s.z,
+        z_max: s.z,
+        c_min,
+        periods: 0,
+        steps: 0,
+        converged: true,
+        periodic_error: 0.0,
+        method: "steady-1d".into(),
+        dt: 0.0,
+        t_end: 0.0,
+        iterations_per_step: 0.0,
+        max_residual: 0.0,
+        wall_time_s: start.elapsed().as_secs_f64(),
+        approach_steps: 0,
+    };
+    Ok(RunResult {
+        outcome,
+        series: None,
+        extra: Vec::new(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_flat_plain_ring_is_refused_with_its_reason() {
+        // Parallel surfaces build no steady pressure: no Z balances the load, and the error
+        // says why instead of guessing at the inlet.
+        match solve_untextured(&CaseSpec::paper(f64::INFINITY), 128) {
+            Err(SteadyError::NoBracket {
+                hint, w_hi, w_ps, ..
+            }) => {
+                assert!(hint.contains("flat ring"), "{hint}");
+                assert!(w_hi < 1e-2 * w_ps, "load {w_hi} against {w_ps}");
+            }
+            other => panic!("expected no force balance, got {other:?}"),
+        }
+        assert!(solve_untextured(&CaseSpec::paper(0.8), 128).is_ok());
+    }
+}

@@ -1,0 +1,440 @@
+//! The coupled transient (docs/model.md §3–5): the film under the moving texture, the ring's
+//! dynamics and the friction, advanced one backward-Euler step at a time.
+
+use super::memory::{PeriodGuess, PlacedTexture, TextureShift};
+use super::numerics::{Numerics, Start};
+use super::outcome::{SeriesRow, SolveError};
+use super::steady::{solve_untextured, Steady};
+use crate::mesh::integrals::{boundary_flows, friction_thresholds};
+use crate::mesh::{FilmState, Scene};
+use crate::model::case::CaseSpec;
+use crate::model::friction::{Friction, FrictionModel};
+use crate::model::ring::{Ring, RingState};
+use crate::solve::{FilmMethod, SolveStats, Step};
+
+/// Pseudo-period used to average and test an untextured transient run (no texture period).
+pub const UNTEXTURED_PERIOD: f64 = 0.06;
+
+/// Largest relative mass defect of a step ([`Transient::mass_defect`]) taken for a converged
+/// solve: the Elrod–Adams scheme conserves mass to round-off (≤ 1.5e-12 over the stability
+/// map, results/stability/).
+pub const MASS_TOL: f64 = 1e-6;
+
+/// Contact: the ring is on the liner once Z (its apex's clearance above the plateau, µm) is at
+/// or below this, 1 nm, a few oil molecules: no continuum film (docs/model.md §3's thin-film
+/// model) is left to lubricate. Why not Z ≤ 0: the film iteration closes the gap by at most
+/// half per iteration and each step's Z guess is at least half the last Z, so a ring pushed
+/// into the liner approaches Z = 0 geometrically and never reaches it (a load 10⁴ times the
+/// paper's: Z = 4e-250 µm and f̄ = 7e241 after 30 ms).
+pub const CONTACT_Z: f64 = 1e-3;
+
+/// The coupled transient. Advance it with [`Transient::step`];
+/// [`Transient::run_to_periodic`] drives it to the periodic regime.
+pub struct Transient {
+    pub case: CaseSpec,
+    pub scene: Scene,
+    pub state: FilmState,
+    /// φ at the previous time level.
+    pub phi_old: Vec<f64>,
+    pub ring: Ring,
+    pub ring_state: RingState,
+    pub t: f64,
+    pub dt: f64,
+    /// Steps per texture period (the period is per/u, or UNTEXTURED_PERIOD).
+    pub steps_per_period: usize,
+    pub steps: usize,
+    /// The film solver of every step.
+    pub solver: Box<dyn FilmMethod>,
+    pub last: SolveStats,
+    pub friction: Friction,
+    /// Further shear thresholds θ_s whose friction is reported alongside (docs/model.md §5:
+    /// θ_s enters only the Couette term, so one run serves them all) and their friction.
+    pub extra_theta_s: Vec<f64>,
+    pub extra_friction: Vec<Friction>,
+    /// Guard: a step whose relative mass defect exceeds this is an error
+    /// ([`SolveError::MassNotConserved`]); [`MASS_TOL`] by default.
+    pub mass_tolerance: f64,
+    /// Largest relative mass defect of a step so far.
+    pub max_mass_defect: f64,
+    pub(super) total_iterations: usize,
+    pub(super) max_residual: f64,
+    /// Solved states and factors of the last texture period, the initial guesses of the
+    /// film iteration one period later.
+    pub(super) period_ago: PeriodGuess,
+    /// The texture as placed at each phase of the period.
+    pub(super) placed: PlacedTexture,
+    /// Node columns the texture moves in one step: how far a step's initial guess carries
+    /// the film inside the pockets.
+    pub(super) shift: TextureShift,
+    /// What a coarse approach ([`Transient::refined`]) took before this run's mesh.
+    pub approach: ApproachDone,
+}
+
+/// The part of a run taken on a coarse approach mesh (zero without one).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ApproachDone {
+    pub steps: usize,
+    pub periods: usize,
+    pub wall_time_s: f64,
+}
+
+impl Transient {
+    /// The transient of `case` on the numerics' mesh and time step, from the numerics'
+    /// start, with the numerics' film solver.
+    pub fn new(case: &CaseSpec, num: &Numerics) -> Self {
+        Self::with_solver(case, num, num.solver.solver())
+    }
+
+    /// As [`Transient::new`] with a film solver of the caller's (the lab crate's solvers).
+    ///
+    /// The initial state is `num.start`'s: the paper's (docs/model.md §4, [`paper_start`]) or
+    /// the untextured force balance ([`equilibrium_start`]); the periodic regime reached is
+    /// the same (tests/solvers.rs). A contact that has no untextured balance starts from the
+    /// paper's state.
+    pub fn with_solver(case: &CaseSpec, num: &Numerics, solver: Box<dyn FilmMethod>) -> Self {
+        let scene = Scene::new(case, num.n1, num.n2);
+        let period = case
+            .texture
+            .as_ref()
+            .map_or(UNTEXTURED_PERIOD, |t| t.per / case.u);
+        let steps_per_period = ((period / num.dt) - 1e-9).ceil().max(1.0) as usize;
+        let dt = period / steps_per_period as f64;
+        let equilibrium = match num.start {
+            Start::Paper => None,
+            Start::Equilibrium => solve_untextured(case, num.n1).ok(),
+        };
+        let (state, ring_state) = match equilibrium {
+            Some(eq) => equilibrium_start(&scene, &eq),
+            None => paper_start(&scene, case),
+        };
+        let (textured, nodes) = (case.texture.is_some(), scene.grid.nodes());
+        let shift = if solver.carries_guess() {
+            TextureShift::of(case, dt, &scene.grid)
+        } else {
+            TextureShift::NONE
+        };
+        Transient {
+            case: case.clone(),
+            phi_old: state.phi.clone(),
+            state,
+            ring: Ring {
+                mass: case.mass,
+                w_ps: case.w_ps,
+            },
+            ring_state,
+            t: 0.0,
+            dt,
+            steps_per_period,
+            steps: 0,
+            solver,
+            last: SolveStats::default(),
+            friction: Friction::default(),
+            extra_theta_s: Vec::new(),
+            extra_friction: Vec::new(),
+            scene,
+            mass_tolerance: MASS_TOL,
+            max_mass_defect: 0.0,
+            total_iterations: 0,
+            max_residual: 0.0,
+            period_ago: PeriodGuess::new(textured, steps_per_period, nodes),
+            placed: PlacedTexture::new(textured, steps_per_period, nodes),
+            shift,
+            approach: ApproachDone::default(),
+        }
+    }
+
+    /// Memory the factors kept for the next period's solves take (bytes).
+    pub fn kept_factor_bytes(&self) -> usize {
+        self.period_ago.factor_bytes
+    }
+
+    /// Turns the period-old initial guess of the film iteration on (the default for
+    /// textured runs) or off (every step starts from the previous time level).
+    pub fn set_period_guess(&mut self, on: bool) {
+        let textured = on && self.case.texture.is_some();
+        self.period_ago =
+            PeriodGuess::new(textured, self.steps_per_period, self.scene.grid.nodes());
+    }
+
+    pub fn friction_model(&self) -> FrictionModel {
+        FrictionModel {
+            u: self.case.u,
+            theta_s: self.case.theta_s,
+            w_ps: self.case.w_ps,
+        }
+    }
+
+    /// The film problem of the step last taken, with the ring held where that step put it
+    /// (solved at Z = `ring_state.z`, its solution is `state`): for probes of other solvers
+    /// on a run's own problems.
+    pub fn fixed_z_problem(&self) -> Step<'_> {
+        Step {
+            grid: &self.scene.grid,
+            gap: &self.scene.gap,
+            phi_old: &self.phi_old,
+            inv_dt: 1.0 / self.dt,
+            boundary: self.case.film_boundary(),
+            ring: None,
+        }
+    }
+
+    /// One backward-Euler step of the film with the implicit Newmark ring update.
+    pub fn step(&mut self) -> Result<(), SolveError> {
+        let t_new = (self.steps + 1) as f64 * self.dt;
+        // The texture placed by its phase within the period, so that the gap is the same to
+        // the bit at the same phase of every period (u·t_new is that plus whole periods):
+        // the matrix rows the texture alone sets (the flooded gap upstream) then match
+        // the factors kept from a period ago and are not eliminated again.
+        let slot = (self.steps + 1) % self.steps_per_period;
+        self.placed
+            .place(&mut self.scene, slot, slot as f64 * self.dt);
+        std::mem::swap(&mut self.phi_old, &mut self.state.phi);
+        let s = self.ring_state;
+        let link = self.ring.link(&s, self.dt);
+        let mut z = self.initial_guess(&s, t_new)?;
+        let step = Step {
+            grid: &self.scene.grid,
+            gap: &self.scene.gap,
+            phi_old: &self.phi_old,
+            inv_dt: 1.0 / self.dt,
+            boundary: self.case.film_boundary(),
+            ring: Some(link),
+        };
+        let level = self.steps + 1;
+        self.period_ago.lend_factors(level, self.solver.as_mut());
+        let stats = self
+            .solver
+            .solve(&step, &mut self.state, &mut z)
+            .map_err(|source| SolveError::Film {
+                case: self.case.label(),
+                t: t_new,
+                source,
+            })?;
+        self.period_ago.keep_factors(level, self.solver.as_mut());
+        if z <= CONTACT_Z {
+            return Err(SolveError::Contact {
+                case: self.case.label(),
+                t: t_new,
+                z,
+            });
+        }
+        self.ring_state = self.ring.advance(&s, self.dt, z, stats.w_h);
+        self.check_mass(t_new)?;
+        self.t = t_new;
+        self.steps += 1;
+        self.period_ago.store(
+            self.steps,
+            &self.state,
+            z,
+            (self.shift, &self.scene.grid, &self.scene.hl),
+        );
+        self.last = stats;
+        self.total_iterations += stats.iterations;
+        self.max_residual = self.max_residual.max(stats.residual);
+        (self.friction, self.extra_friction) = friction_thresholds(
+            &self.scene.grid,
+            &self.scene.gap,
+            z,
+            &self.scene.hl,
+            &self.state,
+            &self.friction_model(),
+            &self.extra_theta_s,
+        );
+        Ok(())
+    }
+
+    /// The step's initial guess: the film into `state` and Z returned. The state one texture
+    /// period ago when its active set is the nearer ([`PeriodGuess::guess`]), with the ring's
+    /// step of a period ago repeated; else the previous time level carried with the texture
+    /// and the velocity extrapolation of Z. Either never closer to the liner than half the
+    /// current clearance (a guess must not put the ring on the liner by itself; the iteration
+    /// then moves Z as far as the film demands).
+    fn initial_guess(&mut self, s: &RingState, t_new: f64) -> Result<f64, SolveError> {
+        let mut z = s.z + self.dt * s.v;
+        match self.period_ago.guess(self.steps + 1, s.z) {
+            Some((snap, z_shifted)) => {
+                z = z_shifted;
+                self.state.assign(snap);
+            }
+            None => {
+                self.state.phi.copy_from_slice(&self.phi_old);
+                self.shift
+                    .carry(&self.scene.grid, &self.scene.hl, &mut self.state);
+            }
+        }
+        z = z.max(0.5 * s.z);
+        if !z.is_finite() {
+            return Err(SolveError::Unstable {
+                case: self.case.label(),
+                t: t_new,
+                quantity: "predicted ring position Z".into(),
+                value: z,
+            });
+        }
+        if z <= 0.0 {
+            return Err(SolveError::Contact {
+                case: self.case.label(),
+                t: t_new,
+                z,
+            });
+        }
+        Ok(z)
+    }
+
+    /// Guard: the step must conserve mass (a wrong number that looks right is worse than an
+    /// error).
+    fn check_mass(&mut self, t_new: f64) -> Result<(), SolveError> {
+        let defect = self.mass_defect();
+        self.max_mass_defect = self.max_mass_defect.max(defect);
+        if defect.is_nan() || defect > self.mass_tolerance {
+            return Err(SolveError::MassNotConserved {
+                case: self.case.label(),
+                t: t_new,
+                defect,
+                tol: self.mass_tolerance,
+                hint: "the film solve did not conserve mass to round-off, which the \
+                       Elrod–Adams scheme does when solved: the solve is not converged"
+                    .into(),
+            });
+        }
+        Ok(())
+    }
+
+    /// This run, after `done` (its periods, wall time) on a coarse mesh, carried over to the
+    /// mesh of `num`: same N1 and time step, another N2. The ring state, time, step count and
+    /// tallies go on as they are; the film's saturation θ and pressure are interpolated in x2
+    /// ([`super::approach::interpolate_x2`]) at the current texture phase, and that film is
+    /// also the new mesh's previous time level. The new mesh's first step then solves its own
+    /// film; the mismatch decays like any start's.
+    pub fn refined(&self, num: &Numerics, done: ApproachDone) -> Transient {
+        // Its own start is replaced below: the paper's costs nothing to set up.
+        let fresh = Numerics {
+            start: Start::Paper,
+            ..num.clone()
+        };
+        let mut fine = Transient::new(&self.case, &fresh);
+        debug_assert_eq!(
+            (fine.scene.grid.n1, fine.steps_per_period),
+            (self.scene.grid.n1, self.steps_per_period)
+        );
+        let phase = (self.steps % self.steps_per_period) as f64 * self.dt;
+        fine.scene.place(phase);
+        let mut coarse = self.scene.clone();
+        coarse.place(phase);
+        fine.state =
+            super::approach::interpolate_x2(&coarse, &self.state, self.ring_state.z, &fine.scene);
+        fine.phi_old.copy_from_slice(&fine.state.phi);
+        fine.ring_state = self.ring_state;
+        fine.t = self.t;
+        fine.steps = self.steps;
+        fine.total_iterations = self.total_iterations;
+        fine.max_residual = self.max_residual;
+        fine.max_mass_defect = self.max_mass_defect;
+        fine.extra_theta_s.clone_from(&self.extra_theta_s);
+        fine.approach = done;
+        fine
+    }
+
+    /// The oil the film holds (∫ h·θ over the domain but the inlet row, whose film is set)
+    /// and the larger of the boundary inflow and outflow rates. (A total: compared window to
+    /// window against a window's throughput, its summation round-off, ≈ 1e-12 of that, is far
+    /// below any periodic tolerance; per step it would not be, see `mass_defect`.)
+    pub(super) fn oil_held(&self) -> (f64, f64) {
+        let g = &self.scene.grid;
+        let content = (g.n2..g.n1 * g.n2).map(|k| self.state.phi[k]).sum::<f64>() * g.dx * g.dy;
+        let (inflow, outflow) = boundary_flows(
+            g,
+            &self.scene.gap,
+            self.ring_state.z,
+            self.case.u,
+            &self.state,
+        );
+        (content, inflow.abs().max(outflow.abs()))
+    }
+
+    /// Relative discrete mass defect of the last step: |Σ(φⁿ⁺¹ − φⁿ)·area − dt·(in − out)|
+    /// over dt·(|in| + |out|), the x1-end flows. Round-off for the conservative scheme when
+    /// the film solve converged. (Σ of differences: the totals hold the flooded upstream gap,
+    /// φ ≈ 1000 µm, and would lose the per-step change to summation round-off.)
+    pub fn mass_defect(&self) -> f64 {
+        let g = &self.scene.grid;
+        let change: f64 = (g.n2..g.n1 * g.n2)
+            .map(|k| self.state.phi[k] - self.phi_old[k])
+            .sum::<f64>()
+            * g.dx
+            * g.dy;
+        let (inflow, outflow) = boundary_flows(
+            g,
+            &self.scene.gap,
+            self.ring_state.z,
+            self.case.u,
+            &self.state,
+        );
+        let defect = change - self.dt * (inflow - outflow);
+        defect.abs() / (self.dt * (inflow.abs() + outflow.abs())).max(f64::MIN_POSITIVE)
+    }
+
+    /// The time-series row of the current state.
+    pub fn row(&self) -> SeriesRow {
+        SeriesRow {
+            t: self.t,
+            z: self.ring_state.z,
+            w_h: self.last.w_h,
+            f: self.friction.total(),
+            f_couette: self.friction.couette,
+            f_poiseuille: self.friction.poiseuille,
+            f_pressure: self.friction.pressure,
+        }
+    }
+}
+
+/// The untextured force balance (docs/model.md §6) laid on the textured gap: its saturation
+/// and pressure per column, Z at the balance, at rest, W_h = W_ps so Z''(0) = 0. The texture
+/// then only perturbs a balanced ring, so the periodic regime comes sooner.
+pub fn equilibrium_start(scene: &Scene, eq: &Steady) -> (FilmState, RingState) {
+    let g = &scene.grid;
+    let mut st = FilmState::cavitated(g, &scene.gap, eq.z, 0.0);
+    for i in 0..=g.n1 {
+        for j in 0..g.n2 {
+            let k = g.idx(i, j);
+            let h = scene.gap.h(g, k, eq.z);
+            st.phi[k] = eq.theta[i].min(1.0) * h;
+            if eq.p[i] > 0.0 && i > 0 && i < g.n1 {
+                st.p[k] = eq.p[i];
+                st.pressurised[k] = true;
+            }
+        }
+    }
+    let rs = RingState {
+        z: eq.z,
+        v: 0.0,
+        a: 0.0,
+    };
+    (st, rs)
+}
+
+/// The paper's initial state (docs/model.md §4): Z = z0, Z' = v0. The paper leaves the
+/// initial film open; texopt floods the gap upstream of the ring (θ = 1 for x1 < a) and lays
+/// a film of d_oil elsewhere (θ = min(1, d_oil/h)), nothing pressurised. Why: with a flooded
+/// inlet the ring passes less oil than arrives, and the surplus banks up in front of the
+/// ring, filling the wide gap e upstream; from a thin film that bank's front creeps to the
+/// inlet at surplus/(e − d_oil) ≈ 0.005 cm/ms, so the periodic regime would come only after
+/// ≈ 12 ms, with the bank's back-pressure lifting Z by up to 0.3 % on the way. The initial
+/// acceleration is consistent with the unpressurised film: Z''(0) = −W_ps/m.
+pub fn paper_start(scene: &Scene, case: &CaseSpec) -> (FilmState, RingState) {
+    let g = &scene.grid;
+    let mut st = FilmState::cavitated(g, &scene.gap, case.z0, case.d_oil);
+    let (a, _) = scene.contact.ring_edges();
+    for i in (0..=g.n1).filter(|&i| g.x(i) < a) {
+        for j in 0..g.n2 {
+            let k = g.idx(i, j);
+            st.phi[k] = scene.gap.h(g, k, case.z0);
+        }
+    }
+    let rs = RingState {
+        z: case.z0,
+        v: case.v0,
+        a: -case.w_ps / case.mass,
+    };
+    (st, rs)
+}

@@ -1,0 +1,48 @@
+//! Helpers shared by the integration tests: the paper's cases, the binary, scratch space.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+use std::process::Command;
+
+use texopt::model::case::{CaseSpec, Texture};
+
+/// The paper's Case I: R = 0.8, pockets 0.01 / 0.06 / 5 µm.
+pub fn case_one() -> CaseSpec {
+    CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0))
+}
+
+/// The paper's Case III: R = 3.2, pockets 0.03 / 0.06 / 10 µm.
+pub fn case_three() -> CaseSpec {
+    CaseSpec::paper(3.2).with_texture(Texture::circular(0.03, 0.06, 10.0))
+}
+
+/// The conformal ring of the benchmark: R = 51.2 with Case I's pockets.
+pub fn conformal() -> CaseSpec {
+    CaseSpec::paper(51.2).with_texture(Texture::circular(0.01, 0.06, 5.0))
+}
+
+/// |a − b| / |b|.
+pub fn rel(a: f64, b: f64) -> f64 {
+    ((a - b) / b).abs()
+}
+
+/// Runs the texopt binary: exit code, stdout, stderr.
+pub fn texopt(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_texopt"))
+        .args(args)
+        .output()
+        .expect("run texopt");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A fresh scratch directory for one test (removed first if a previous run left it).
+pub fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("texopt-{test}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
