@@ -35,7 +35,7 @@ fn textured_step_conserves_mass_to_round_off() {
     assert!(worst <= 1e-10, "mass defect {worst:e}");
 }
 
-/// Every step's film solve ends within the solve tolerance (relative error 1e-8, film.rs
+/// Every step's film solve ends within the solve tolerance (relative error 1e-8, solve/reuse.rs
 /// `CHORD_CONFIRM`) in every node's balance, including the node past a flat ring's
 /// trailing edge, whose west face spans the ring film and the gap e (h_f ≈ 500 µm, a
 /// conductance ≈ 10⁸): there the clipping of a round-off negative pressure (≈ 1e-17) once

@@ -1,4 +1,4 @@
-//! Friction bookkeeping (model.md §5): the three terms add up to f̄; θ_s acts on the Couette
+//! Friction bookkeeping (docs/model.md §5): the three terms add up to f̄; θ_s acts on the Couette
 //! term only (it enters no equation of the film or the ring).
 
 use texopt::model::case::{CaseSpec, Texture};

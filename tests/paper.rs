@@ -1,4 +1,4 @@
-//! Against the published study (model.md §8): the untextured force balance for all ten ring
+//! Against the published study (docs/model.md §8): the untextured force balance for all ten ring
 //! radii, and the paper's Case I at its own fidelity.
 
 use texopt::model::case::{CaseSpec, Texture};
@@ -8,7 +8,7 @@ const RADII: [f64; 10] = [0.2, 0.4, 0.8, 1.6, 3.2, 6.4, 12.8, 25.6, 51.2, 102.4]
 
 #[test]
 fn untextured_force_balance_matches_reference_table() {
-    // model.md §8, rows "N = 512" and "N = 2048" (an independent implementation).
+    // docs/model.md §8, rows "N = 512" and "N = 2048" (an independent implementation).
     let z512 = [
         4.031, 5.620, 6.396, 6.301, 5.689, 4.882, 4.065, 3.323, 2.687, 2.157,
     ];
@@ -41,7 +41,7 @@ fn untextured_force_balance_matches_reference_table() {
 #[test]
 fn case_one_matches_the_paper() {
     // Paper §3.5, Case I: l1 = l2 = 0.01, per = 0.06, depth 5, R = 0.8 at 512×32, dt = 4e-4,
-    // from Z = 2.5, Z' = 0. The paper prints f/10 = 0.00763 (model.md §5) and Z ≈ 6.25.
+    // from Z = 2.5, Z' = 0. The paper prints f/10 = 0.00763 (docs/model.md §5) and Z ≈ 6.25.
     let case = CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0));
     let out = simulate(&case, &Numerics::default()).unwrap().outcome;
     println!("{out:#?}");

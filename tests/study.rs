@@ -1,4 +1,4 @@
-//! Studies and the evaluation cache: the paper's study expands to model.md §7's 720 + 10
+//! Studies and the evaluation cache: the paper's study expands to docs/model.md §7's 720 + 10
 //! cases; bad study files are refused; a rerun computes nothing; θ_s variants share one
 //! simulation; a study killed with SIGKILL loses no finished case and its cache stays intact.
 //! The studies here run on coarse meshes (64×4): they test contracts, not physics.

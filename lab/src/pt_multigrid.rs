@@ -1,12 +1,11 @@
-//! Experimental (issue 3): a p–θ multigrid for the Elrod–Adams problem of one time step, the
-//! class of solver the paper used (a Gauss–Seidel-type p–θ iteration accelerated by
-//! multigrid, paper §2.6 and its refs. [29], [30]). Experimental: the film solver runs it
-//! as `--solver pt-multigrid` ([`crate::film::Method::PtMultigrid`]), and
-//! `examples/pt_multigrid_probe.rs` measures its convergence and cost on the film problems
-//! of a real run against the direct solver's solutions.
+//! A p–θ multigrid for the Elrod–Adams problem of one time step, the class of solver the
+//! paper used (a Gauss–Seidel-type p–θ iteration accelerated by multigrid, paper §2.6 and its
+//! refs. \[29\], \[30\]), as a film solver ([`PtSolver`]). Its cost grows with the node count
+//! only, so it runs the finest reference meshes (2048×128), where the band LU costs ≈ 1.5 s a
+//! step.
 //!
 //! - Smoother: lexicographic Gauss–Seidel in the upwind direction; each node solves its own
-//!   balance (the one stencil, [`crate::film::balance`]) for its one unknown, exactly: the
+//!   balance (the one stencil, [`crate::stencil::balance`]) for its one unknown, exactly: the
 //!   balance is affine in p_ij on the pressurised branch and in φ_ij on the cavitated one,
 //!   and increasing in both, so the node is pressurised iff the balance at p = 0, φ = h is
 //!   negative (the Ausas–Jai–Buscaglia update without relaxation).
@@ -23,28 +22,23 @@
 //!   it, so the jump of h³ by ≈ 10⁶ at the ring's edges (gap e against the film) stays
 //!   where it is instead of smearing a coarse cell into the ring. Residuals are restricted
 //!   by their sums (the stencil is the integrated balance of a cell), corrections prolonged
-//!   linearly. No coarse node straddles a ring edge ([`restrict`]). Or ([`galerkin`],
+//!   linearly. No coarse node straddles a ring edge (`restrict`). Or (`galerkin`,
 //!   `PtMultigrid::galerkin`): Galerkin coarse operators Pᵀ·A·P with a truncated,
 //!   operator-dependent prolongation.
 //! - The ring: with a ring link in the step, Z moves after every V-cycle by a chord step on
-//!   the Newmark equation (model.md §4).
+//!   the Newmark equation (docs/model.md §4).
 //!
-//! What it showed (stop 28, docs/speed.md "Measured in stop 28"): on Case III at 512×32,
-//! from the period-old solution, a settled step needs 13 V(2,2) cycles to 1e-8 with the
-//! rediscretised coarse levels (0.58 a cycle; ≈ 0.2 for the two-grid cycle with an exact
-//! coarse solve) and 8 with Galerkin ones ([`galerkin`], 0.38 a cycle); 100 Gauss–Seidel
-//! sweeps alone remove 30 % of that error (the error a step must remove is smooth). With
-//! the ring moved after every cycle (a chord step on the Newmark equation) it takes one
-//! cycle more; over every step of the benchmark run, 13 on average. The cycle count grows
-//! slowly with the mesh (16 / 18 / 20 from 512×32 to 2048×128 on an early step), the band
-//! LU's cost fast. As a solver path (stop 28) it gives the direct solver's outcomes (Case
-//! III at `paper`: within 2.2e-11) at 5–9× its time at 512×32. Left open: tuned coarse
-//! levels; the 2048×128 reference run it is meant for.
 
-use crate::film::{
-    balance, conductance_sum, face_conductances, load, max_relative_residual, Column, Faces,
-    FilmState, Gap, Grid, RingLink, Step,
+use texopt::mesh::integrals::load;
+use texopt::mesh::{face_conductances, FilmState, Gap, Grid};
+use texopt::model::film::{Column, Faces};
+use texopt::model::ring::RingLink;
+use texopt::solve::{
+    finish, impose_boundary, max_relative_residual, FilmError, FilmMethod, GapCache, SolveStats,
+    Step,
 };
+
+use crate::stencil::{balance, conductance_sum};
 
 mod galerkin;
 
@@ -53,7 +47,7 @@ struct Fine {
     g: Grid,
     /// Nodal gap at the fixed Z (µm).
     h: Vec<f64>,
-    /// Face conductances, laid out as [`crate::film`]'s.
+    /// Face conductances, laid out as the product's ([`Faces`]).
     cx: Vec<f64>,
     cy: Vec<f64>,
     /// φ at the old time level.
@@ -195,7 +189,7 @@ impl Fine {
         }
     }
 
-    /// The one stencil at interior node (i, j) ([`crate::film::balance`]).
+    /// The one stencil at interior node (i, j) ([`crate::stencil::balance`]).
     fn balance(&self, i: usize, j: usize) -> f64 {
         let f = self.faces();
         balance(
@@ -226,7 +220,8 @@ impl Fine {
                     // one corrected for its update (the only neighbour in the column a
                     // node's balance reads).
                     let faces = self.faces();
-                    let col = Column::new(&self.g, &faces, &self.p, &self.phi, Some(&self.old), i);
+                    let col =
+                        Column::new(self.g.n2, &faces, &self.p, &self.phi, Some(&self.old), i);
                     let mut south = 0.0;
                     for j in 0..n2 {
                         let k = c + j;
@@ -379,7 +374,7 @@ pub struct PtMultigrid {
     pub post: usize,
     pub coarsest_sweeps: usize,
     /// Coarse levels by Galerkin products with a truncated, operator-dependent prolongation
-    /// ([`galerkin`]) instead of rediscretised faces.
+    /// (`galerkin`) instead of rediscretised faces.
     pub galerkin: bool,
     r: Vec<f64>,
     /// The gap as a function of Z, the ring link (None: Z fixed) and the current Z.
@@ -499,7 +494,7 @@ impl PtMultigrid {
     }
 
     /// The ring after a V-cycle: a chord step on G(Z) = Z − z_pred − κ·(W_h(Z) − W_ps)
-    /// (the Newmark update, model.md §4) with slope 1 − κ·`dw_dz`, W_h from the current
+    /// (the Newmark update, docs/model.md §4) with slope 1 − κ·`dw_dz`, W_h from the current
     /// pressure; at most halving the smallest gap under the ring.
     fn move_ring(&mut self) {
         let Some(link) = self.link else {
@@ -713,11 +708,100 @@ impl PtMultigrid {
     }
 }
 
+/// Most V-cycles of one solve, and the count past which its ring slope is measured again
+/// (every step of Case III at `paper` converges in ≤ 25 to 1e-8 of the direct solution).
+const PT_MAX_CYCLES: usize = 80;
+const PT_SLOW: usize = 40;
+
+/// The p–θ multigrid as a film solver: Galerkin V(2,2) cycles, Z moved after each, until the
+/// largest relative nodal residual is at most 1e-12 (the flooded gap's large φ needs it for
+/// the mass guard) and the last ring update at most 1e-10 µm.
+#[derive(Default)]
+pub struct PtSolver {
+    gap: GapCache,
+    /// The ∂W_h/∂Z its ring updates assume, measured at the first coupled solve and again
+    /// whenever a solve needs more than [`PT_SLOW`] V-cycles.
+    slope: Option<f64>,
+}
+
+impl PtSolver {
+    fn cycles(
+        &mut self,
+        step: &Step,
+        state: &mut FilmState,
+        z: &mut f64,
+    ) -> Result<usize, FilmError> {
+        let tol = 1e-12;
+        let mut cycles = 0;
+        // A ring slope that has gone stale (the ring moved far since it was measured) shows as
+        // a slow solve: measured again, the solve starts over once.
+        for attempt in 0..2 {
+            let mut mg = PtMultigrid::new(step, *z);
+            mg.galerkin = true;
+            if step.ring.is_some() {
+                let slope = match self.slope {
+                    Some(s) if attempt == 0 => s,
+                    _ => PtMultigrid::load_slope(step, state, *z),
+                };
+                self.slope = Some(slope);
+                mg.dw_dz = slope;
+            }
+            mg.load(state);
+            for c in 1..=PT_MAX_CYCLES {
+                let z_before = mg.z();
+                mg.vcycle();
+                cycles += 1;
+                let moved = (mg.z() - z_before).abs();
+                if !mg.z().is_finite() {
+                    break;
+                }
+                if moved <= 1e-10f64.max(1e-12 * mg.z()) && mg.relative_residual() <= tol {
+                    mg.store(state);
+                    *z = mg.z();
+                    return Ok(cycles);
+                }
+                if c == PT_SLOW && attempt == 0 && step.ring.is_some() {
+                    break;
+                }
+            }
+            if step.ring.is_none() {
+                break;
+            }
+        }
+        Err(FilmError::NotConverged {
+            iterations: cycles,
+            changes: 0,
+            dz: f64::NAN,
+            z: *z,
+        })
+    }
+}
+
+impl FilmMethod for PtSolver {
+    fn solve(
+        &mut self,
+        step: &Step,
+        state: &mut FilmState,
+        z: &mut f64,
+    ) -> Result<SolveStats, FilmError> {
+        self.gap.begin(step);
+        impose_boundary(step, state, *z);
+        let cycles = self.cycles(step, state, z)?;
+        finish(&mut self.gap, step, state, *z, cycles, cycles)
+    }
+
+    /// Stopped on its residual, its answer depends on its start by the tolerance: the
+    /// previous state is taken as it is.
+    fn carries_guess(&self) -> bool {
+        false
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::case::{CaseSpec, Numerics, Texture};
-    use crate::run::Transient;
+    use texopt::model::case::{CaseSpec, Texture};
+    use texopt::time::{Numerics, Transient};
 
     /// Largest |p − p*| relative to max p*, and the nodes whose active set differs.
     fn error(a: &FilmState, exact: &FilmState) -> (f64, usize) {

@@ -104,7 +104,7 @@ pub struct OptimiseArgs {
     /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
     #[arg(long, value_name = "FILE")]
     pub cache: Option<PathBuf>,
-    /// Directory of the report files (optimise_R<R>.json/.csv/_front.png/_z_t.png/_f_t.png)
+    /// Directory of the report files (`optimise_R<R>.json`, .csv, _front.png, _z_t.png, _f_t.png)
     /// [default: results/optimise].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -215,12 +215,12 @@ pub struct BenchArgs {
     /// timings vary by ±20 % from run to run; the outcomes must not vary at all).
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub repeat: usize,
-    /// Where to write the results (JSON) [default: results/bench/bench.json, or
-    /// results/bench/bench-<what differs>.json for a partial or variant run]
+    /// Where to write the results (JSON) \[default: results/bench/bench.json, or
+    /// `results/bench/bench-<what differs>.json` for a partial or variant run\]
     ///
     /// results/bench/bench.json is the benchmark itself: every case, `paper`, the direct solver,
     /// the paper's start, the tier's approach. Any other run goes to
-    /// results/bench/bench-<what differs>.json (git-ignored, e.g. bench-fast-case-III.json), so
+    /// `results/bench/bench-<what differs>.json` (git-ignored, e.g. bench-fast-case-III.json), so
     /// that it never replaces the committed benchmark.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,

@@ -9,8 +9,10 @@ use super::{
     STOP,
 };
 use crate::model::case::{CaseSpec, InputError};
-use crate::optimise::driver::{optimise, table, Settings};
-use crate::optimise::space::{Bounds, Constraints, Space, SwarmSettings};
+use crate::optimise::driver::{optimise, Settings};
+use crate::optimise::report::table;
+use crate::optimise::search::SwarmSettings;
+use crate::optimise::space::{Bounds, Constraints, Space};
 use crate::study::NumericsOverride;
 use crate::time::Fidelity;
 

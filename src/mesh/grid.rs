@@ -9,7 +9,7 @@ pub struct Grid {
     pub n2: usize,
     /// Domain length along x1 (cm).
     pub length: f64,
-    /// Simulated width B along x2 (cm): half a texture cell (model.md §2).
+    /// Simulated width B along x2 (cm): half a texture cell (docs/model.md §2).
     pub width: f64,
     pub dx: f64,
     pub dy: f64,

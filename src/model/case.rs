@@ -9,7 +9,7 @@ use std::sync::Arc;
 use super::film::Boundary;
 use super::geometry::{CircularArc, Contact, HalfEllipsoid, Liner};
 
-/// A lattice of half-ellipsoidal pockets (model.md §2). Lengths in cm, depth in µm.
+/// A lattice of half-ellipsoidal pockets (docs/model.md §2). Lengths in cm, depth in µm.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Texture {
     /// Pocket semiaxis along the sliding direction x1 (cm).
@@ -45,7 +45,7 @@ impl Texture {
     }
 }
 
-/// One physical case. Defaults are the paper's operating point (model.md §1–4, §7).
+/// One physical case. Defaults are the paper's operating point (docs/model.md §1–4, §7).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CaseSpec {
     /// Ring face radius R (cm); f64::INFINITY for a flat ring (written "inf").
@@ -71,7 +71,7 @@ pub struct CaseSpec {
 }
 
 impl CaseSpec {
-    /// The film's boundary data (model.md §3): p = 0 at both ends, the oil supply d_oil
+    /// The film's boundary data (docs/model.md §3): p = 0 at both ends, the oil supply d_oil
     /// carried in at x1 = 0 by the liner's speed.
     pub fn film_boundary(&self) -> Boundary {
         Boundary {

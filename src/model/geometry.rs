@@ -1,4 +1,4 @@
-//! Geometry of ring and liner, and the gap between them (model.md §2, paper eqs. 1 and 15).
+//! Geometry of ring and liner, and the gap between them (docs/model.md §2, paper eqs. 1 and 15).
 //!
 //! Ring profiles and pocket shapes are small traits: a new shape (flat-bottomed pocket,
 //! asymmetric ring) is a new type implementing the trait, not an edit of the solver.
@@ -18,7 +18,7 @@ pub trait RingProfile: Send + Sync + std::fmt::Debug {
     }
 }
 
-/// A barrel-shaped ring: circular arc of radius R (cm); R = ∞ is a flat ring (model.md §2).
+/// A barrel-shaped ring: circular arc of radius R (cm); R = ∞ is a flat ring (docs/model.md §2).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CircularArc {
     /// Face radius R in cm (f64::INFINITY for a flat ring).
@@ -26,7 +26,7 @@ pub struct CircularArc {
 }
 
 impl RingProfile for CircularArc {
-    /// h_U = (R − √(R² − s²))·10⁴ µm (model.md §2), written as s²/(R + √(R² − s²)) to avoid
+    /// h_U = (R − √(R² − s²))·10⁴ µm (docs/model.md §2), written as s²/(R + √(R² − s²)) to avoid
     /// cancellation at large R.
     fn sag_um(&self, s_cm: f64) -> f64 {
         if self.radius_cm.is_infinite() {
@@ -49,7 +49,7 @@ pub trait PocketShape: Send + Sync + std::fmt::Debug {
     fn area_cm2(&self) -> f64;
 }
 
-/// Half an ellipsoid: h_L = depth·√(1 − (ξ/l1)² − (η/l2)²) inside the ellipse (model.md §2).
+/// Half an ellipsoid: h_L = depth·√(1 − (ξ/l1)² − (η/l2)²) inside the ellipse (docs/model.md §2).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HalfEllipsoid {
     /// Semiaxis along the sliding direction x1 (cm).
@@ -83,7 +83,7 @@ impl PocketShape for HalfEllipsoid {
 }
 
 /// The liner: a plateau at x3 = 0 with a rectangular lattice of identical pockets, period `per`
-/// along x1 and `width` along x2, translating with the liner at speed u (model.md §2).
+/// along x1 and `width` along x2, translating with the liner at speed u (docs/model.md §2).
 /// Pocket centres sit on x2 = width/2 (and images), so the field is symmetric about x2 = 0
 /// and x2 = width/2.
 #[derive(Clone, Debug)]
@@ -124,7 +124,7 @@ impl Liner {
         }
     }
 
-    /// Textured area fraction π·l1·l2/(per·width) for the half-ellipsoid (model.md §2).
+    /// Textured area fraction π·l1·l2/(per·width) for the half-ellipsoid (docs/model.md §2).
     pub fn area_fraction(&self) -> f64 {
         match &self.pocket {
             None => 0.0,
@@ -139,7 +139,7 @@ fn wrap(x: f64, period: f64) -> f64 {
 }
 
 /// The contact: ring of width `ring_width` centred at `x_center` in the domain [0, length],
-/// gap `e` outside the ring (model.md §2).
+/// gap `e` outside the ring (docs/model.md §2).
 #[derive(Clone, Debug)]
 pub struct Contact {
     pub ring: Arc<dyn RingProfile>,
@@ -155,7 +155,7 @@ pub struct Contact {
 }
 
 impl Contact {
-    /// The paper's contact (model.md §2): domain 0.2, ring 0.08 centred at 0.1, e = 1000.
+    /// The paper's contact (docs/model.md §2): domain 0.2, ring 0.08 centred at 0.1, e = 1000.
     pub fn paper(ring: Arc<dyn RingProfile>, liner: Liner) -> Self {
         Contact {
             ring,
@@ -190,7 +190,7 @@ impl Contact {
         }
     }
 
-    /// Smallest surface separation for a ring at Z (µm): min over the ring of h_U + Z (model.md §6).
+    /// Smallest surface separation for a ring at Z (µm): min over the ring of h_U + Z (docs/model.md §6).
     pub fn clearance_um(&self, z_um: f64) -> f64 {
         z_um + self.ring.min_sag_um()
     }

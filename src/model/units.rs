@@ -1,4 +1,4 @@
-//! Scales and nondimensional units (paper §2.5, model.md §1).
+//! Scales and nondimensional units (paper §2.5, docs/model.md §1).
 //!
 //! Every quantity inside texopt is nondimensional with these scales:
 //! lengths along the liner (x1, x2, R, per, l1, l2) in cm, gaps (h, Z, e, d_oil, depth) in µm,
@@ -39,7 +39,7 @@ mod tests {
     #[test]
     fn scales_match_model_md() {
         assert!((PRESSURE_PA - 2.4e9).abs() < 1.0);
-        // model.md §1: u = 1, W_ps = 1.66e-6 gives S ≈ 1e-3.
+        // docs/model.md §1: u = 1, W_ps = 1.66e-6 gives S ≈ 1e-3.
         let s = stribeck(1.0, 1.66e-6);
         assert!((s - 1.004e-3).abs() < 1e-5, "S = {s}");
     }

@@ -1,23 +1,21 @@
-//! `texopt optimise`: the searches of optimise.rs for one ring, a fidelity ladder (search
-//! coarse, confirm at the reported fidelity), the friction/clearance Pareto front, and the
-//! report (terminal table, JSON, CSV, plots).
+//! `texopt optimise`: the searches for one ring at the search fidelity (single-objective ones
+//! for the ideal point, balanced ones between), the front of every searched design confirmed
+//! at the reported fidelity, and the report.
 
-use serde::Serialize;
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 use std::time::Instant;
 
+use super::goal::{pareto, Goal};
+use super::report::{row, write, Evaluated, Report, Row};
+use super::search::{refine, search, Evaluation, Evaluator, Search, SwarmSettings};
+use super::space::Space;
 use crate::model::case::{CaseSpec, Texture};
-use crate::optimise::space::{
-    depth_ratio, pareto, refine, search, wall, Evaluator, Goal, Search, Space, SwarmSettings,
-};
-use crate::plot::{self, Chart, Scale, Series, Style};
 use crate::study::cache::Cache;
 use crate::study::sweep;
 use crate::study::NumericsOverride;
-use crate::time::{simulate_with, Fidelity, Outcome, RunOptions, SeriesRow, Watch};
+use crate::time::{Fidelity, Outcome};
 
 /// Everything `optimise` needs.
 pub struct Settings {
@@ -27,7 +25,7 @@ pub struct Settings {
     /// Fidelity of the searches, and of the reported (confirmed) designs.
     pub search_fidelity: Fidelity,
     pub report_fidelity: Fidelity,
-    /// Mesh/time-step overrides for both (tests use coarse meshes).
+    /// Mesh/time-step overrides for both (coarse meshes for quick looks).
     pub overrides: NumericsOverride,
     pub swarm: SwarmSettings,
     /// Weights w of the balanced (Chebyshev) searches between the two single-objective ones.
@@ -38,81 +36,6 @@ pub struct Settings {
     pub out_dir: Option<PathBuf>,
 }
 
-/// One reported design.
-#[derive(Clone, Debug, Serialize)]
-pub struct Row {
-    pub label: String,
-    /// None: the plain liner.
-    pub texture: Option<Texture>,
-    pub f_mean: f64,
-    pub c_min: f64,
-    pub z_mean: f64,
-    pub f_change_pct: f64,
-    pub c_min_change_pct: f64,
-    pub area_fraction: f64,
-    pub wall_x1_cm: f64,
-    pub wall_x2_cm: f64,
-    pub depth_ratio: f64,
-    pub active_constraints: Vec<String>,
-    pub on_front: bool,
-}
-
-/// The result of `optimise`.
-#[derive(Clone, Debug, Serialize)]
-pub struct Report {
-    pub r: f64,
-    pub space: Space,
-    pub search_fidelity: String,
-    pub report_fidelity: String,
-    /// Relative error of f̄ of the reported fidelity (speed study, results/speed.md).
-    pub fidelity_error: f64,
-    pub plain: Row,
-    pub best_friction: Row,
-    pub best_clearance: Row,
-    /// The confirmed Pareto front (plain liner included when on it), by increasing f̄.
-    pub front: Vec<Row>,
-    /// Whether a texture beats the plain liner's friction by more than the fidelity error.
-    pub texture_beats_plain: bool,
-    pub verdict: String,
-    pub evaluations_search: usize,
-    pub evaluations_confirm: usize,
-    pub simulations: usize,
-    pub wall_time_s: f64,
-    /// Every evaluated design: (fidelity, texture, f̄, C_min, feasible) for the plot and audit.
-    pub evaluated: Vec<Evaluated>,
-}
-
-#[derive(Clone, Debug, Serialize)]
-pub struct Evaluated {
-    pub fidelity: String,
-    pub texture: Texture,
-    pub f_mean: Option<f64>,
-    pub c_min: Option<f64>,
-    pub failure: Option<String>,
-    pub active_constraints: Vec<String>,
-}
-
-fn row(space: &Space, label: &str, t: Option<&Texture>, o: &Outcome, plain: &Outcome) -> Row {
-    let (w1, w2) = t.map_or((f64::NAN, f64::NAN), wall);
-    Row {
-        label: label.into(),
-        texture: t.cloned(),
-        f_mean: o.f_mean,
-        c_min: o.c_min,
-        z_mean: o.z_mean,
-        f_change_pct: 100.0 * (o.f_mean / plain.f_mean - 1.0),
-        c_min_change_pct: 100.0 * (o.c_min / plain.c_min - 1.0),
-        area_fraction: t.map_or(0.0, Texture::area_fraction),
-        wall_x1_cm: w1,
-        wall_x2_cm: w2,
-        depth_ratio: t.map_or(0.0, depth_ratio),
-        active_constraints: t.map_or(Vec::new(), |t| {
-            space.active(t).iter().map(|s| s.to_string()).collect()
-        }),
-        on_front: false,
-    }
-}
-
 /// Compass refinement after each swarm: first step, last step and most polls (cube units).
 const REFINE_STEP: f64 = 0.25;
 const REFINE_MIN_STEP: f64 = 1.0 / 16.0;
@@ -121,9 +44,15 @@ const REFINE_ITERS: u64 = 8;
 /// Most front points confirmed at the reported fidelity.
 const MAX_CONFIRM: usize = 10;
 
+/// Searches, confirms and reports (the files too, when `s.out_dir` is set).
 pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result<Report, String> {
     let t0 = Instant::now();
     s.space.validate().map_err(|e| e.to_string())?;
+    let say = |m: String| {
+        if s.progress {
+            eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
+        }
+    };
     let options = sweep::Options {
         jobs: s.jobs,
         retry_failed: false,
@@ -143,32 +72,69 @@ pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result
         simulations: Mutex::new(0),
         progress: s.progress,
     };
-    let ev_s = evaluator(s.search_fidelity);
-    let ev_r = evaluator(s.report_fidelity);
-    let plain_of = |ev: &Evaluator| -> Result<Outcome, String> {
-        ev.evaluate(&[None])?
-            .remove(0)
-            .map_err(|e| format!("the plain liner failed: {e}"))
-    };
-    let plain_s = plain_of(&ev_s)?;
-    let plain_r = plain_of(&ev_r)?;
-    let say = |m: String| {
-        if s.progress {
-            eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
+    let (ev_s, ev_r) = (evaluator(s.search_fidelity), evaluator(s.report_fidelity));
+    let plain_s = plain(&ev_s)?;
+    let plain_r = plain(&ev_r)?;
+    searches(s, &ev_s, &plain_s, &say)?;
+    let log_s = ev_s.log.lock().expect("lock").clone();
+    let cand = front_candidates(&log_s);
+    say(format!(
+        "{} designs evaluated at {}; confirming {} front designs at {}",
+        log_s.len(),
+        s.search_fidelity.name(),
+        cand.len(),
+        s.report_fidelity.name()
+    ));
+    let designs: Vec<Option<Texture>> = cand.iter().cloned().map(Some).collect();
+    let confirmed = ev_r.evaluate(&designs)?;
+    // The reported front: confirmed designs plus the plain liner.
+    let mut rows: Vec<Row> = vec![row(&s.space, "plain liner", None, &plain_r, &plain_r)];
+    for (t, o) in cand.iter().zip(&confirmed) {
+        if let Ok(o) = o {
+            rows.push(row(&s.space, "", Some(t), o, &plain_r));
         }
-    };
-    // 1. Single-objective searches give the ideal point; 2. balanced ones fill the front.
+    }
+    let log_r = ev_r.log.lock().expect("lock").clone();
+    let sims = *ev_s.simulations.lock().expect("lock") + *ev_r.simulations.lock().expect("lock");
+    let mut report = report(s, rows, &plain_r, [log_s, log_r])?;
+    report.evaluations_confirm = cand.len();
+    report.simulations = sims;
+    report.wall_time_s = t0.elapsed().as_secs_f64();
+    if let Some(dir) = &s.out_dir {
+        write(dir, &report, s)?;
+    }
+    Ok(report)
+}
+
+/// The plain liner's outcome at an evaluator's fidelity.
+fn plain(ev: &Evaluator) -> Result<Outcome, String> {
+    ev.evaluate(&[None])?
+        .remove(0)
+        .map_err(|e| format!("the plain liner failed: {e}"))
+}
+
+/// The searches at the search fidelity: single-objective ones give the ideal point, balanced
+/// ones about it fill the front. Each swarm's best point is polished by a compass search.
+fn searches(
+    s: &Settings,
+    ev: &Evaluator,
+    plain: &Outcome,
+    say: &dyn Fn(String),
+) -> Result<(), String> {
     let mut ideal = (1.0, 1.0);
     let mut seed = s.swarm.seed;
-    for goal in [Goal::Friction, Goal::Clearance] {
+    let run = |goal: Goal, seed: u64| -> Result<(Vec<f64>, f64), String> {
         let pb = Search {
             space: &s.space,
-            eval: &ev_s,
+            eval: ev,
             goal,
-            plain: plain_s.clone(),
+            plain: plain.clone(),
         };
         let (u, _) = search(&pb, SwarmSettings { seed, ..s.swarm })?;
-        let (u, c) = refine(&pb, u, REFINE_STEP, REFINE_MIN_STEP, REFINE_ITERS)?;
+        refine(&pb, u, REFINE_STEP, REFINE_MIN_STEP, REFINE_ITERS)
+    };
+    for goal in [Goal::Friction, Goal::Clearance] {
+        let (u, c) = run(goal, seed)?;
         seed += 1;
         match goal {
             Goal::Friction => ideal.0 = c.min(1.0),
@@ -177,27 +143,23 @@ pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result
         say(format!(
             "{goal:?} search: best {:?} (relative cost {c:.4}); {} evaluations so far",
             s.space.decode(&u),
-            ev_s.log.lock().expect("lock").len()
+            ev.log.lock().expect("lock").len()
         ));
     }
     for &w in &s.balanced {
-        let pb = Search {
-            space: &s.space,
-            eval: &ev_s,
-            goal: Goal::Balanced { w, ideal },
-            plain: plain_s.clone(),
-        };
-        let (u, _) = search(&pb, SwarmSettings { seed, ..s.swarm })?;
-        let (u, c) = refine(&pb, u, REFINE_STEP, REFINE_MIN_STEP, REFINE_ITERS)?;
+        let (u, c) = run(Goal::Balanced { w, ideal }, seed)?;
         seed += 1;
         say(format!(
             "balanced search w = {w}: best {:?} (cost {c:.4})",
             s.space.decode(&u)
         ));
     }
-    // Candidates: the search-fidelity front (thinned), and the best of each objective.
-    let log_s = ev_s.log.lock().expect("lock").clone();
-    let ok: Vec<(&Texture, &Outcome)> = log_s
+    Ok(())
+}
+
+/// The designs to confirm: up to [`MAX_CONFIRM`] spread along the searched front (by f̄).
+fn front_candidates(log: &[Evaluation]) -> Vec<Texture> {
+    let ok: Vec<(&Texture, &Outcome)> = log
         .iter()
         .filter_map(|e| e.outcome.as_ref().ok().map(|o| (&e.texture, o)))
         .collect();
@@ -215,22 +177,17 @@ pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result
             }
         }
     }
-    say(format!(
-        "{} designs evaluated at {}; confirming {} front designs at {}",
-        log_s.len(),
-        s.search_fidelity.name(),
-        cand.len(),
-        s.report_fidelity.name()
-    ));
-    let designs: Vec<Option<Texture>> = cand.iter().cloned().map(Some).collect();
-    let confirmed = ev_r.evaluate(&designs)?;
-    // The reported front: confirmed designs plus the plain liner.
-    let mut rows: Vec<Row> = vec![row(&s.space, "plain liner", None, &plain_r, &plain_r)];
-    for (t, o) in cand.iter().zip(&confirmed) {
-        if let Ok(o) = o {
-            rows.push(row(&s.space, "", Some(t), o, &plain_r));
-        }
-    }
+    cand
+}
+
+/// The report of the confirmed rows (the plain liner first): the front, the best designs,
+/// the verdict against the fidelity's error, and every evaluation of both fidelities.
+fn report(
+    s: &Settings,
+    mut rows: Vec<Row>,
+    plain: &Outcome,
+    logs: [Vec<Evaluation>; 2],
+) -> Result<Report, String> {
     let pts: Vec<(f64, f64)> = rows.iter().map(|r| (r.f_mean, r.c_min)).collect();
     for i in pareto(&pts) {
         rows[i].on_front = true;
@@ -245,9 +202,9 @@ pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result
         .max_by(|a, b| a.c_min.total_cmp(&b.c_min))
         .cloned()
         .ok_or("no design")?;
-    let mut front_rows: Vec<Row> = rows.iter().filter(|r| r.on_front).cloned().collect();
-    front_rows.sort_by(|a, b| a.f_mean.total_cmp(&b.f_mean));
-    for r in &mut front_rows {
+    let mut front: Vec<Row> = rows.iter().filter(|r| r.on_front).cloned().collect();
+    front.sort_by(|a, b| a.f_mean.total_cmp(&b.f_mean));
+    for r in &mut front {
         r.label = if r.texture.is_none() {
             "plain liner".into()
         } else if r.f_mean == best_f.f_mean {
@@ -259,8 +216,7 @@ pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result
         };
     }
     let err = s.report_fidelity.f_error();
-    let plain_row = rows[0].clone();
-    let beats = best_f.texture.is_some() && best_f.f_mean < plain_r.f_mean * (1.0 - err);
+    let beats = best_f.texture.is_some() && best_f.f_mean < plain.f_mean * (1.0 - err);
     let verdict = if beats {
         format!(
             "a texture beats the plain liner: f̄ {:+.1} % (beyond the {:.1} % error of fidelity {})",
@@ -279,11 +235,34 @@ pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result
                 .fold(f64::INFINITY, f64::min)
         )
     };
+    let evaluated = evaluated(s, logs);
+    Ok(Report {
+        r: s.base.r,
+        space: s.space.clone(),
+        search_fidelity: s.search_fidelity.name().into(),
+        report_fidelity: s.report_fidelity.name().into(),
+        fidelity_error: err,
+        plain: rows[0].clone(),
+        best_friction: best_f,
+        best_clearance: best_c,
+        front,
+        texture_beats_plain: beats,
+        verdict,
+        evaluations_search: evaluated
+            .iter()
+            .filter(|e| e.fidelity == s.search_fidelity.name())
+            .count(),
+        evaluations_confirm: 0,
+        simulations: 0,
+        wall_time_s: 0.0,
+        evaluated,
+    })
+}
+
+/// Every evaluation of the search and the reported fidelity, for the plot and the audit.
+fn evaluated(s: &Settings, [log_s, log_r]: [Vec<Evaluation>; 2]) -> Vec<Evaluated> {
     let mut evaluated = Vec::new();
-    for (fid, log) in [
-        (s.search_fidelity, log_s),
-        (s.report_fidelity, ev_r.log.lock().expect("lock").clone()),
-    ] {
+    for (fid, log) in [(s.search_fidelity, log_s), (s.report_fidelity, log_r)] {
         for e in log {
             evaluated.push(Evaluated {
                 fidelity: fid.name().into(),
@@ -300,320 +279,5 @@ pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result
             });
         }
     }
-    let sims = *ev_s.simulations.lock().expect("lock") + *ev_r.simulations.lock().expect("lock");
-    let report = Report {
-        r: s.base.r,
-        space: s.space.clone(),
-        search_fidelity: s.search_fidelity.name().into(),
-        report_fidelity: s.report_fidelity.name().into(),
-        fidelity_error: err,
-        plain: plain_row,
-        best_friction: best_f,
-        best_clearance: best_c,
-        front: front_rows,
-        texture_beats_plain: beats,
-        verdict,
-        evaluations_search: evaluated
-            .iter()
-            .filter(|e| e.fidelity == s.search_fidelity.name())
-            .count(),
-        evaluations_confirm: cand.len(),
-        simulations: sims,
-        wall_time_s: t0.elapsed().as_secs_f64(),
-        evaluated,
-    };
-    if let Some(dir) = &s.out_dir {
-        write(dir, &report, s)?;
-    }
-    Ok(report)
-}
-
-/// The terminal table.
-pub fn table(r: &Report) -> String {
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "texopt optimise, R = {} cm: reported at fidelity {} (searched at {}); f̄ per eq. (11)",
-        r.r, r.report_fidelity, r.search_fidelity
-    );
-    let _ = writeln!(
-        s,
-        "{:15} {:>8} {:>8} {:>6} {:>6} {:>8} {:>8} {:>8} {:>7} {:>7} {:>11}  active",
-        "design",
-        "l1 cm",
-        "l2 cm",
-        "per",
-        "depth",
-        "f̄",
-        "Δf̄ %",
-        "C_min",
-        "ΔC %",
-        "area",
-        "walls µm"
-    );
-    let mut rows: Vec<&Row> = vec![&r.best_friction, &r.best_clearance];
-    rows.extend(r.front.iter().filter(|x| x.label == "balanced"));
-    rows.push(&r.plain);
-    for x in rows {
-        let (l1, l2, per, depth) =
-            x.texture
-                .as_ref()
-                .map_or(("-".into(), "-".into(), "-".into(), "-".into()), |t| {
-                    (
-                        format!("{:.4}", t.l1),
-                        format!("{:.4}", t.l2),
-                        format!("{:.4}", t.per),
-                        format!("{:.1}", t.depth),
-                    )
-                });
-        let label = if std::ptr::eq(x, &r.best_friction) {
-            "best friction"
-        } else if std::ptr::eq(x, &r.best_clearance) {
-            "best clearance"
-        } else {
-            x.label.as_str()
-        };
-        let _ = writeln!(
-            s,
-            "{:15} {:>8} {:>8} {:>6} {:>6} {:>8.5} {:>+8.2} {:>8.4} {:>+7.2} {:>7.3} {:>11}  {}",
-            label,
-            l1,
-            l2,
-            per,
-            depth,
-            x.f_mean,
-            x.f_change_pct,
-            x.c_min,
-            x.c_min_change_pct,
-            x.area_fraction,
-            if x.wall_x1_cm.is_finite() {
-                format!("{:.1}/{:.1}", x.wall_x1_cm * 1e4, x.wall_x2_cm * 1e4)
-            } else {
-                "-".to_string()
-            },
-            x.active_constraints.join(", ")
-        );
-    }
-    let _ = writeln!(s, "{}", r.verdict);
-    let _ = writeln!(
-        s,
-        "{} evaluations at {} + {} confirmed at {}; {} simulations (the rest from the cache); {:.1} s",
-        r.evaluations_search, r.search_fidelity, r.evaluations_confirm, r.report_fidelity, r.simulations, r.wall_time_s
-    );
-    s
-}
-
-/// The time series of the last texture period of a case, kept in `path` with the case's
-/// cache key so that a warm rerun does not simulate it again.
-fn last_period(
-    path: &Path,
-    case: &CaseSpec,
-    num: &crate::time::Numerics,
-    period: f64,
-) -> Result<Vec<SeriesRow>, String> {
-    #[derive(Serialize, serde::Deserialize)]
-    struct Kept {
-        key: String,
-        rows: Vec<SeriesRow>,
-    }
-    let key = crate::study::cache::Key::of(case, num).hash;
-    if let Ok(text) = std::fs::read_to_string(path) {
-        if let Ok(k) = serde_json::from_str::<Kept>(&text) {
-            if k.key == key {
-                return Ok(k.rows);
-            }
-        }
-    }
-    let opts = RunOptions {
-        series: true,
-        ..RunOptions::default()
-    };
-    let res = simulate_with(case, num, &opts, &mut Watch::default()).map_err(|e| e.to_string())?;
-    let rows: Vec<SeriesRow> = res.series.unwrap_or_default();
-    let t_end = rows.last().map_or(0.0, |x| x.t);
-    let rows: Vec<SeriesRow> = rows
-        .into_iter()
-        .filter(|x| x.t > t_end - period - 1e-12)
-        .collect();
-    let kept = Kept { key, rows };
-    std::fs::write(path, serde_json::to_string(&kept).unwrap_or_default())
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-    Ok(kept.rows)
-}
-
-fn stem(dir: &Path, r: f64) -> PathBuf {
-    dir.join(format!("optimise_R{r}"))
-}
-
-fn write(dir: &Path, r: &Report, s: &Settings) -> Result<(), String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let stem = stem(dir, r.r);
-    let p = stem.with_extension("json");
-    std::fs::write(&p, serde_json::to_string_pretty(r).unwrap_or_default())
-        .map_err(|e| format!("cannot write {}: {e}", p.display()))?;
-    let p = PathBuf::from(format!("{}.csv", stem.display()));
-    let mut w = csv::Writer::from_path(&p).map_err(|e| format!("{}: {e}", p.display()))?;
-    let _ = w.write_record([
-        "design",
-        "l1",
-        "l2",
-        "per",
-        "width",
-        "depth",
-        "f_mean",
-        "f_change_pct",
-        "c_min",
-        "c_min_change_pct",
-        "area_fraction",
-        "wall_x1_cm",
-        "wall_x2_cm",
-        "active",
-        "fidelity",
-    ]);
-    let mut rows = vec![&r.best_friction, &r.best_clearance];
-    rows.extend(r.front.iter());
-    rows.push(&r.plain);
-    for (i, x) in rows.iter().enumerate() {
-        let t = x.texture.as_ref();
-        let f = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
-        let label = match i {
-            0 => "best friction".to_string(),
-            1 => "best clearance".to_string(),
-            _ => x.label.clone(),
-        };
-        let _ = w.write_record([
-            label,
-            f(t.map(|t| t.l1)),
-            f(t.map(|t| t.l2)),
-            f(t.map(|t| t.per)),
-            f(t.map(|t| t.width)),
-            f(t.map(|t| t.depth)),
-            x.f_mean.to_string(),
-            x.f_change_pct.to_string(),
-            x.c_min.to_string(),
-            x.c_min_change_pct.to_string(),
-            x.area_fraction.to_string(),
-            f(t.map(|t| t.per - 2.0 * t.l1)),
-            f(t.map(|t| t.width - 2.0 * t.l2)),
-            x.active_constraints.join(" "),
-            r.report_fidelity.clone(),
-        ]);
-    }
-    w.flush().map_err(|e| format!("{}: {e}", p.display()))?;
-    // The front with every evaluated design.
-    let pts = |fid: &str, active: bool| -> Vec<(f64, f64)> {
-        r.evaluated
-            .iter()
-            .filter(|e| e.fidelity == fid && e.active_constraints.is_empty() != active)
-            .filter_map(|e| Some((e.f_mean?, e.c_min?)))
-            .collect()
-    };
-    let (sa, sf) = (
-        pts(&r.search_fidelity, false),
-        pts(&r.search_fidelity, true),
-    );
-    let front: Vec<(f64, f64)> = r.front.iter().map(|x| (x.f_mean, x.c_min)).collect();
-    let plain = vec![(r.plain.f_mean, r.plain.c_min)];
-    let best = vec![(r.best_friction.f_mean, r.best_friction.c_min)];
-    let series = vec![
-        Series {
-            name: format!("evaluated at {} (no constraint active)", r.search_fidelity),
-            points: &sa,
-            style: Style::Markers,
-            colour: 4,
-        },
-        Series {
-            name: format!("evaluated at {} (on a constraint)", r.search_fidelity),
-            points: &sf,
-            style: Style::Markers,
-            colour: 3,
-        },
-        // The front and the best design drawn to stand out from the cloud of evaluations
-        // (as a thin line and a dot they were lost in it).
-        Series {
-            name: format!("Pareto front at {}", r.report_fidelity),
-            points: &front,
-            style: Style::Thick,
-            colour: 0,
-        },
-        Series {
-            name: "best friction".into(),
-            points: &best,
-            style: Style::Rings,
-            colour: 5,
-        },
-        Series {
-            name: "plain liner".into(),
-            points: &plain,
-            style: Style::Thick,
-            colour: 1,
-        },
-    ];
-    let title = format!("Friction against minimum clearance, R = {} cm", r.r);
-    plot::xy(
-        &PathBuf::from(format!("{}_front.png", stem.display())),
-        &Chart {
-            title: &title,
-            x_label: "mean friction coefficient f (eq. 11)",
-            y_label: "minimum clearance C_min (µm)",
-            x_scale: Scale::Linear,
-            y_scale: Scale::Linear,
-        },
-        &series,
-    )?;
-    // Z(t) and f(t) over one period: best-friction design against the plain liner.
-    if let Some(t) = &r.best_friction.texture {
-        let case = CaseSpec {
-            texture: Some(t.clone()),
-            ..s.base.clone()
-        };
-        let num = crate::study::numerics_for(&case, s.report_fidelity, &s.overrides);
-        let period = t.per / case.u;
-        let kept = last_period(
-            &PathBuf::from(format!("{}_series.json", stem.display())),
-            &case,
-            &num,
-            period,
-        )?;
-        let last: Vec<&SeriesRow> = kept.iter().collect();
-        let t0 = last.first().map_or(0.0, |x| x.t);
-        let z: Vec<(f64, f64)> = last.iter().map(|x| ((x.t - t0) / period, x.z)).collect();
-        let f: Vec<(f64, f64)> = last.iter().map(|x| ((x.t - t0) / period, x.f)).collect();
-        let zp = vec![(0.0, r.plain.z_mean), (1.0, r.plain.z_mean)];
-        let fp = vec![(0.0, r.plain.f_mean), (1.0, r.plain.f_mean)];
-        for (name, best, pl, ylab) in [
-            ("z", &z, &zp, "ring position Z (µm)"),
-            ("f", &f, &fp, "friction coefficient f (eq. 11)"),
-        ] {
-            plot::xy(
-                &PathBuf::from(format!("{}_{name}_t.png", stem.display())),
-                &Chart {
-                    title: &format!(
-                        "{} over one texture period, R = {} cm",
-                        if name == "z" { "Z(t)" } else { "f(t)" },
-                        r.r
-                    ),
-                    x_label: "t / period",
-                    y_label: ylab,
-                    x_scale: Scale::Linear,
-                    y_scale: Scale::Linear,
-                },
-                &[
-                    Series {
-                        name: "best-friction texture".into(),
-                        points: best,
-                        style: Style::Line,
-                        colour: 0,
-                    },
-                    Series {
-                        name: "plain liner".into(),
-                        points: pl,
-                        style: Style::Thick,
-                        colour: 1,
-                    },
-                ],
-            )?;
-        }
-    }
-    Ok(())
+    evaluated
 }

@@ -1,6 +1,10 @@
-//! Texture optimisation for one ring: the design space mapped feasibly from the unit cube,
-//! the goals, the searches through argmin, the driver and its report. The simulator knows
-//! nothing of this module: every evaluation is a study job run through the cache.
+//! Texture optimisation for one ring: the design space mapped feasibly from the unit cube
+//! (`space`), what a search minimises (`goal`), the searches through argmin (`search`), the
+//! driver (`driver`) and its report (`report`). The simulator knows nothing of this module:
+//! every evaluation is a study job run through the cache.
 
 pub mod driver;
+pub mod goal;
+pub mod report;
+pub mod search;
 pub mod space;

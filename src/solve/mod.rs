@@ -8,7 +8,7 @@
 //! over the x1-range that holds the pressurised nodes; cavitated nodes outside it are exact
 //! upwind sweeps. Z is bordered onto the system (Schur complement), so the Newmark coupling is
 //! implicit and converged inside the same iteration. Factors are reused where the matrix has
-//! hardly changed ([`reuse`]).
+//! hardly changed (`solve/reuse.rs`).
 //!
 //! [`FilmMethod`] is what a time step asks of a film solver; the product has one,
 //! [`FilmSolver`], and the lab crate plugs its experimental solvers in through the same trait.
@@ -133,7 +133,7 @@ impl Method {
 pub struct Tolerance {
     /// Converged when the active set no longer changes and the last ring update |δZ| is
     /// below this (µm). The relative error left in p and φ is then at most
-    /// [`reuse::CHORD_CONFIRM`].
+    /// `CHORD_CONFIRM` (solve/reuse.rs).
     pub z_abs: f64,
     /// Iteration cap beyond n1 (a cold start moves a cavitation front by about one node per
     /// iteration, and the iteration is monotone for M-matrices, so n1 + this bounds a sound

@@ -139,7 +139,7 @@ pub struct RingWork {
 
 /// ∂(face conductance)/∂Z = 3·h_f²·∂h_f/∂Z·(geometry factor), ∂h_f/∂Z the mean of the nodal
 /// ∂h/∂Z (1 under the ring, 0 elsewhere).
-fn face_conductance_derivatives(
+pub fn face_conductance_derivatives(
     g: &Grid,
     h: &[f64],
     ring: &[bool],

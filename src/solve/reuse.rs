@@ -68,7 +68,7 @@ struct Factors {
 
 /// Factors kept from a solve for the film problem of the same texture phase one period later
 /// (the transient keeps one per step of a period): there they serve chord steps and lend
-/// their leading rows to a factorisation. Wide bands ([`WIDE_BAND_N2`]) keep them in single
+/// their leading rows to a factorisation. Wide bands (N2 ≥ 16) keep them in single
 /// precision: half the memory (at 512×32 ≈ 0.5 GB instead of 1 GB a period) and half the
 /// bytes a substitution reads.
 #[derive(Debug, Default, Clone)]

@@ -16,22 +16,11 @@ use crate::model::case::CaseSpec;
 use crate::solve::Method;
 use crate::time::{Numerics, Outcome, Start};
 
-/// Changes whenever a change of the code changes the answers for the same inputs; old
-/// entries then stop matching (they stay in the file until `texopt cache clear`).
-/// 2: averaging windows of whole periods ≥ 0.06 ms; screening tiers at periodic_tol 1e-4.
-/// 3: the periodic test reads a damped oscillation's limit and jumps along it (runs stop
-/// sooner, within their tolerance), and requires the film to hold the same oil at every
-/// window end (runs on a draining oil bank go on, or fail at t_max).
-/// 4: contact once Z ≤ 1 nm (`run::CONTACT_Z`), not Z ≤ 0, which a ring pushed into the liner
-/// approached without ever reaching (a run that touched the liner in its transient and
-/// lifted off again used to report its periodic regime).
-/// (Kept at 4 by stop 17's jump rule, `run::JUMP_TOL`: it moves runs along another path to
-/// the same periodic regime, within the periodic tolerance and with the same statuses, so
-/// the answers cached before remain answers of this model to that tolerance. Kept at 4 too
-/// by stop 18's film stop at 1e-8 relative, `film::CHORD_CONFIRM`: outcomes moved by
-/// ≤ 1.6e-10, far inside every tolerance; and by stop 27's single-precision kept factors at
-/// wide bands, `film::KeptFactors`: `paper`/`fine` outcomes within ≈ 1e-11, `fast` and
-/// `draft` the same bits.)
+/// The model version in every key. It changes whenever a change of the code changes the
+/// answers for the same inputs beyond the tolerances they were computed to; old entries
+/// then stop matching (they stay in the file until `texopt cache clear`). A change that
+/// moves answers only within those tolerances (round-off, or another path to the same
+/// periodic regime within its tolerance) keeps it, so that cached studies stay valid.
 pub const MODEL_VERSION: &str = "texopt-model-4";
 
 /// SQLite `application_id` of a texopt cache ("TXOP").
@@ -170,28 +159,7 @@ impl Cache {
     /// an SQLite database, or another application's database, is reported and left alone.
     pub fn open(path: &Path) -> Result<Cache, CacheError> {
         let shown = path.display().to_string();
-        let exists = path.exists();
-        if exists {
-            let mut head = [0u8; 16];
-            use std::io::Read;
-            let n = std::fs::File::open(path)
-                .and_then(|mut f| f.read(&mut head))
-                .map_err(|e| CacheError::Io {
-                    path: shown.clone(),
-                    why: e.to_string(),
-                })?;
-            if n > 0 && (n < 16 || &head != b"SQLite format 3\0") {
-                return Err(CacheError::Foreign {
-                    path: shown,
-                    why: "not a texopt cache (not an SQLite database)".into(),
-                });
-            }
-        } else if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| CacheError::Io {
-                path: shown.clone(),
-                why: format!("cannot create directory {}: {e}", dir.display()),
-            })?;
-        }
+        check_file(path, &shown)?;
         let sql = |source| CacheError::Sqlite {
             path: shown.clone(),
             source,
@@ -203,62 +171,13 @@ impl Cache {
         .map_err(sql)?;
         conn.busy_timeout(std::time::Duration::from_secs(120))
             .map_err(sql)?;
-        let damaged = |e: rusqlite::Error| match e.sqlite_error_code() {
-            Some(rusqlite::ErrorCode::DatabaseCorrupt | rusqlite::ErrorCode::NotADatabase) => {
-                CacheError::Foreign {
-                    path: shown.clone(),
-                    why: format!("the cache file is damaged ({e})"),
-                }
-            }
-            _ => sql(e),
-        };
-        // The first read: a file that is not a database, or a damaged one, fails here and is
-        // reported before anything is written to it.
-        conn.query_row("PRAGMA application_id", [], |r| r.get::<_, i32>(0))
-            .map_err(damaged)?;
-        let check: String = conn
-            .query_row("PRAGMA quick_check", [], |r| r.get(0))
-            .map_err(damaged)?;
-        if check != "ok" {
-            let first = check.lines().find(|l| !l.starts_with("***")).unwrap_or("");
-            return Err(CacheError::Foreign {
-                path: shown,
-                why: format!(
-                    "the cache file is damaged (SQLite quick_check: {first}; {} problems)",
-                    check.lines().count()
-                ),
-            });
-        }
+        check_integrity(&conn, &shown)?;
         // What the file holds, read in one snapshot (another process may be creating it).
-        let identity = |conn: &Connection| -> rusqlite::Result<(i32, i64)> {
-            let app: i32 = conn.query_row("PRAGMA application_id", [], |r| r.get(0))?;
-            let tables: i64 =
-                conn.query_row("SELECT count(*) FROM sqlite_master", [], |r| r.get(0))?;
-            Ok((app, tables))
-        };
         conn.execute_batch("BEGIN").map_err(sql)?;
         let seen = identity(&conn);
         conn.execute_batch("COMMIT").map_err(sql)?;
         let (app, tables) = seen.map_err(sql)?;
-        if app != APPLICATION_ID && tables > 0 {
-            return Err(CacheError::Foreign {
-                path: shown,
-                why: "not a texopt cache (an SQLite database of another application)".into(),
-            });
-        }
-        if app == APPLICATION_ID {
-            let v: i32 = conn
-                .query_row("PRAGMA user_version", [], |r| r.get(0))
-                .map_err(sql)?;
-            if v != SCHEMA {
-                return Err(CacheError::Foreign {
-                    path: shown,
-                    why: format!(
-                        "a texopt cache of schema version {v}; this texopt reads {SCHEMA} (export it with the texopt that wrote it)"
-                    ),
-                });
-            }
-        }
+        check_identity(&conn, &shown, app, tables)?;
         // Switching a fresh file to WAL needs it to itself for a moment; SQLite may answer
         // "busy" at once instead of waiting, so wait here (bounded like the busy timeout).
         let t0 = std::time::Instant::now();
@@ -276,42 +195,7 @@ impl Cache {
         conn.pragma_update(None, "synchronous", "NORMAL")
             .map_err(sql)?;
         if app != APPLICATION_ID {
-            // Created under the write lock, after checking again that nobody else did.
-            conn.execute_batch("BEGIN IMMEDIATE").map_err(sql)?;
-            let create = match identity(&conn) {
-                Ok((APPLICATION_ID, _)) => Ok(()),
-                Ok((_, 0)) => conn.execute_batch(&format!(
-                    "CREATE TABLE IF NOT EXISTS evaluations (
-                         hash TEXT PRIMARY KEY,
-                         key TEXT NOT NULL,
-                         status TEXT NOT NULL CHECK (status IN ('done', 'failed')),
-                         outcome TEXT,
-                         reason TEXT,
-                         wall_time_s REAL NOT NULL,
-                         steps INTEGER NOT NULL,
-                         texopt_version TEXT NOT NULL,
-                         created TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now'))
-                     );
-                     PRAGMA application_id = {APPLICATION_ID};
-                     PRAGMA user_version = {SCHEMA};"
-                )),
-                Ok(_) => {
-                    let _ = conn.execute_batch("ROLLBACK");
-                    return Err(CacheError::Foreign {
-                        path: shown,
-                        why: "not a texopt cache (an SQLite database of another application)"
-                            .into(),
-                    });
-                }
-                Err(e) => Err(e),
-            };
-            match create {
-                Ok(()) => conn.execute_batch("COMMIT").map_err(sql)?,
-                Err(e) => {
-                    let _ = conn.execute_batch("ROLLBACK");
-                    return Err(sql(e));
-                }
-            }
+            create_schema(&conn, &shown)?;
         }
         Ok(Cache {
             conn,
@@ -468,6 +352,142 @@ impl Cache {
             .collect::<Result<_, _>>()
             .map_err(|e| self.sql(e))?;
         Ok(rows.join("; "))
+    }
+}
+
+/// An existing file must begin as an SQLite database does; a missing one gets its directory.
+fn check_file(path: &Path, shown: &str) -> Result<(), CacheError> {
+    if path.exists() {
+        let mut head = [0u8; 16];
+        use std::io::Read;
+        let n = std::fs::File::open(path)
+            .and_then(|mut f| f.read(&mut head))
+            .map_err(|e| CacheError::Io {
+                path: shown.to_string(),
+                why: e.to_string(),
+            })?;
+        if n > 0 && (n < 16 || &head != b"SQLite format 3\0") {
+            return Err(CacheError::Foreign {
+                path: shown.to_string(),
+                why: "not a texopt cache (not an SQLite database)".into(),
+            });
+        }
+    } else if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| CacheError::Io {
+            path: shown.to_string(),
+            why: format!("cannot create directory {}: {e}", dir.display()),
+        })?;
+    }
+    Ok(())
+}
+
+/// The first read: a file that is not a database, or a damaged one, fails here and is
+/// reported before anything is written to it.
+fn check_integrity(conn: &Connection, shown: &str) -> Result<(), CacheError> {
+    let damaged = |e: rusqlite::Error| match e.sqlite_error_code() {
+        Some(rusqlite::ErrorCode::DatabaseCorrupt | rusqlite::ErrorCode::NotADatabase) => {
+            CacheError::Foreign {
+                path: shown.to_string(),
+                why: format!("the cache file is damaged ({e})"),
+            }
+        }
+        _ => CacheError::Sqlite {
+            path: shown.to_string(),
+            source: e,
+        },
+    };
+    conn.query_row("PRAGMA application_id", [], |r| r.get::<_, i32>(0))
+        .map_err(damaged)?;
+    let check: String = conn
+        .query_row("PRAGMA quick_check", [], |r| r.get(0))
+        .map_err(damaged)?;
+    if check != "ok" {
+        let first = check.lines().find(|l| !l.starts_with("***")).unwrap_or("");
+        return Err(CacheError::Foreign {
+            path: shown.to_string(),
+            why: format!(
+                "the cache file is damaged (SQLite quick_check: {first}; {} problems)",
+                check.lines().count()
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// The file's application id and its number of tables.
+fn identity(conn: &Connection) -> rusqlite::Result<(i32, i64)> {
+    let app: i32 = conn.query_row("PRAGMA application_id", [], |r| r.get(0))?;
+    let tables: i64 = conn.query_row("SELECT count(*) FROM sqlite_master", [], |r| r.get(0))?;
+    Ok((app, tables))
+}
+
+/// A database of another application, or a texopt cache of another schema, is refused.
+fn check_identity(conn: &Connection, shown: &str, app: i32, tables: i64) -> Result<(), CacheError> {
+    if app != APPLICATION_ID && tables > 0 {
+        return Err(CacheError::Foreign {
+            path: shown.to_string(),
+            why: "not a texopt cache (an SQLite database of another application)".into(),
+        });
+    }
+    if app == APPLICATION_ID {
+        let v: i32 = conn
+            .query_row("PRAGMA user_version", [], |r| r.get(0))
+            .map_err(|source| CacheError::Sqlite {
+                path: shown.to_string(),
+                source,
+            })?;
+        if v != SCHEMA {
+            return Err(CacheError::Foreign {
+                path: shown.to_string(),
+                why: format!(
+                    "a texopt cache of schema version {v}; this texopt reads {SCHEMA} (export it with the texopt that wrote it)"
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The cache's table, created under the write lock after checking again that nobody else
+/// did.
+fn create_schema(conn: &Connection, shown: &str) -> Result<(), CacheError> {
+    let sql = |source| CacheError::Sqlite {
+        path: shown.to_string(),
+        source,
+    };
+    conn.execute_batch("BEGIN IMMEDIATE").map_err(sql)?;
+    let create = match identity(conn) {
+        Ok((APPLICATION_ID, _)) => Ok(()),
+        Ok((_, 0)) => conn.execute_batch(&format!(
+            "CREATE TABLE IF NOT EXISTS evaluations (
+                 hash TEXT PRIMARY KEY,
+                 key TEXT NOT NULL,
+                 status TEXT NOT NULL CHECK (status IN ('done', 'failed')),
+                 outcome TEXT,
+                 reason TEXT,
+                 wall_time_s REAL NOT NULL,
+                 steps INTEGER NOT NULL,
+                 texopt_version TEXT NOT NULL,
+                 created TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now'))
+             );
+             PRAGMA application_id = {APPLICATION_ID};
+             PRAGMA user_version = {SCHEMA};"
+        )),
+        Ok(_) => {
+            let _ = conn.execute_batch("ROLLBACK");
+            return Err(CacheError::Foreign {
+                path: shown.to_string(),
+                why: "not a texopt cache (an SQLite database of another application)".into(),
+            });
+        }
+        Err(e) => Err(e),
+    };
+    match create {
+        Ok(()) => conn.execute_batch("COMMIT").map_err(sql),
+        Err(e) => {
+            let _ = conn.execute_batch("ROLLBACK");
+            Err(sql(e))
+        }
     }
 }
 

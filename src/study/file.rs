@@ -1,5 +1,5 @@
 //! Study files: a TOML file naming the model parameters and the values to combine (lists,
-//! ranges or ties to another parameter), expanded into evaluations with model.md §2's
+//! ranges or ties to another parameter), expanded into evaluations with docs/model.md §2's
 //! validity rules applied — invalid combinations are skipped and counted, never simulated.
 //!
 //! ```toml
@@ -24,7 +24,7 @@ use crate::model::case::{CaseSpec, InputError, Texture, Waiver};
 use crate::solve::Method;
 use crate::time::{Fidelity, Numerics};
 
-/// The parameters a study may vary, with their units (model.md §1). Texture parameters
+/// The parameters a study may vary, with their units (docs/model.md §1). Texture parameters
 /// first-class; the rest default to the paper's operating point (CaseSpec::paper).
 pub const PARAMETERS: [(&str, &str); 15] = [
     ("R", "ring face radius, cm (\"inf\" for a flat ring)"),
@@ -103,7 +103,7 @@ pub struct ReportToml {
     /// `results/<study name>`.
     #[serde(default)]
     pub dir: String,
-    /// File name of the best-texture table (default "<name>_table1.md").
+    /// File name of the best-texture table (default `<name>_table1.md`).
     pub table: Option<String>,
     /// Rings with R at most this are "small R" in the table (cm).
     #[serde(default = "small_r")]
@@ -182,6 +182,32 @@ pub fn parse(text: &str, file: &str) -> Result<Study, StudyError> {
             .collect::<Vec<_>>()
             .join(" "))
     })?;
+    check_header(&raw).map_err(&err)?;
+    let values = parameter_values(&raw.parameters).map_err(&err)?;
+    let (jobs, skipped) = expand_cases(&raw, &values).map_err(&err)?;
+    if jobs.is_empty() {
+        return Err(err(format!(
+            "no valid case: all {} combinations break a rule ({}); widen the ranges",
+            skipped.values().sum::<usize>(),
+            skipped.keys().cloned().collect::<Vec<_>>().join("; ")
+        )));
+    }
+    let dir = match raw.report.dir.as_str() {
+        "" => format!("results/{}", raw.study.name),
+        d => d.to_string(),
+    };
+    Ok(Study {
+        name: raw.study.name,
+        description: raw.study.description,
+        fidelity: raw.study.fidelity,
+        jobs,
+        skipped,
+        report: ReportToml { dir, ..raw.report },
+    })
+}
+
+/// The `[study]` name and the `[report]` classes.
+fn check_header(raw: &FileToml) -> Result<(), String> {
     if raw.study.name.trim().is_empty()
         || !raw
             .study
@@ -189,42 +215,46 @@ pub fn parse(text: &str, file: &str) -> Result<Study, StudyError> {
             .chars()
             .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
     {
-        return Err(err(format!(
+        return Err(format!(
             "[study] name = {:?}: use letters, digits, '-' or '_' (it names the output files)",
             raw.study.name
-        )));
+        ));
     }
     let r = &raw.report;
     if !(r.small_r_max.is_finite() && r.large_r_min.is_finite() && r.small_r_max < r.large_r_min) {
-        return Err(err(format!(
+        return Err(format!(
             "[report] small_r_max = {} must be below large_r_min = {}",
             r.small_r_max, r.large_r_min
-        )));
-    }
-    // Parameters: known names, values expanded; ties resolved after.
-    let mut values: BTreeMap<String, Values> = BTreeMap::new();
-    for (key, v) in &raw.parameters {
-        if !PARAMETERS.iter().any(|(n, _)| n == key) {
-            let names: Vec<_> = PARAMETERS.iter().map(|(n, _)| *n).collect();
-            return Err(err(format!(
-                "[parameters] unknown parameter {key:?}; known: {}",
-                names.join(", ")
-            )));
-        }
-        values.insert(key.clone(), expand(key, v).map_err(&err)?);
-    }
-    if !values.contains_key("R") {
-        return Err(err(
-            "[parameters] R is missing: give the ring radius (cm) or a list of radii".into(),
         ));
     }
-    let textured = TEXTURE.iter().any(|k| values.contains_key(*k));
-    if textured {
+    Ok(())
+}
+
+/// The `[parameters]`: known names, values expanded, the texture's defaults tied (l2 to l1,
+/// width to per), every tie to a parameter that has values.
+fn parameter_values(parameters: &toml::Table) -> Result<BTreeMap<String, Values>, String> {
+    let mut values: BTreeMap<String, Values> = BTreeMap::new();
+    for (key, v) in parameters {
+        if !PARAMETERS.iter().any(|(n, _)| n == key) {
+            let names: Vec<_> = PARAMETERS.iter().map(|(n, _)| *n).collect();
+            return Err(format!(
+                "[parameters] unknown parameter {key:?}; known: {}",
+                names.join(", ")
+            ));
+        }
+        values.insert(key.clone(), expand(key, v)?);
+    }
+    if !values.contains_key("R") {
+        return Err(
+            "[parameters] R is missing: give the ring radius (cm) or a list of radii".into(),
+        );
+    }
+    if TEXTURE.iter().any(|k| values.contains_key(*k)) {
         for k in ["l1", "per", "depth"] {
             if !values.contains_key(k) {
-                return Err(err(format!(
+                return Err(format!(
                     "[parameters] {k} is missing: a textured study needs l1, per and depth (l2 defaults to l1, width to per)"
-                )));
+                ));
             }
         }
         values
@@ -238,20 +268,30 @@ pub fn parse(text: &str, file: &str) -> Result<Study, StudyError> {
         if let Values::Tie(other) = v {
             match values.get(other) {
                 None => {
-                    return Err(err(format!(
+                    return Err(format!(
                         "[parameters] {k} = {other:?}: {other} is not given; tie to a parameter that has values"
-                    )))
+                    ))
                 }
                 Some(Values::Tie(_)) => {
-                    return Err(err(format!(
+                    return Err(format!(
                         "[parameters] {k} = {other:?}: {other} is itself a tie; tie to a parameter with values"
-                    )))
+                    ))
                 }
                 Some(Values::List(_)) => {}
             }
         }
     }
-    // Cartesian product over the free parameters in PARAMETERS order (R outermost).
+    Ok(values)
+}
+
+/// The cases of the Cartesian product over the free parameters (in [`PARAMETERS`] order, R
+/// outermost, the last fastest), the plain liner once per combination of the rest: the valid
+/// ones as jobs, the others counted by the rule they break.
+fn expand_cases(
+    raw: &FileToml,
+    values: &BTreeMap<String, Values>,
+) -> Result<(Vec<Job>, BTreeMap<String, usize>), String> {
+    let textured = TEXTURE.iter().any(|k| values.contains_key(*k));
     let free: Vec<(&str, &Vec<f64>)> = PARAMETERS
         .iter()
         .filter_map(|(n, _)| match values.get(*n) {
@@ -269,7 +309,7 @@ pub fn parse(text: &str, file: &str) -> Result<Study, StudyError> {
         for (d, (n, v)) in free.iter().enumerate() {
             point.insert(n, v[index[d]]);
         }
-        for (k, v) in &values {
+        for (k, v) in values {
             if let Values::Tie(other) = v {
                 let x = point[other.as_str()];
                 point.insert(k.as_str(), x);
@@ -292,11 +332,7 @@ pub fn parse(text: &str, file: &str) -> Result<Study, StudyError> {
                 Ok(()) => {
                     let numerics = numerics_for(&case, raw.study.fidelity, &raw.numerics);
                     if let Err(e) = numerics.validate(&case) {
-                        return Err(err(format!(
-                            "[numerics] for case {}: {}",
-                            case.label(),
-                            e.rule
-                        )));
+                        return Err(format!("[numerics] for case {}: {}", case.label(), e.rule));
                     }
                     jobs.push(Job { case, numerics });
                 }
@@ -311,25 +347,7 @@ pub fn parse(text: &str, file: &str) -> Result<Study, StudyError> {
             index[d] = 0;
         }
     }
-    if jobs.is_empty() {
-        return Err(err(format!(
-            "no valid case: all {} combinations break a rule ({}); widen the ranges",
-            skipped.values().sum::<usize>(),
-            skipped.keys().cloned().collect::<Vec<_>>().join("; ")
-        )));
-    }
-    let dir = match raw.report.dir.as_str() {
-        "" => format!("results/{}", raw.study.name),
-        d => d.to_string(),
-    };
-    Ok(Study {
-        name: raw.study.name,
-        description: raw.study.description,
-        fidelity: raw.study.fidelity,
-        jobs,
-        skipped,
-        report: ReportToml { dir, ..raw.report },
-    })
+    Ok((jobs, skipped))
 }
 
 /// The tier's numerics for the case with the study's overrides; N2 is then raised where a

@@ -1,6 +1,6 @@
 //! Many evaluations through the cache, in parallel (rayon): each missing case is simulated
 //! once and stored as soon as it finishes, so an interrupted sweep loses at most the cases
-//! in flight. Cases that differ only in θ_s share one simulation (model.md §5: θ_s enters
+//! in flight. Cases that differ only in θ_s share one simulation (docs/model.md §5: θ_s enters
 //! only the Couette friction term).
 
 use indicatif::{ProgressBar, ProgressStyle};

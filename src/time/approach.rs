@@ -10,6 +10,7 @@ use super::run::Watch;
 use super::transient::{ApproachDone, Transient};
 use crate::mesh::{FilmState, Scene};
 use crate::model::case::CaseSpec;
+use crate::solve::FilmMethod;
 
 /// The transient of a case ready to run on `num`'s mesh: from the start of `num.start`, or,
 /// with a coarse approach (`num.approach_n2` below N2), from where a run on the coarse mesh
@@ -18,11 +19,13 @@ use crate::model::case::CaseSpec;
 pub(super) fn start_transient(
     case: &CaseSpec,
     num: &Numerics,
+    solver: Option<fn() -> Box<dyn FilmMethod>>,
     series: Option<&mut Vec<SeriesRow>>,
     watch: &mut Watch,
 ) -> Result<Transient, SolveError> {
+    let make = || solver.map_or_else(|| num.solver.solver(), |f| f());
     let Some(mut coarse) = num.approach_numerics(case) else {
-        return Ok(Transient::new(case, num));
+        return Ok(Transient::with_solver(case, num, make()));
     };
     // The full mesh keeps at least half of the time allowed.
     coarse.t_max = 0.5 * num.t_max;
@@ -34,7 +37,7 @@ pub(super) fn start_transient(
         // closing the gap): then the full mesh runs from the start alone (the time spent
         // still counts).
         Err(_) => {
-            let mut full = Transient::new(case, num);
+            let mut full = Transient::with_solver(case, num, make());
             full.approach.wall_time_s = began.elapsed().as_secs_f64();
             return Ok(full);
         }
@@ -47,7 +50,7 @@ pub(super) fn start_transient(
         periods: r.outcome.periods,
         wall_time_s: r.outcome.wall_time_s,
     };
-    Ok(t.refined(num, done))
+    Ok(t.refined(num, done, make()))
 }
 
 /// The film state of scene `from` (ring at z) on the mesh of scene `to`: same N1, other N2,

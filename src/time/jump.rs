@@ -121,8 +121,8 @@ impl Transient {
         // far nearer than the previous step's, and a guess changes no solution. Measured
         // (iterations a step): R = 51.2 at `paper`, the window after the fine mesh's jump
         // 6.18 → 2.41 (23 → 9 ms a step); at `fast` Case I / III / R = 51.2 1.97 / 2.74 /
-        // 2.88 → 1.92 / 2.68 / 2.66, outcomes within 7e-12. (Until stop 21 they were
-        // dropped, and the period after a jump started from the previous step's state.)
+        // 2.88 → 1.92 / 2.68 / 2.66, outcomes within 7e-12, against dropping them (the
+        // period after a jump then starts from the previous step's state).
         self.ring_state = RingState {
             z,
             v: mode.limit(a.ring.v, b.ring.v, c.ring.v),

@@ -91,10 +91,10 @@ pub(super) struct PeriodGuess {
 }
 
 /// Most memory the kept factors of a period may take (bytes): 512×32 needs ≈ 0.55 GB for
-/// per = 0.06 (150 steps of ≈ 3.7 MB: the band in single precision and the stencil it is of;
-/// 1.0 GB in double until stop 27), 512×8 ≈ 50 MB (double); beyond it the later steps of a
-/// period go without. Why 1.5 GiB: at 1 GiB (until stop 21, double) Case III at `paper` kept
-/// factors for only ≈ 90 % of its steps, and the others factored every step of the settled
+/// per = 0.06 (150 steps of ≈ 3.7 MB: the band in single precision and the stencil it is of),
+/// 512×8 ≈ 50 MB (double); beyond it the later steps of a period go without. Why 1.5 GiB:
+/// measured with double factors at 512×32, at 1 GiB Case III at `paper` kept factors for only
+/// ≈ 90 % of its steps, and the others factored every step of the settled
 /// windows (0.11 factorisations a step, 1160 rows eliminated); at 1.5 GiB 0.00–0.02 (0–10
 /// rows), and the whole 512×32 stage eliminated 11 % fewer rows. Finer meshes (1024×64:
 /// ≈ 37 MB a step) keep what fits.
@@ -229,8 +229,8 @@ impl PeriodGuess {
 /// matched to dx). Inside a pocket the film moves with it (the oil it carries, the cavity
 /// it opens), so there the previous state `columns` upstream is the nearer guess; outside,
 /// the film is held by the ring, which stays. Only a starting point: the step's film
-/// problem has one solution, so outcomes change at round-off only. Measured (stop 22):
-/// iterations a step at `paper` from the paper's start (`bench`), Case I 1.69 → 1.65, Case
+/// problem has one solution, so outcomes change at round-off only. Measured against holding
+/// the previous state in place: iterations a step at `paper` from the paper's start (`bench`), Case I 1.69 → 1.65, Case
 /// III 2.59 → 2.26, R = 51.2 2.47 → 1.89; instructions (valgrind) at `fast` Case III 17.16 G
 /// → 16.05 G, R = 51.2 17.00 G → 13.51 G, at `paper` Case III 83.4 G → 81.4 G (its 512×32
 /// windows eliminate as many band rows as before: fewer, longer refactorisations). Carrying

@@ -12,6 +12,7 @@ use super::periodic::{window_periods, PeriodMeans, Windows};
 use super::steady::steady_outcome;
 use super::transient::Transient;
 use crate::model::case::CaseSpec;
+use crate::solve::FilmMethod;
 
 /// Who watches a run: a closure called after every averaging window, one after every step.
 #[derive(Default)]
@@ -33,7 +34,7 @@ impl Watch<'_> {
     }
 }
 
-/// What a run records beside its outcome.
+/// What a run records beside its outcome, and with which film solver.
 #[derive(Clone, Debug, Default)]
 pub struct RunOptions {
     /// Record the time series (every step, a coarse approach's included).
@@ -44,6 +45,9 @@ pub struct RunOptions {
     /// Run an untextured liner as a 2D transient too (by default it is the steady 1D
     /// balance).
     pub transient: bool,
+    /// The film solver of the run's own mesh (a coarse approach runs the direct one), when
+    /// not the numerics' method: how the lab crate runs its solvers.
+    pub solver: Option<fn() -> Box<dyn FilmMethod>>,
 }
 
 /// One evaluation: an untextured liner is solved as the steady 1D force balance on n1
@@ -72,7 +76,7 @@ pub fn simulate_with(
         return Ok(r);
     }
     let mut series = opts.series.then(Vec::new);
-    let mut t = start_transient(case, num, series.as_mut(), watch)?;
+    let mut t = start_transient(case, num, opts.solver, series.as_mut(), watch)?;
     t.extra_theta_s.clone_from(&opts.extra_theta_s);
     let mut r = t.run_to_periodic(num, opts.series, watch)?;
     if let (Some(mut all), Some(rows)) = (series, r.series.take()) {

@@ -301,18 +301,23 @@ impl Transient {
     }
 
     /// This run, after `done` (its periods, wall time) on a coarse mesh, carried over to the
-    /// mesh of `num`: same N1 and time step, another N2. The ring state, time, step count and
+    /// mesh of `num` with `solver`: same N1 and time step, another N2. The ring state, time, step count and
     /// tallies go on as they are; the film's saturation θ and pressure are interpolated in x2
-    /// ([`super::approach::interpolate_x2`]) at the current texture phase, and that film is
+    /// (time/approach.rs) at the current texture phase, and that film is
     /// also the new mesh's previous time level. The new mesh's first step then solves its own
     /// film; the mismatch decays like any start's.
-    pub fn refined(&self, num: &Numerics, done: ApproachDone) -> Transient {
+    pub fn refined(
+        &self,
+        num: &Numerics,
+        done: ApproachDone,
+        solver: Box<dyn FilmMethod>,
+    ) -> Transient {
         // Its own start is replaced below: the paper's costs nothing to set up.
         let fresh = Numerics {
             start: Start::Paper,
             ..num.clone()
         };
-        let mut fine = Transient::new(&self.case, &fresh);
+        let mut fine = Transient::with_solver(&self.case, &fresh, solver);
         debug_assert_eq!(
             (fine.scene.grid.n1, fine.steps_per_period),
             (self.scene.grid.n1, self.steps_per_period)

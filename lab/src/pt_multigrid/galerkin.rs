@@ -1,4 +1,4 @@
-//! Galerkin coarse levels for the pressure correction (stop 28's second design): the coarse
+//! Galerkin coarse levels for the pressure correction: the coarse
 //! operators are A_c = Pᵀ·A·P of the fine Poiseuille operator on the pressurised set, with a
 //! prolongation P truncated to that set (Kornhuber's truncated basis functions: a coarse
 //! correction never reaches a cavitated node, and the coarse operator knows it) and

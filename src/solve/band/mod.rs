@@ -35,7 +35,7 @@ pub struct BandLu {
 }
 
 /// Band LU factors kept for later solves (the film keeps one set per step of a texture
-/// period, run.rs): a [`BandLu`]'s own, exchanged without a copy ([`KeptLu::exchange`]), or,
+/// period, time/memory.rs): a [`BandLu`]'s own, exchanged without a copy ([`KeptLu::exchange`]), or,
 /// to halve the memory, a single-precision copy ([`KeptLu::keep_single`]). Solves with single
 /// factors read them widened and sum in double, so they solve the factored matrix to ≈ 1e-7
 /// relative: as a chord step through factors of a nearby matrix does, which is all the film
@@ -78,7 +78,7 @@ impl BandLu {
 
     /// Solves A x = b1 and A x = b2 in place together (each row of the factors is read
     /// once for both): the same arithmetic as two `solve` calls, so the same bits. `work`
-    /// holds the two right-hand sides interleaved while they are solved (see [`dot_pairs`]).
+    /// holds the two right-hand sides interleaved while they are solved (see `solve.rs`).
     pub fn solve2(&self, b1: &mut [f64], b2: &mut [f64], work: &mut Vec<[f64; 2]>) {
         solve2_in(&self.a, self.n, self.w, b1, b2, work);
     }

@@ -124,9 +124,9 @@ fn dot<T: Entry>(a: &[T], x: &[f64]) -> f64 {
 /// lane is that vector's `dot`, the same sums in the same order. Interleaved, each term is
 /// one two-lane multiply and add of a_k against the pair. With the vectors apart the
 /// compiler paired their lanes by shuffles on every term and spilled the partial sums:
-/// Case III at `paper` spent 18.98 G instructions in `solve2`, now 13.29 G (valgrind); at
-/// 360 × 32 (`examples/band_micro.rs`) a substitution with the factors in cache takes
-/// ≈ 15–25 % less time, ≈ 5–15 % less when they come from memory.
+/// Case III at `paper` spent 18.98 G instructions in `solve2` that way against 13.29 G
+/// interleaved (valgrind); at 360 × 32 a substitution with the factors in cache takes
+/// ≈ 15–25 % less time interleaved, ≈ 5–15 % less when they come from memory.
 #[inline(always)]
 fn dot_pairs<T: Entry>(a: &[T], xy: &[[f64; 2]]) -> [f64; 2] {
     let mut acc = [[0.0f64; 2]; 4];

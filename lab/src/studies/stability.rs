@@ -1,24 +1,49 @@
-//! Stability map: where each numerical method stops working. One-factor lines around two
-//! base cases — Case I's pocket (l1 = l2 = 0.01, per = 0.06, depth 5) on a strongly curved
-//! ring (R = 0.8) and on a conformal one (R = 51.2) — over dt, ring mass, depth, R, inlet film
-//! d_oil and θ_s, for the implicit ring coupling (texopt's) and the explicit one (contrast).
-//! Each run goes to the periodic regime (draft mesh 256×8, periodic_tol 1e-4, t_max 3) and
-//! records how it ended, the Newton iterations per step, the largest film residual and the
-//! largest per-step mass defect.
+//! Stability map: where each numerical method stops working (`texopt-lab stability`). One-
+//! factor lines around two base cases — Case I's pocket (l1 = l2 = 0.01, per = 0.06, depth 5)
+//! on a strongly curved ring (R = 0.8) and on a conformal one (R = 51.2) — over dt, ring
+//! mass, depth, R, inlet film d_oil and θ_s, for the implicit ring coupling (texopt's) and
+//! the explicit one (contrast). Each run goes to the periodic regime (draft mesh 256×8,
+//! periodic_tol 1e-4, t_max 3) and records how it ended, the Newton iterations per step,
+//! the largest film residual and the largest per-step mass defect.
 //!
 //! The contrasts (methods that fail on purpose): plain Gauss–Seidel against the direct solver
 //! over meshes, and the non-mass-conserving Reynolds cut-off against Elrod–Adams.
 //!
-//!     cargo run --release --example stability              # runs, writes results/stability/runs.csv
-//!     cargo run --release --example stability -- contrasts # results/stability/contrasts.csv
-//!     cargo run --release --example stability -- report    # results/stability.md, stability.png
+//! `runs` writes results/stability/runs.csv, `contrasts` results/stability/contrasts.csv,
+//! `report` results/stability/stability.{md,png} from both; no argument does all three.
 
 use std::fmt::Write as _;
 use std::path::Path;
-use texopt::case::{CaseSpec, Coupling, Numerics, Texture};
-use texopt::film::{Cavitation, Method};
+use texopt::model::case::{CaseSpec, Texture};
 use texopt::plot::{self, Chart, Scale, Series, Style};
-use texopt::run::Transient;
+use texopt::time::{Numerics, Outcome, Transient, Watch};
+
+use crate::solvers::{cutoff_transient, explicit_transient, Solver};
+
+/// How the ring is coupled to the film.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Coupling {
+    Implicit,
+    Explicit,
+}
+
+/// The film model and solver of a contrast run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Model {
+    Direct,
+    GaussSeidel,
+    Cutoff,
+}
+
+impl Model {
+    fn transient(self, case: &CaseSpec, num: &Numerics) -> Transient {
+        match self {
+            Model::Direct => Transient::new(case, num),
+            Model::GaussSeidel => Solver::GaussSeidel.transient(case, num),
+            Model::Cutoff => cutoff_transient(case, num),
+        }
+    }
+}
 
 const CSV: &str = "results/stability/runs.csv";
 const CONTRASTS: &str = "results/stability/contrasts.csv";
@@ -51,7 +76,6 @@ fn runs() -> Vec<Run> {
         for coupling in [Coupling::Implicit, Coupling::Explicit] {
             let mk = |line, value: f64, f: &dyn Fn(&mut CaseSpec, &mut Numerics)| {
                 let (mut case, mut num) = base(r);
-                num.coupling = coupling;
                 f(&mut case, &mut num);
                 Run {
                     line,
@@ -110,12 +134,28 @@ fn runs() -> Vec<Run> {
     v
 }
 
-fn main() {
-    match std::env::args().nth(1).as_deref() {
-        Some("report") => return report(),
-        Some("contrasts") => return contrasts(),
-        _ => {}
+/// `texopt-lab stability [runs | contrasts | report]`.
+pub fn main(args: &[String]) -> Result<(), String> {
+    match args.first().map(String::as_str) {
+        Some("runs") => runs_csv(),
+        Some("contrasts") => contrasts(),
+        Some("report") => report(),
+        None => {
+            runs_csv();
+            contrasts();
+            report();
+        }
+        Some(other) => {
+            return Err(format!(
+                "no stability step {other:?}: runs, contrasts, report, or none for all three"
+            ))
+        }
     }
+    Ok(())
+}
+
+/// The one-factor lines: results/stability/runs.csv.
+fn runs_csv() {
     std::fs::create_dir_all("results/stability").unwrap();
     let mut out = String::from(
         "line,value,R,coupling,status,reason,t_end,steps,iterations_per_step,max_residual,max_mass_defect,f_mean,z_mean,c_min,wall_s\n",
@@ -123,8 +163,11 @@ fn main() {
     let all = runs();
     for (i, run) in all.iter().enumerate() {
         let t0 = std::time::Instant::now();
-        let mut sim = Transient::new(&run.case, &run.num);
-        let res = sim.run_to_periodic(&run.num, false);
+        let mut sim = match run.coupling {
+            Coupling::Implicit => Transient::new(&run.case, &run.num),
+            Coupling::Explicit => explicit_transient(&run.case, &run.num),
+        };
+        let res = sim.run_to_periodic(&run.num, false, &mut Watch::default());
         let wall = t0.elapsed().as_secs_f64();
         let defect = sim.max_mass_defect;
         let (status, reason, o) = match &res {
@@ -154,9 +197,7 @@ fn main() {
                 (kind, s.replace(',', ";"), None)
             }
         };
-        let g = |f: &dyn Fn(&texopt::run::Outcome) -> f64| {
-            o.map_or(String::new(), |o| format!("{}", f(o)))
-        };
+        let g = |f: &dyn Fn(&Outcome) -> f64| o.map_or(String::new(), |o| format!("{}", f(o)));
         let _ = writeln!(
             out,
             "{},{},{},{:?},{status},{reason},{},{},{},{},{defect:e},{},{},{},{wall:.2}",
@@ -191,17 +232,18 @@ fn main() {
 fn contrast_run(
     case: &CaseSpec,
     num: &Numerics,
+    model: Model,
     steps: usize,
     measure_mass: bool,
 ) -> (String, f64, f64, f64, f64, f64) {
     let t0 = std::time::Instant::now();
-    let mut sim = Transient::new(case, num);
+    let mut sim = model.transient(case, num);
     if measure_mass {
         sim.mass_tolerance = f64::INFINITY;
     }
     let mut its = 0usize;
     let res = if steps == 0 {
-        sim.run_to_periodic(num, false)
+        sim.run_to_periodic(num, false, &mut Watch::default())
             .map(|r| (r.outcome.f_mean, r.outcome.c_min))
     } else {
         (0..steps)
@@ -256,7 +298,7 @@ fn contrast_report(md: &mut String) {
             .filter(|v| v.is_finite())
             .map_or("–".to_string(), |v| format!("{v:.p$}"))
     };
-    md.push_str("## Contrasts: methods that fail on purpose\n\n`cargo run --release --example stability -- contrasts` (results/stability/contrasts.csv). Tests: tests/contrasts.rs.\n\n");
+    md.push_str("## Contrasts: methods that fail on purpose\n\n`texopt-lab stability contrasts` (contrasts.csv). Tests: lab/tests/contrasts.rs.\n\n");
     md.push_str("### Plain Gauss–Seidel (no acceleration) against the direct solver\n\nCase I (R = 0.8, l = 0.01, per = 0.06, depth 5), the first 10 steps at dt = 4e-4 from the equilibrium start; iterations are Newton iterations (direct) or sweeps (Gauss–Seidel, budget 20 000 per film solve, ring by secant iteration around it).\n\n| mesh | method | status | f after 10 steps | Z (µm) | iterations/step | wall s |\n|---|---|---|---|---|---|---|\n");
     for r in rows.iter().filter(|r| r[0] == "gauss-seidel") {
         let _ = writeln!(
@@ -356,19 +398,15 @@ fn contrasts() {
             &num,
             steps,
             "direct",
-            contrast_run(&case, &num, steps, false),
+            contrast_run(&case, &num, Model::Direct, steps, false),
         );
-        let gs = Numerics {
-            solver: Method::GaussSeidel,
-            ..num.clone()
-        };
         push(
             "gauss-seidel",
             0.8,
-            &gs,
+            &num,
             steps,
             "gauss-seidel",
-            contrast_run(&case, &gs, steps, false),
+            contrast_run(&case, &num, Model::GaussSeidel, steps, false),
         );
     }
     // 2. Reynolds cut-off against Elrod–Adams on textured cases, to the periodic regime: the
@@ -386,27 +424,23 @@ fn contrasts() {
             &num,
             0,
             "elrod-adams",
-            contrast_run(&case, &num, 0, false),
+            contrast_run(&case, &num, Model::Direct, 0, false),
         );
-        let cut = Numerics {
-            cavitation: Cavitation::ReynoldsCutoff,
-            ..num.clone()
-        };
         push(
             "reynolds-cutoff",
             r,
-            &cut,
+            &num,
             0,
             "reynolds-cutoff (guarded)",
-            contrast_run(&case, &cut, 0, false),
+            contrast_run(&case, &num, Model::Cutoff, 0, false),
         );
         push(
             "reynolds-cutoff",
             r,
-            &cut,
+            &num,
             0,
             "reynolds-cutoff (guard off)",
-            contrast_run(&case, &cut, 0, true),
+            contrast_run(&case, &num, Model::Cutoff, 0, true),
         );
     }
 }
@@ -418,7 +452,7 @@ fn report() {
         .skip(1)
         .map(|l| l.split(',').map(str::to_string).collect())
         .collect();
-    let mut md = String::from("# Stability map\n\nWhere each numerical method stops working (`cargo run --release --example stability`, then `-- report`). Base cases: Case I's pocket (l1 = l2 = 0.01, per = 0.06, depth 5) on R = 0.8 and R = 51.2; one factor varied at a time; draft mesh 256×8, periodic tolerance 1e-4, t_max = 3 ms. \"mass defect\" is the largest per-step relative mass-balance error of the run (round-off for a converged conservative solve).\n\n");
+    let mut md = String::from("# Stability map\n\nWhere each numerical method stops working (`texopt-lab stability`: runs.csv, contrasts.csv, then this report). Base cases: Case I's pocket (l1 = l2 = 0.01, per = 0.06, depth 5) on R = 0.8 and R = 51.2; one factor varied at a time; draft mesh 256×8, periodic tolerance 1e-4, t_max = 3 ms. \"mass defect\" is the largest per-step relative mass-balance error of the run (round-off for a converged conservative solve).\n\n");
     let num = |x: &str, p: usize| {
         x.parse::<f64>()
             .map_or(x.to_string(), |v| format!("{v:.p$e}"))
@@ -481,7 +515,7 @@ fn report() {
         md.push('\n');
     }
     contrast_report(&mut md);
-    std::fs::write("results/stability.md", md).unwrap();
+    std::fs::write("results/stability/stability.md", md).unwrap();
     // Plot: Newton iterations per step against dt, by R and coupling; failures at 0.
     let mut data: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     for r in ["0.8", "51.2"] {
@@ -513,7 +547,7 @@ fn report() {
         })
         .collect();
     plot::xy(
-        Path::new("results/stability.png"),
+        Path::new("results/stability/stability.png"),
         &Chart {
             title: "Film iterations per step against the time step",
             x_label: "dt (ms)",
@@ -524,5 +558,5 @@ fn report() {
         &series,
     )
     .unwrap();
-    eprintln!("wrote results/stability.md and results/stability.png");
+    eprintln!("wrote results/stability/stability.md and stability.png");
 }

@@ -1,25 +1,25 @@
 //! Mesh and time-step convergence for the paper's convergence case (§3.3: Case I texture,
-//! R = 0.8), meshes refined together with dt (dt ∝ dx).
+//! R = 0.8), meshes refined together with dt (dt ∝ dx): `texopt-lab convergence`.
 //!
-//!   cargo run --release --example convergence -- run 512x32 4e-4   # one mesh → results/convergence/
-//!   cargo run --release --example convergence -- report            # table + Fig. 4 from the runs
+//! `run MESH DT [--solver NAME] [--approach N2]` runs one mesh into results/convergence/
+//! (`--solver pt-multigrid` for the finest, where the band LU is too slow; `--approach N2`
+//! reaches the periodic regime first on N1×N2 cells: the periodic answer does not depend on
+//! the start); `report` writes the table and Fig. 4 from the runs there.
 //!
-//! `run` takes two options for the finest mesh, where the plain method is too slow:
-//! `--solver pt-multigrid` (film::Method, same discretisation: agrees with `direct` to the
-//! solve tolerance, tests/solvers.rs) and `--approach N2` (reach the periodic regime first on
-//! N1×N2 cells, Numerics::approach_n2: the periodic answer does not depend on the start).
-//!
-//! Each run writes run_<mesh>.json (outcome, numerics) and boundary_<mesh>.csv: per step the
-//! x1 of the cavitation (rupture) boundary along the row nearest the pocket-centre line
-//! (x2 = B − dy/2), i.e. the first cavitated node downstream of the first pressurised node
+//! Each run writes `run_<mesh>.json` (outcome, numerics, solver) and `boundary_<mesh>.csv`: per
+//! step the x1 of the cavitation (rupture) boundary along the row nearest the pocket-centre
+//! line (x2 = B − dy/2), the first cavitated node downstream of the first pressurised node
 //! under the ring, as in the paper's Fig. 4.
+
 use std::fs;
 use std::io::Write;
-use std::path::{Path, PathBuf};
-use texopt::case::{CaseSpec, Numerics, Texture};
-use texopt::film::Method;
+use std::path::PathBuf;
+use texopt::model::case::{CaseSpec, Texture};
 use texopt::plot::{self, Chart, Scale, Series};
-use texopt::run::{run_transient_with, Outcome, Transient};
+use texopt::time::{Numerics, Progress, Transient};
+
+use super::{run_case, RunRecord};
+use crate::solvers::Solver;
 
 fn case() -> CaseSpec {
     CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0))
@@ -48,6 +48,7 @@ fn rupture_x(tr: &Transient) -> f64 {
 }
 
 fn run(mesh: &str, dt: f64, opts: &[String]) -> Result<(), String> {
+    let mut solver = Solver::Direct;
     let (a, b) = mesh.split_once('x').ok_or("mesh must be N1xN2")?;
     let mut num = Numerics {
         n1: a.parse().map_err(|_| "bad N1")?,
@@ -57,10 +58,7 @@ fn run(mesh: &str, dt: f64, opts: &[String]) -> Result<(), String> {
     };
     for pair in opts.chunks(2) {
         match pair {
-            [k, v] if k == "--solver" => {
-                num.solver = <Method as clap::ValueEnum>::from_str(v, true)
-                    .map_err(|e| format!("--solver {v}: {e} (direct, pt-multigrid, ...)"))?
-            }
+            [k, v] if k == "--solver" => solver = Solver::parse(v)?,
             [k, v] if k == "--approach" => {
                 num.approach_n2 = Some(v.parse().map_err(|_| "--approach takes a cell count")?)
             }
@@ -74,28 +72,26 @@ fn run(mesh: &str, dt: f64, opts: &[String]) -> Result<(), String> {
     let case = case();
     num.validate(&case).map_err(|e| e.to_string())?;
     fs::create_dir_all(dir()).map_err(|e| e.to_string())?;
-    // Through run_transient_with, so that `--approach` runs its coarse mesh first; the rows
-    // of the last periods are the full mesh's.
+    // `--approach` runs its coarse mesh first; the rows of the last periods are the full
+    // mesh's.
     let mut rows = Vec::new();
     let mut steps_per_period = 1;
-    let res = run_transient_with(
+    let res = run_case(
         &case,
         &num,
-        false,
-        &[],
-        &mut |p| {
+        solver,
+        &mut |p: &Progress| {
             eprintln!(
                 "{mesh}: period {} t = {:.3} f = {:.6} Z = {:.5} est {:.1e}",
                 p.period, p.t, p.f_mean, p.z_mean, p.periodic_error
             )
         },
-        &mut |t| {
+        &mut |t: &Transient| {
             steps_per_period = t.steps_per_period;
             rows.push((t.t, rupture_x(t)));
         },
-    )
-    .map_err(|e| e.to_string())?;
-    let json = serde_json::json!({ "mesh": mesh, "numerics": num, "outcome": res.outcome });
+    )?;
+    let json = serde_json::json!({ "mesh": mesh, "numerics": num, "solver": solver, "outcome": res.outcome });
     fs::write(
         dir().join(format!("run_{mesh}.json")),
         serde_json::to_string_pretty(&json).unwrap(),
@@ -117,55 +113,44 @@ fn run(mesh: &str, dt: f64, opts: &[String]) -> Result<(), String> {
 
 /// The solver of a run as the table names it: the film method, and the coarse approach's
 /// mesh and steps when the run had one (they count in the run's steps and time).
-fn solver(num: &Numerics, o: &Outcome) -> String {
-    match num.approach_n2 {
+fn solver_name(r: &RunRecord) -> String {
+    match r.numerics.approach_n2 {
         Some(a) => format!(
             "{} after {} steps on {}×{a}",
-            num.solver.name(),
-            o.approach_steps,
-            num.n1
+            r.solver.name(),
+            r.outcome.approach_steps,
+            r.numerics.n1
         ),
-        None => num.solver.name().to_string(),
+        None => r.solver.name().to_string(),
     }
 }
 
 fn report() -> Result<(), String> {
-    let mut runs: Vec<(usize, usize, Numerics, Outcome)> = Vec::new();
-    for e in fs::read_dir(dir()).map_err(|e| e.to_string())? {
-        let p = e.map_err(|e| e.to_string())?.path();
-        let name = p.file_name().unwrap().to_string_lossy().to_string();
-        if !(name.starts_with("run_") && name.ends_with(".json")) {
-            continue;
-        }
-        let v: serde_json::Value =
-            serde_json::from_str(&fs::read_to_string(&p).map_err(|e| e.to_string())?)
-                .map_err(|e| e.to_string())?;
-        let num: Numerics =
-            serde_json::from_value(v["numerics"].clone()).map_err(|e| e.to_string())?;
-        let out: Outcome =
-            serde_json::from_value(v["outcome"].clone()).map_err(|e| e.to_string())?;
-        runs.push((num.n1, num.n2, num, out));
-    }
+    let mut runs: Vec<(usize, usize, RunRecord)> = super::convergence_runs()?
+        .into_iter()
+        .map(|r| (r.numerics.n1, r.numerics.n2, r))
+        .collect();
     runs.sort_by_key(|r| r.0);
     let finest = runs.last().ok_or("no runs in results/convergence")?;
-    let (f_ref, c_ref) = (finest.3.f_mean, finest.3.c_min);
+    let (f_ref, c_ref) = (finest.2.outcome.f_mean, finest.2.outcome.c_min);
     let mut md = String::new();
     md += "# Mesh and time-step convergence (paper §3.3: Case I, R = 0.8)\n\n";
-    md += "Reproduce: `bash studies/convergence.sh` (one `cargo run --release --example convergence -- run MESH DT` per row, then `-- report`).\n\n";
+    md += "Reproduce: `bash studies/convergence.sh` (one `texopt-lab convergence run MESH DT` per row, then `texopt-lab convergence report`).\n\n";
     md += &format!(
         "Errors are relative to the finest mesh run here ({}×{}, dt = {:e}).\n\n",
-        finest.0, finest.1, finest.2.dt
+        finest.0, finest.1, finest.2.numerics.dt
     );
     md += "| mesh | dt | solver | f̄ | C_min (µm) | err f̄ | err C_min | periods | steps | wall (s) | ms/step |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
     let mut errs = Vec::new();
-    for (n1, n2, num, o) in &runs {
+    for (n1, n2, r) in &runs {
+        let (num, o) = (&r.numerics, &r.outcome);
         let ef = (o.f_mean - f_ref).abs() / f_ref;
         let ec = (o.c_min - c_ref).abs() / c_ref;
         errs.push((*n1, o.f_mean, o.c_min, ef, ec));
         md += &format!(
             "| {n1}×{n2} | {:.1e} | {} | {:.6} | {:.5} | {:.2} % | {:.2} % | {} | {} | {:.1} | {:.2} |\n",
             num.dt,
-            solver(num, o),
+            solver_name(r),
             o.f_mean,
             o.c_min,
             100.0 * ef,
@@ -192,20 +177,23 @@ fn report() -> Result<(), String> {
     let paper = [((512, 32), 0.72), ((1024, 64), 0.27)];
     md += "\nAgainst the paper (§3.3: its error of f̄ on 512×32 and 1024×64 against its 2048×128; it gives none for C_min):\n\n| mesh | paper: err f̄ | here: err f̄ |\n|---|---|---|\n";
     for ((n1, n2), pct) in paper {
-        let here = runs
-            .iter()
-            .find(|r| (r.0, r.1) == (n1, n2))
-            .map_or("not run".to_string(), |r| {
-                format!("{:.2} %", 100.0 * (r.3.f_mean - f_ref).abs() / f_ref)
-            });
+        let here =
+            runs.iter()
+                .find(|r| (r.0, r.1) == (n1, n2))
+                .map_or("not run".to_string(), |r| {
+                    format!(
+                        "{:.2} %",
+                        100.0 * (r.2.outcome.f_mean - f_ref).abs() / f_ref
+                    )
+                });
         md += &format!("| {n1}×{n2} | {pct:.2} % | {here} |\n");
     }
-    fs::write("results/convergence.md", &md).map_err(|e| e.to_string())?;
+    fs::write(dir().join("convergence.md"), &md).map_err(|e| e.to_string())?;
     print!("{md}");
 
     // Fig. 4: the rupture boundary along the pocket-centre line over the last periods.
     let mut data = Vec::new();
-    for (n1, n2, _, _) in runs.iter().rev().take(3) {
+    for (n1, n2, _) in runs.iter().rev().take(3) {
         let p = dir().join(format!("boundary_{n1}x{n2}.csv"));
         let text = fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
         let raw: Vec<(f64, f64)> = text
@@ -234,7 +222,7 @@ fn report() -> Result<(), String> {
         })
         .collect();
     plot::xy(
-        Path::new("results/convergence_fig4.png"),
+        &dir().join("convergence_fig4.png"),
         &Chart {
             title: "Cavitation (rupture) boundary on the pocket-centre line, Case I",
             x_label: "t − t₀ (L/U) over the last three texture periods",
@@ -247,21 +235,17 @@ fn report() -> Result<(), String> {
     Ok(())
 }
 
-fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let r = match args.first().map(String::as_str) {
+/// `texopt-lab convergence run MESH DT [...] | report`.
+pub fn main(args: &[String]) -> Result<(), String> {
+    match args.first().map(String::as_str) {
         Some("run") if args.len() >= 3 => match args[2].parse::<f64>() {
             Ok(dt) => run(&args[1], dt, &args[3..]),
             Err(_) => Err(format!("dt must be a number, got {:?}", args[2])),
         },
         Some("report") => report(),
         _ => Err(
-            "usage: convergence run N1xN2 DT [--solver NAME] [--approach N2] | convergence report"
+            "usage: texopt-lab convergence run N1xN2 DT [--solver NAME] [--approach N2] | texopt-lab convergence report"
                 .into(),
         ),
-    };
-    if let Err(e) = r {
-        eprintln!("error: {e}");
-        std::process::exit(2);
     }
 }

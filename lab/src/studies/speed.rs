@@ -1,35 +1,23 @@
 //! Speed against accuracy (Case I and Case III): error of f̄ against wall time per case over
-//! meshes, time steps, periodicity tolerances and solver variants.
+//! meshes, time steps, periodicity tolerances and solvers: `texopt-lab speed`.
 //!
-//!   cargo run --release --example speed -- run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid|pt-multigrid] [APPROACH_N2]
-//!   cargo run --release --example speed -- report
-//!   cargo run --release --example speed -- finer-run CASE 2048x32 1e-4   # finer reference
-//!   cargo run --release --example speed -- finer-run case-III 2048x64 1e-4 1e-5 direct 8
-//!   cargo run --release --example speed -- finer    # tiers against it: results/speed_finer.md
-//!
-//! CASE is case-I or case-III (the benchmark cases). Each run appends one JSON line to
-//! results/speed/runs.jsonl (the Case I runs of results/convergence/ are read too), a
-//! finer run to results/speed/finer.jsonl. The report takes as reference each case's finest
-//! finer run (2048×128, the issue's reference mesh; Case I's is the convergence study's),
-//! else the study's own finest run (most cells, then smallest dt, then tightest tolerance),
-//! and writes results/speed.csv, results/speed.md and results/speed.png with the
-//! Pareto-optimal settings marked.
+//! `run CASE N1xN2 DT [PERIODIC_TOL] [SOLVER] [APPROACH_N2]` appends one run to
+//! results/speed/runs.jsonl (`finer-run …` to results/speed/finer.jsonl, the 2048-cell
+//! references); `report` writes results/speed/speed.{md,csv,png} with the Pareto-optimal
+//! settings marked, the Case I runs of results/convergence/ included; `finer` writes
+//! results/speed/speed_finer.md, the tiers against the 2048-cell references. CASE is a
+//! benchmark case (case-I, case-III, conformal-R51.2).
+
 use std::fs;
 use std::io::Write;
 use std::ops::RangeInclusive;
 use std::path::Path;
-use texopt::bench::cases;
-use texopt::case::{Fidelity, Numerics};
-use texopt::film::Method;
 use texopt::plot::{self, Chart, Scale, Series, Style};
-use texopt::run::{simulate, Outcome};
+use texopt::study::bench::cases;
+use texopt::time::{Fidelity, Numerics};
 
-#[derive(serde::Serialize, serde::Deserialize, Clone)]
-struct Run {
-    case: String,
-    numerics: Numerics,
-    outcome: Outcome,
-}
+use super::{convergence_runs, run_case, RunRecord as Run};
+use crate::solvers::Solver;
 
 const RUNS: &str = "results/speed/runs.jsonl";
 /// The speed study's meshes along x1 (the chart's points, 1024×64 the finest); the 2048-cell
@@ -41,6 +29,7 @@ const FINER: &str = "results/speed/finer.jsonl";
 fn run(args: &[String], out_path: &str) -> Result<(), String> {
     let name = &args[0];
     let (a, b) = args[1].split_once('x').ok_or("mesh must be N1xN2")?;
+    let mut solver = Solver::Direct;
     let mut num = Numerics {
         n1: a.parse().map_err(|_| "bad N1")?,
         n2: b.parse().map_err(|_| "bad N2")?,
@@ -51,8 +40,7 @@ fn run(args: &[String], out_path: &str) -> Result<(), String> {
         num.periodic_tol = t.parse().map_err(|_| "bad periodic tolerance")?;
     }
     if let Some(m) = args.get(4) {
-        num.solver = <Method as clap::ValueEnum>::from_str(m, true)
-            .map_err(|_| format!("solver must be direct, multigrid or pt-multigrid, got {m}"))?;
+        solver = Solver::parse(m)?;
     }
     if let Some(a) = args.get(5) {
         num.approach_n2 = Some(a.parse().map_err(|_| "bad approach N2")?);
@@ -63,16 +51,14 @@ fn run(args: &[String], out_path: &str) -> Result<(), String> {
         .find(|c| c.name == name)
         .ok_or(format!("no case {name}"))?;
     num.validate(&c.case).map_err(|e| e.to_string())?;
-    let out = simulate(&c.case, &num, false)
-        .map_err(|e| e.to_string())?
-        .outcome;
+    let out = run_case(&c.case, &num, solver, &mut |_| {}, &mut |_| {})?.outcome;
     println!(
         "{name} {}x{} dt {:e} tol {:e} {}: f {:.6} C_min {:.5} {:.2} s",
         num.n1,
         num.n2,
         num.dt,
         num.periodic_tol,
-        num.solver.name(),
+        solver.name(),
         out.f_mean,
         out.c_min,
         out.wall_time_s
@@ -86,6 +72,7 @@ fn run(args: &[String], out_path: &str) -> Result<(), String> {
     let line = serde_json::to_string(&Run {
         case: name.clone(),
         numerics: num,
+        solver,
         outcome: out,
     })
     .unwrap();
@@ -98,9 +85,13 @@ fn run(args: &[String], out_path: &str) -> Result<(), String> {
 /// The fidelity tier a run stands for: same mesh, dt and solver, and of the case's runs with
 /// those, the periodic tolerance closest to the tier's (the screening tiers moved to 1e-4
 /// after this study ran most settings at 1e-5).
-fn tier_name(n: &Numerics, case_runs: &[&Run]) -> Option<&'static str> {
+fn tier_name(r: &Run, case_runs: &[&Run]) -> Option<&'static str> {
+    let n = &r.numerics;
+    if r.solver != Solver::Direct {
+        return None;
+    }
     let same = |a: &Numerics, b: &Numerics| {
-        (a.n1, a.n2, a.dt, a.solver, a.approach_n2) == (b.n1, b.n2, b.dt, b.solver, b.approach_n2)
+        (a.n1, a.n2, a.dt, a.approach_n2) == (b.n1, b.n2, b.dt, b.approach_n2)
     };
     let distance = |a: f64, b: f64| (a.ln() - b.ln()).abs();
     Fidelity::ALL
@@ -110,7 +101,7 @@ fn tier_name(n: &Numerics, case_runs: &[&Run]) -> Option<&'static str> {
             same(&t, n)
                 && case_runs
                     .iter()
-                    .filter(|r| same(&r.numerics, &t))
+                    .filter(|r| r.solver == Solver::Direct && same(&r.numerics, &t))
                     .map(|r| r.numerics.periodic_tol)
                     .min_by(|a, b| {
                         distance(*a, t.periodic_tol)
@@ -122,63 +113,35 @@ fn tier_name(n: &Numerics, case_runs: &[&Run]) -> Option<&'static str> {
         .map(|f| f.name())
 }
 
-fn setting(n: &Numerics) -> String {
+fn setting(r: &Run) -> String {
+    let n = &r.numerics;
     format!(
         "{}x{} dt={:.1e} ptol={:.0e} {}{}",
         n.n1,
         n.n2,
         n.dt,
         n.periodic_tol,
-        n.solver.name(),
+        r.solver.name(),
         n.approach_n2
             .map_or(String::new(), |a| format!(" approach N2={a}"))
     )
 }
 
 /// The runs of a JSON-lines file, plus the Case I runs of results/convergence/ with N1 in
-/// `convergence_n1` (the convergence study runs Case I on the tier meshes up to the speed
-/// study's 1024×64 reference, and at 2048×128, a finer reference).
+/// `convergence_n1` (the convergence study runs Case I on the tier meshes up to 1024×64, and
+/// at 2048×128, a finer reference).
 fn load_runs(
     path: &str,
     convergence_n1: Option<RangeInclusive<usize>>,
 ) -> Result<Vec<Run>, String> {
-    let text = fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
-    let mut runs: Vec<Run> = text
-        .lines()
-        .filter(|l| !l.trim().is_empty())
-        .map(|l| serde_json::from_str(l).map_err(|e| e.to_string()))
-        .collect::<Result<_, _>>()?;
-    // A setting run again replaces its earlier line (the later run is of the later solver).
-    let mut i = 0;
-    while i < runs.len() {
-        if runs[i + 1..]
-            .iter()
-            .any(|r| r.case == runs[i].case && r.numerics == runs[i].numerics)
-        {
-            runs.remove(i);
-        } else {
-            i += 1;
-        }
-    }
-    if let (Some(n1s), Ok(dir)) = (convergence_n1, fs::read_dir("results/convergence")) {
-        for e in dir.flatten() {
-            let name = e.file_name().to_string_lossy().to_string();
-            if name.starts_with("run_") && name.ends_with(".json") {
-                let v: serde_json::Value = fs::read_to_string(e.path())
-                    .ok()
-                    .and_then(|t| serde_json::from_str(&t).ok())
-                    .ok_or(format!("unreadable {name}"))?;
-                let num: Numerics =
-                    serde_json::from_value(v["numerics"].clone()).map_err(|e| e.to_string())?;
-                let already = runs.iter().any(|r| r.case == "case-I" && r.numerics == num);
-                if !already && n1s.contains(&num.n1) {
-                    runs.push(Run {
-                        case: "case-I".into(),
-                        numerics: num,
-                        outcome: serde_json::from_value(v["outcome"].clone())
-                            .map_err(|e| e.to_string())?,
-                    });
-                }
+    let mut runs = Run::load(path)?;
+    if let Some(n1s) = convergence_n1 {
+        for r in convergence_runs()? {
+            let already = runs
+                .iter()
+                .any(|q| q.case == "case-I" && q.numerics == r.numerics && q.solver == r.solver);
+            if !already && n1s.contains(&r.numerics.n1) {
+                runs.push(r);
             }
         }
     }
@@ -190,7 +153,7 @@ fn row(r: &Run, name: &str, fr: f64, cr: f64) -> String {
     let (f, c) = (r.outcome.f_mean, r.outcome.c_min);
     format!(
         "| {} | {name} | {f:.6} | {:.3} % | {c:.5} | {:.3} % | {:.1} |\n",
-        setting(&r.numerics),
+        setting(r),
         100.0 * (f - fr).abs() / fr,
         100.0 * (c - cr).abs() / cr,
         r.outcome.wall_time_s
@@ -202,7 +165,7 @@ fn row(r: &Run, name: &str, fr: f64, cr: f64) -> String {
 fn finer() -> Result<(), String> {
     let runs = load_runs(RUNS, Some(STUDY_N1))?;
     let finer = load_runs(FINER, Some(2048..=usize::MAX))?;
-    let mut md = String::from("# Fidelity tiers against a finer reference\n\nReproduce: `bash studies/speed.sh finer` (the 2048×32 and 2048×64 runs of both cases and Case III at 2048×128; Case I at 2048×128 is `bash studies/convergence.sh`'s finest run), then `cargo run --release --example speed -- finer`. Run times, one core each of the 2-core machine beside other work: 2048×32 22 and 49 min (Case I, III); 2048×64 with the coarse approach 32 and 108 min; 2048×128 with the coarse approach and `--solver pt-multigrid` (the band LU would need ≈ 1.5 s a step) as in each table's heading. Reference: the finest run of each case at 2048 cells along x1 and dt = 1e-4, 2048×128 as the issue asks where it was run. A row `(finer, coarser N2)` is the same case at 2048 cells with fewer cells across: its difference from the reference is what refining N2 alone changes there. Rows: the tiers as the speed study ran them with their own periodic tolerance and coarse approach, and 1024×64, the speed study's reference until stop 30 (its finest setting now). Errors relative to the reference; times are one core of the 2-core machine (from the speed study; the 2048-cell runs ran beside other work, some before the solver speed-ups of issue 3: their times are not comparable).\n");
+    let mut md = String::from("# Fidelity tiers against a finer reference\n\nReproduce: `bash studies/speed.sh finer` (the 2048-cell runs of each case; Case I at 2048×128 is the convergence study's finest run), then `texopt-lab speed finer`. Reference: the finest run of each case at 2048 cells along x1 and dt = 1e-4 (2048×128 where it was run, with the p–θ multigrid after a 2048×8 approach: the band LU would need ≈ 1.5 s a step). A row `(finer, coarser N2)` is the same case at 2048 cells with fewer cells across: its difference from the reference is what refining N2 alone changes there. Rows: the tiers as the speed study ran them with their own periodic tolerance and coarse approach, and 1024×64, the speed study's finest setting. Errors relative to the reference. The wall times of the 2048-cell runs are of one core beside other work and of the solver that ran them: not comparable with the tiers'.\n");
     for case in ["case-I", "case-III", "conformal-R51.2"] {
         // The finest run of the case is the reference; coarser finer runs are rows.
         let Some(reference) = finer
@@ -215,7 +178,7 @@ fn finer() -> Result<(), String> {
         let (fr, cr) = (reference.outcome.f_mean, reference.outcome.c_min);
         md += &format!(
             "\n## {case} (reference {}: f̄ = {fr:.6}, C_min = {cr:.5} µm, {} steps, {:.0} s)\n\n| setting | tier | f̄ | err f̄ | C_min (µm) | err C_min | wall (s) |\n|---|---|---|---|---|---|---|\n",
-            setting(&reference.numerics),
+            setting(reference),
             reference.outcome.steps,
             reference.outcome.wall_time_s
         );
@@ -235,7 +198,7 @@ fn finer() -> Result<(), String> {
             let same_mesh = |r: &&Run| {
                 r.case == case
                     && (r.numerics.n1, r.numerics.n2, r.numerics.dt) == (t.n1, t.n2, t.dt)
-                    && r.numerics.solver == Method::Direct
+                    && r.solver == Solver::Direct
             };
             let exact = runs.iter().filter(same_mesh).find(|r| {
                 (r.numerics.periodic_tol, r.numerics.approach_n2) == (t.periodic_tol, t.approach_n2)
@@ -256,8 +219,8 @@ fn finer() -> Result<(), String> {
             md += &row(r, "(finer, coarser N2)", fr, cr);
         }
     }
-    fs::write("results/speed_finer.md", md).map_err(|e| e.to_string())?;
-    eprintln!("wrote results/speed_finer.md");
+    fs::write("results/speed/speed_finer.md", md).map_err(|e| e.to_string())?;
+    eprintln!("wrote results/speed/speed_finer.md");
     Ok(())
 }
 
@@ -265,7 +228,7 @@ fn report() -> Result<(), String> {
     let runs = load_runs(RUNS, Some(STUDY_N1))?;
     let finer = load_runs(FINER, Some(2048..=usize::MAX))?;
     let mut csv = String::from("case,setting,n1,n2,dt,periodic_tol,solver,f_mean,c_min,err_f,err_c,wall_s,steps,periods,pareto\n");
-    let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh` (the settings; then `cargo run --release --example speed -- report`). Error: relative to the reference in each table's heading, the finest run of the case: 2048×128 at dt = 1e-4, the issue's reference mesh (run by `bash studies/speed.sh finer` for Case III and `bash studies/convergence.sh` for Case I, with the p–θ multigrid after a 2048×8 approach: the same discretisation, the band LU would need ≈ 1.5 s a step; its time is not comparable). Wall time: one core of the 2-core machine (the two cases run at once, one per core), from the equilibrium start (the untextured force balance) to the detected periodic regime, with the solver of the commit that ran the row. `approach N2=8`: the coarse approach of the `paper` and `fine` tiers (the ring's transient on 512×8 or 1024×8 first; the answer is the full mesh's). ★ = Pareto-optimal in f̄ error and time (no other setting is both faster and more accurate); tier names mark the fidelity tiers. The tiers against the 2048-cell runs with fewer cells across, and the conformal R = 51.2: `results/speed_finer.md`.\n");
+    let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh` (the settings; then `texopt-lab speed report`). Error: relative to the reference in each table's heading, the finest run of the case: 2048×128 at dt = 1e-4 (run by `bash studies/speed.sh finer` for Case III and `bash studies/convergence.sh` for Case I, with the p–θ multigrid after a 2048×8 approach: the same discretisation; its time is not comparable). Wall time: one core of the 2-core machine, from the equilibrium start (the untextured force balance) to the detected periodic regime, with the solver of the commit that ran the row. `approach N2=8`: the coarse approach of the `paper` and `fine` tiers (the ring's transient on 512×8 or 1024×8 first; the answer is the full mesh's). ★ = Pareto-optimal in f̄ error and time (no other setting is both faster and more accurate); tier names mark the fidelity tiers. The tiers against the 2048-cell runs with fewer cells across, and the conformal R = 51.2: `speed_finer.md`.\n");
     let mut series_data = Vec::new();
     let mut tier_rings = Vec::new();
     for (ci, case) in ["case-I", "case-III"].iter().enumerate() {
@@ -316,7 +279,7 @@ fn report() -> Result<(), String> {
         };
         md += &format!(
             "\n## {case} (reference {}: f̄ = {:.6}, C_min = {:.5} µm, {:.0} s)\n\n| setting | f̄ | err f̄ | err C_min | wall (s) | steps | periods | |\n|---|---|---|---|---|---|---|---|\n",
-            setting(&reference.numerics), fr, cr, reference.outcome.wall_time_s
+            setting(reference), fr, cr, reference.outcome.wall_time_s
         );
         let (mut all_pts, mut front) = (Vec::new(), Vec::new());
         let mut order: Vec<usize> = (0..pts.len()).collect();
@@ -326,14 +289,14 @@ fn report() -> Result<(), String> {
             let p = pareto(i);
             md += &format!(
                 "| {} | {:.6} | {:.3} % | {:.3} % | {:.2} | {} | {} | {} |\n",
-                setting(&r.numerics),
+                setting(r),
                 r.outcome.f_mean,
                 100.0 * ef,
                 100.0 * ec,
                 w,
                 r.outcome.steps,
                 r.outcome.periods,
-                match (p, tier_name(&r.numerics, &rs)) {
+                match (p, tier_name(r, &rs)) {
                     (true, Some(t)) => format!("★ {t}"),
                     (false, Some(t)) => t.to_string(),
                     (true, None) => "★".to_string(),
@@ -342,12 +305,12 @@ fn report() -> Result<(), String> {
             );
             csv += &format!(
                 "{case},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-                setting(&r.numerics),
+                setting(r),
                 r.numerics.n1,
                 r.numerics.n2,
                 r.numerics.dt,
                 r.numerics.periodic_tol,
-                r.numerics.solver.name(),
+                r.solver.name(),
                 r.outcome.f_mean,
                 r.outcome.c_min,
                 ef,
@@ -366,12 +329,13 @@ fn report() -> Result<(), String> {
         let tiers: Vec<(f64, f64)> = pts
             .iter()
             .filter(|p| {
-                Fidelity::ALL.iter().any(|f| {
-                    let t = f.numerics();
-                    let n = &p.3.numerics;
-                    (t.n1, t.n2, t.dt, t.periodic_tol, t.solver, t.approach_n2)
-                        == (n.n1, n.n2, n.dt, n.periodic_tol, n.solver, n.approach_n2)
-                })
+                p.3.solver == Solver::Direct
+                    && Fidelity::ALL.iter().any(|f| {
+                        let t = f.numerics();
+                        let n = &p.3.numerics;
+                        (t.n1, t.n2, t.dt, t.periodic_tol, t.approach_n2)
+                            == (n.n1, n.n2, n.dt, n.periodic_tol, n.approach_n2)
+                    })
             })
             .map(|p| (p.0, 100.0 * p.1))
             .collect();
@@ -406,7 +370,7 @@ fn report() -> Result<(), String> {
         })
         .collect();
     plot::xy(
-        Path::new("results/speed.png"),
+        Path::new("results/speed/speed.png"),
         &Chart {
             title: "Error of mean friction against wall time (one core)",
             x_label: "wall time to periodic regime (s)",
@@ -416,26 +380,22 @@ fn report() -> Result<(), String> {
         },
         &series,
     )?;
-    fs::write("results/speed.csv", csv).map_err(|e| e.to_string())?;
-    fs::write("results/speed.md", &md).map_err(|e| e.to_string())?;
+    fs::write("results/speed/speed.csv", csv).map_err(|e| e.to_string())?;
+    fs::write("results/speed/speed.md", &md).map_err(|e| e.to_string())?;
     print!("{md}");
     Ok(())
 }
 
-fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let r = match args.first().map(String::as_str) {
+/// `texopt-lab speed run … | finer-run … | report | finer`.
+pub fn main(args: &[String]) -> Result<(), String> {
+    match args.first().map(String::as_str) {
         Some("run") if (4..=7).contains(&args.len()) => run(&args[1..], RUNS),
         Some("finer-run") if (4..=7).contains(&args.len()) => run(&args[1..], FINER),
         Some("report") => report(),
         Some("finer") => finer(),
         _ => Err(
-            "usage: speed run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid|pt-multigrid] [APPROACH_N2] | speed report | speed finer-run CASE N1xN2 DT [PERIODIC_TOL] [direct|multigrid|pt-multigrid] [APPROACH_N2] | speed finer"
+            "usage: texopt-lab speed run CASE N1xN2 DT [PERIODIC_TOL] [SOLVER] [APPROACH_N2] | speed report | speed finer-run CASE N1xN2 DT [PERIODIC_TOL] [SOLVER] [APPROACH_N2] | speed finer"
                 .into(),
         ),
-    };
-    if let Err(e) = r {
-        eprintln!("error: {e}");
-        std::process::exit(2);
     }
 }

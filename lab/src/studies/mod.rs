@@ -1,0 +1,121 @@
+//! The lab's studies, run by `texopt-lab STUDY …`: each writes under `results/<study>/`.
+
+pub mod convergence;
+pub mod speed;
+pub mod stability;
+pub mod where_time_goes;
+
+use std::fs;
+
+use texopt::model::case::CaseSpec;
+use texopt::time::{
+    simulate_with, Numerics, Outcome, Progress, RunOptions, RunResult, Transient, Watch,
+};
+
+use crate::solvers::Solver;
+
+/// One run of a study: the case's name, its numerics, the film solver of its own mesh and
+/// its outcome (one JSON object, or a line of a JSON-lines file).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct RunRecord {
+    pub case: String,
+    pub numerics: Numerics,
+    pub solver: Solver,
+    pub outcome: Outcome,
+}
+
+impl RunRecord {
+    /// A record from its JSON. The solver is a field of its own; in older records it sat in
+    /// the numerics (then any solver, now the product's only).
+    pub fn parse(mut v: serde_json::Value) -> Result<RunRecord, String> {
+        let in_numerics = v["numerics"]["solver"].as_str().map(str::to_string);
+        let solver = match (v["solver"].as_str(), in_numerics.as_deref()) {
+            (Some(s), _) | (None, Some(s)) => Solver::parse(s)?,
+            (None, None) => Solver::Direct,
+        };
+        if let Some(n) = v["numerics"].as_object_mut() {
+            n.insert("solver".into(), "direct".into());
+        }
+        Ok(RunRecord {
+            case: v["case"].as_str().unwrap_or("case-I").to_string(),
+            numerics: serde_json::from_value(v["numerics"].clone()).map_err(|e| e.to_string())?,
+            solver,
+            outcome: serde_json::from_value(v["outcome"].clone()).map_err(|e| e.to_string())?,
+        })
+    }
+
+    /// The records of a JSON-lines file (a setting run again replaces its earlier line).
+    pub fn load(path: &str) -> Result<Vec<RunRecord>, String> {
+        let text = fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+        let mut runs: Vec<RunRecord> = text
+            .lines()
+            .filter(|l| !l.trim().is_empty())
+            .map(|l| RunRecord::parse(serde_json::from_str(l).map_err(|e| e.to_string())?))
+            .collect::<Result<_, _>>()?;
+        let mut i = 0;
+        while i < runs.len() {
+            let same = |r: &RunRecord| {
+                r.case == runs[i].case
+                    && r.numerics == runs[i].numerics
+                    && r.solver == runs[i].solver
+            };
+            if runs[i + 1..].iter().any(same) {
+                runs.remove(i);
+            } else {
+                i += 1;
+            }
+        }
+        Ok(runs)
+    }
+}
+
+/// The convergence study's runs (results/convergence/run_*.json, Case I).
+pub fn convergence_runs() -> Result<Vec<RunRecord>, String> {
+    let mut runs = Vec::new();
+    let Ok(dir) = fs::read_dir("results/convergence") else {
+        return Ok(runs);
+    };
+    for e in dir.flatten() {
+        let name = e.file_name().to_string_lossy().to_string();
+        if name.starts_with("run_") && name.ends_with(".json") {
+            let v: serde_json::Value = fs::read_to_string(e.path())
+                .ok()
+                .and_then(|t| serde_json::from_str(&t).ok())
+                .ok_or(format!("unreadable {name}"))?;
+            runs.push(RunRecord::parse(v)?);
+        }
+    }
+    Ok(runs)
+}
+
+/// The solver's constructor as the product's run options take it.
+fn maker(s: Solver) -> fn() -> Box<dyn texopt::solve::FilmMethod> {
+    match s {
+        Solver::Direct => || Solver::Direct.build(),
+        Solver::Reference => || Solver::Reference.build(),
+        Solver::Multigrid => || Solver::Multigrid.build(),
+        Solver::PtMultigrid => || Solver::PtMultigrid.build(),
+        Solver::GaussSeidel => || Solver::GaussSeidel.build(),
+    }
+}
+
+/// `case` to its periodic regime on `num` (a coarse approach on the direct solver, when the
+/// numerics ask for one), `solver` on the numerics' own mesh; the observers see every window
+/// and step.
+pub fn run_case(
+    case: &CaseSpec,
+    num: &Numerics,
+    solver: Solver,
+    on_window: &mut dyn FnMut(&Progress),
+    on_step: &mut dyn FnMut(&Transient),
+) -> Result<RunResult, String> {
+    let opts = RunOptions {
+        solver: Some(maker(solver)),
+        ..RunOptions::default()
+    };
+    let mut watch = Watch {
+        on_window: Some(on_window),
+        on_step: Some(on_step),
+    };
+    simulate_with(case, num, &opts, &mut watch).map_err(|e| e.to_string())
+}

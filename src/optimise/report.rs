@@ -1,0 +1,395 @@
+//! The optimiser's report: the rows a user reads, the terminal table, and the files (JSON,
+//! CSV, the front and the time histories of the best design against the plain liner).
+
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::driver::Settings;
+use super::space::{depth_ratio, wall, Space};
+use crate::model::case::{CaseSpec, Texture};
+use crate::plot::{self, Chart, Scale, Series, Style};
+use crate::time::{simulate_with, Numerics, Outcome, RunOptions, SeriesRow, Watch};
+
+/// One reported design.
+#[derive(Clone, Debug, Serialize)]
+pub struct Row {
+    pub label: String,
+    /// None: the plain liner.
+    pub texture: Option<Texture>,
+    pub f_mean: f64,
+    pub c_min: f64,
+    pub z_mean: f64,
+    pub f_change_pct: f64,
+    pub c_min_change_pct: f64,
+    pub area_fraction: f64,
+    pub wall_x1_cm: f64,
+    pub wall_x2_cm: f64,
+    pub depth_ratio: f64,
+    pub active_constraints: Vec<String>,
+    pub on_front: bool,
+}
+
+/// The result of `optimise`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    pub r: f64,
+    pub space: Space,
+    pub search_fidelity: String,
+    pub report_fidelity: String,
+    /// Relative error of f̄ of the reported fidelity (`Fidelity::f_error`).
+    pub fidelity_error: f64,
+    pub plain: Row,
+    pub best_friction: Row,
+    pub best_clearance: Row,
+    /// The confirmed Pareto front (plain liner included when on it), by increasing f̄.
+    pub front: Vec<Row>,
+    /// Whether a texture beats the plain liner's friction by more than the fidelity error.
+    pub texture_beats_plain: bool,
+    pub verdict: String,
+    pub evaluations_search: usize,
+    pub evaluations_confirm: usize,
+    pub simulations: usize,
+    pub wall_time_s: f64,
+    /// Every evaluated design: (fidelity, texture, f̄, C_min, feasible) for the plot and audit.
+    pub evaluated: Vec<Evaluated>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Evaluated {
+    pub fidelity: String,
+    pub texture: Texture,
+    pub f_mean: Option<f64>,
+    pub c_min: Option<f64>,
+    pub failure: Option<String>,
+    pub active_constraints: Vec<String>,
+}
+
+/// The row of a design (None: the plain liner) against the plain liner's outcome.
+pub(super) fn row(
+    space: &Space,
+    label: &str,
+    t: Option<&Texture>,
+    o: &Outcome,
+    plain: &Outcome,
+) -> Row {
+    let (w1, w2) = t.map_or((f64::NAN, f64::NAN), wall);
+    Row {
+        label: label.into(),
+        texture: t.cloned(),
+        f_mean: o.f_mean,
+        c_min: o.c_min,
+        z_mean: o.z_mean,
+        f_change_pct: 100.0 * (o.f_mean / plain.f_mean - 1.0),
+        c_min_change_pct: 100.0 * (o.c_min / plain.c_min - 1.0),
+        area_fraction: t.map_or(0.0, Texture::area_fraction),
+        wall_x1_cm: w1,
+        wall_x2_cm: w2,
+        depth_ratio: t.map_or(0.0, depth_ratio),
+        active_constraints: t.map_or(Vec::new(), |t| {
+            space.active(t).iter().map(|s| s.to_string()).collect()
+        }),
+        on_front: false,
+    }
+}
+
+/// The terminal table.
+pub fn table(r: &Report) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "texopt optimise, R = {} cm: reported at fidelity {} (searched at {}); f̄ per eq. (11)",
+        r.r, r.report_fidelity, r.search_fidelity
+    );
+    let _ = writeln!(
+        s,
+        "{:15} {:>8} {:>8} {:>6} {:>6} {:>8} {:>8} {:>8} {:>7} {:>7} {:>11}  active",
+        "design",
+        "l1 cm",
+        "l2 cm",
+        "per",
+        "depth",
+        "f̄",
+        "Δf̄ %",
+        "C_min",
+        "ΔC %",
+        "area",
+        "walls µm"
+    );
+    let mut rows: Vec<&Row> = vec![&r.best_friction, &r.best_clearance];
+    rows.extend(r.front.iter().filter(|x| x.label == "balanced"));
+    rows.push(&r.plain);
+    for x in rows {
+        let (l1, l2, per, depth) =
+            x.texture
+                .as_ref()
+                .map_or(("-".into(), "-".into(), "-".into(), "-".into()), |t| {
+                    (
+                        format!("{:.4}", t.l1),
+                        format!("{:.4}", t.l2),
+                        format!("{:.4}", t.per),
+                        format!("{:.1}", t.depth),
+                    )
+                });
+        let label = if std::ptr::eq(x, &r.best_friction) {
+            "best friction"
+        } else if std::ptr::eq(x, &r.best_clearance) {
+            "best clearance"
+        } else {
+            x.label.as_str()
+        };
+        let _ = writeln!(
+            s,
+            "{:15} {:>8} {:>8} {:>6} {:>6} {:>8.5} {:>+8.2} {:>8.4} {:>+7.2} {:>7.3} {:>11}  {}",
+            label,
+            l1,
+            l2,
+            per,
+            depth,
+            x.f_mean,
+            x.f_change_pct,
+            x.c_min,
+            x.c_min_change_pct,
+            x.area_fraction,
+            if x.wall_x1_cm.is_finite() {
+                format!("{:.1}/{:.1}", x.wall_x1_cm * 1e4, x.wall_x2_cm * 1e4)
+            } else {
+                "-".to_string()
+            },
+            x.active_constraints.join(", ")
+        );
+    }
+    let _ = writeln!(s, "{}", r.verdict);
+    let _ = writeln!(
+        s,
+        "{} evaluations at {} + {} confirmed at {}; {} simulations (the rest from the cache); {:.1} s",
+        r.evaluations_search, r.search_fidelity, r.evaluations_confirm, r.report_fidelity, r.simulations, r.wall_time_s
+    );
+    s
+}
+
+/// The time series of the last texture period of a case, kept in `path` with the case's
+/// cache key so that a warm rerun does not simulate it again.
+fn last_period(
+    path: &Path,
+    case: &CaseSpec,
+    num: &Numerics,
+    period: f64,
+) -> Result<Vec<SeriesRow>, String> {
+    #[derive(Serialize, serde::Deserialize)]
+    struct Kept {
+        key: String,
+        rows: Vec<SeriesRow>,
+    }
+    let key = crate::study::cache::Key::of(case, num).hash;
+    if let Ok(text) = std::fs::read_to_string(path) {
+        if let Ok(k) = serde_json::from_str::<Kept>(&text) {
+            if k.key == key {
+                return Ok(k.rows);
+            }
+        }
+    }
+    let opts = RunOptions {
+        series: true,
+        ..RunOptions::default()
+    };
+    let res = simulate_with(case, num, &opts, &mut Watch::default()).map_err(|e| e.to_string())?;
+    let rows: Vec<SeriesRow> = res.series.unwrap_or_default();
+    let t_end = rows.last().map_or(0.0, |x| x.t);
+    let rows: Vec<SeriesRow> = rows
+        .into_iter()
+        .filter(|x| x.t > t_end - period - 1e-12)
+        .collect();
+    let kept = Kept { key, rows };
+    std::fs::write(path, serde_json::to_string(&kept).unwrap_or_default())
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    Ok(kept.rows)
+}
+
+fn stem(dir: &Path, r: f64) -> PathBuf {
+    dir.join(format!("optimise_R{r}"))
+}
+
+/// Writes the report's files under `dir`: JSON (everything), CSV (the table), the front, and
+/// Z(t), f(t) over a period of the best design against the plain liner.
+pub(super) fn write(dir: &Path, r: &Report, s: &Settings) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let stem = stem(dir, r.r);
+    let p = stem.with_extension("json");
+    std::fs::write(&p, serde_json::to_string_pretty(r).unwrap_or_default())
+        .map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+    let p = PathBuf::from(format!("{}.csv", stem.display()));
+    let mut w = csv::Writer::from_path(&p).map_err(|e| format!("{}: {e}", p.display()))?;
+    let _ = w.write_record([
+        "design",
+        "l1",
+        "l2",
+        "per",
+        "width",
+        "depth",
+        "f_mean",
+        "f_change_pct",
+        "c_min",
+        "c_min_change_pct",
+        "area_fraction",
+        "wall_x1_cm",
+        "wall_x2_cm",
+        "active",
+        "fidelity",
+    ]);
+    let mut rows = vec![&r.best_friction, &r.best_clearance];
+    rows.extend(r.front.iter());
+    rows.push(&r.plain);
+    for (i, x) in rows.iter().enumerate() {
+        let t = x.texture.as_ref();
+        let f = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
+        let label = match i {
+            0 => "best friction".to_string(),
+            1 => "best clearance".to_string(),
+            _ => x.label.clone(),
+        };
+        let _ = w.write_record([
+            label,
+            f(t.map(|t| t.l1)),
+            f(t.map(|t| t.l2)),
+            f(t.map(|t| t.per)),
+            f(t.map(|t| t.width)),
+            f(t.map(|t| t.depth)),
+            x.f_mean.to_string(),
+            x.f_change_pct.to_string(),
+            x.c_min.to_string(),
+            x.c_min_change_pct.to_string(),
+            x.area_fraction.to_string(),
+            f(t.map(|t| t.per - 2.0 * t.l1)),
+            f(t.map(|t| t.width - 2.0 * t.l2)),
+            x.active_constraints.join(" "),
+            r.report_fidelity.clone(),
+        ]);
+    }
+    w.flush().map_err(|e| format!("{}: {e}", p.display()))?;
+    front_plot(&stem, r)?;
+    period_plots(&stem, r, s)
+}
+
+/// The front among every evaluated design.
+fn front_plot(stem: &Path, r: &Report) -> Result<(), String> {
+    let pts = |fid: &str, active: bool| -> Vec<(f64, f64)> {
+        r.evaluated
+            .iter()
+            .filter(|e| e.fidelity == fid && e.active_constraints.is_empty() != active)
+            .filter_map(|e| Some((e.f_mean?, e.c_min?)))
+            .collect()
+    };
+    let (sa, sf) = (
+        pts(&r.search_fidelity, false),
+        pts(&r.search_fidelity, true),
+    );
+    let front: Vec<(f64, f64)> = r.front.iter().map(|x| (x.f_mean, x.c_min)).collect();
+    let plain = vec![(r.plain.f_mean, r.plain.c_min)];
+    let best = vec![(r.best_friction.f_mean, r.best_friction.c_min)];
+    let series = vec![
+        Series {
+            name: format!("evaluated at {} (no constraint active)", r.search_fidelity),
+            points: &sa,
+            style: Style::Markers,
+            colour: 4,
+        },
+        Series {
+            name: format!("evaluated at {} (on a constraint)", r.search_fidelity),
+            points: &sf,
+            style: Style::Markers,
+            colour: 3,
+        },
+        // The front and the best design drawn to stand out from the cloud of evaluations
+        // (as a thin line and a dot they were lost in it).
+        Series {
+            name: format!("Pareto front at {}", r.report_fidelity),
+            points: &front,
+            style: Style::Thick,
+            colour: 0,
+        },
+        Series {
+            name: "best friction".into(),
+            points: &best,
+            style: Style::Rings,
+            colour: 5,
+        },
+        Series {
+            name: "plain liner".into(),
+            points: &plain,
+            style: Style::Thick,
+            colour: 1,
+        },
+    ];
+    let title = format!("Friction against minimum clearance, R = {} cm", r.r);
+    plot::xy(
+        &PathBuf::from(format!("{}_front.png", stem.display())),
+        &Chart {
+            title: &title,
+            x_label: "mean friction coefficient f (eq. 11)",
+            y_label: "minimum clearance C_min (µm)",
+            x_scale: Scale::Linear,
+            y_scale: Scale::Linear,
+        },
+        &series,
+    )?;
+    Ok(())
+}
+
+/// Z(t) and f(t) over one period: the best-friction design against the plain liner.
+fn period_plots(stem: &Path, r: &Report, s: &Settings) -> Result<(), String> {
+    if let Some(t) = &r.best_friction.texture {
+        let case = CaseSpec {
+            texture: Some(t.clone()),
+            ..s.base.clone()
+        };
+        let num = crate::study::numerics_for(&case, s.report_fidelity, &s.overrides);
+        let period = t.per / case.u;
+        let kept = last_period(
+            &PathBuf::from(format!("{}_series.json", stem.display())),
+            &case,
+            &num,
+            period,
+        )?;
+        let last: Vec<&SeriesRow> = kept.iter().collect();
+        let t0 = last.first().map_or(0.0, |x| x.t);
+        let z: Vec<(f64, f64)> = last.iter().map(|x| ((x.t - t0) / period, x.z)).collect();
+        let f: Vec<(f64, f64)> = last.iter().map(|x| ((x.t - t0) / period, x.f)).collect();
+        let zp = vec![(0.0, r.plain.z_mean), (1.0, r.plain.z_mean)];
+        let fp = vec![(0.0, r.plain.f_mean), (1.0, r.plain.f_mean)];
+        for (name, best, pl, ylab) in [
+            ("z", &z, &zp, "ring position Z (µm)"),
+            ("f", &f, &fp, "friction coefficient f (eq. 11)"),
+        ] {
+            plot::xy(
+                &PathBuf::from(format!("{}_{name}_t.png", stem.display())),
+                &Chart {
+                    title: &format!(
+                        "{} over one texture period, R = {} cm",
+                        if name == "z" { "Z(t)" } else { "f(t)" },
+                        r.r
+                    ),
+                    x_label: "t / period",
+                    y_label: ylab,
+                    x_scale: Scale::Linear,
+                    y_scale: Scale::Linear,
+                },
+                &[
+                    Series {
+                        name: "best-friction texture".into(),
+                        points: best,
+                        style: Style::Line,
+                        colour: 0,
+                    },
+                    Series {
+                        name: "plain liner".into(),
+                        points: pl,
+                        style: Style::Thick,
+                        colour: 1,
+                    },
+                ],
+            )?;
+        }
+    }
+    Ok(())
+}
