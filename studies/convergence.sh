@@ -12,5 +12,5 @@ $bin run 512x32 4e-4
 $bin run 1024x64 2e-4
 # The finest mesh: with the band LU ≈ 4 s a step (≈ 16 h); the p–θ multigrid (same
 # discretisation, agrees with direct to the solve tolerance) after a 2048×8 approach instead.
-$bin run 2048x128 1e-4 --solver pt-multigrid --approach 8
+$bin run 2048x128 1e-4 --solver pt-multigrid --approach 2048x8@1e-4
 $bin report

@@ -1,15 +1,26 @@
 //! Discrete mass conservation of the film scheme in a textured 2D run with cavitation:
-//! over a step, Σ(hθ)·cell area changes by exactly dt × (inflow − outflow) at the x1 ends.
+//! over a step, Σ(hθ)·cell area changes by exactly dt × (inflow − outflow) at the x1 ends
+//! (BDF2: its storage term's change, 1.5·(φⁿ⁺¹ − (4φⁿ − φⁿ⁻¹)/3), does).
 
 use texopt::model::case::{CaseSpec, Texture};
-use texopt::time::{Numerics, Transient, Watch};
+use texopt::time::{Numerics, TimeScheme, Transient, Watch};
 
 #[test]
 fn textured_step_conserves_mass_to_round_off() {
+    conserves_mass(TimeScheme::BackwardEuler);
+}
+
+#[test]
+fn textured_bdf2_step_conserves_mass_to_round_off() {
+    conserves_mass(TimeScheme::Bdf2);
+}
+
+fn conserves_mass(scheme: TimeScheme) {
     let case = CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0));
     let num = Numerics {
         n1: 256,
         n2: 16,
+        scheme,
         ..Numerics::default()
     };
     let mut sim = Transient::new(&case, &num);

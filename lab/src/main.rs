@@ -1,9 +1,11 @@
 //! `texopt-lab`: the studies beside the product (results/<study>/ each).
 //!
-//!     texopt-lab speed run CASE N1xN2 DT [PERIODIC_TOL] [SOLVER] [APPROACH_N2] | report | finer
-//!     texopt-lab convergence run N1xN2 DT [--solver NAME] [--approach N2] | report
+//!     texopt-lab speed run CASE N1xN2 DT [KEY=VALUE …] | report
+//!     texopt-lab convergence run N1xN2 DT [--solver NAME] [--approach N1xN2@DT] | report
 //!     texopt-lab stability [runs | contrasts | report]
 //!     texopt-lab where-time-goes [CASE [TIER]]
+//!     texopt-lab references run CASE N1xN2 DT | report
+//!     texopt-lab deep-pockets
 
 use texopt_lab::studies;
 
@@ -15,8 +17,10 @@ fn main() {
         Some("convergence") => studies::convergence::main(rest),
         Some("stability") => studies::stability::main(rest),
         Some("where-time-goes") => studies::where_time_goes::main(rest),
+        Some("references") => studies::references::main(rest),
+        Some("deep-pockets") => studies::deep_pockets::main(rest),
         _ => Err(
-            "usage: texopt-lab speed … | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
+            "usage: texopt-lab speed … | references … | deep-pockets | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
                 .into(),
         ),
     };

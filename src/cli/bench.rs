@@ -1,7 +1,8 @@
 //! `texopt bench`: the fixed benchmark cases, timed, into results/bench/.
 
 use super::{BenchArgs, CmdError};
-use crate::time::Numerics;
+use crate::study::bench::{default_runs, run_case};
+use crate::time::{Fidelity, Numerics};
 
 pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
     let all = crate::study::bench::cases();
@@ -36,28 +37,40 @@ pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
             dir.display()
         )));
     }
-    let fidelity = a.fidelity;
-    let tier = fidelity.numerics();
-    let num = Numerics {
-        start: a.start,
-        approach_n2: a.approach_n2.map_or(tier.approach_n2, |x| x.0),
-        ..tier
+    let runs: Vec<(&str, Fidelity)> = match a.fidelity {
+        Some(f) => all.iter().map(|c| (c.name, f)).collect(),
+        None => default_runs(),
     };
     let mut rows = Vec::new();
     let mut failed = 0;
-    for c in all
-        .iter()
-        .filter(|c| a.cases.is_empty() || a.cases.iter().any(|n| n == c.name))
+    for (name, fidelity) in runs
+        .into_iter()
+        .filter(|(n, _)| a.cases.is_empty() || a.cases.iter().any(|c| c == n))
     {
-        eprintln!("running {} ({}) …", c.name, c.case.label());
-        match crate::study::bench::run_case(c, fidelity, &num, a.repeat) {
+        let c = all
+            .iter()
+            .find(|c| c.name == name)
+            .expect("a benchmark case");
+        let tier = fidelity.numerics_for(&c.case);
+        let num = Numerics {
+            start: a.start,
+            approach: a.approach.map_or(tier.approach, |x| x.0),
+            ..tier
+        };
+        eprintln!(
+            "running {} at {} ({}) …",
+            c.name,
+            fidelity.name(),
+            c.case.label()
+        );
+        match run_case(c, fidelity, &num, a.repeat) {
             Ok(row) => {
                 println!("{}", row.line());
-                rows.push(row);
+                rows.push((row, num));
             }
             Err(e) => {
                 failed += 1;
-                println!("{:16} FAILED: {e}", c.name);
+                println!("{:17} FAILED: {e}", c.name);
             }
         }
     }
@@ -70,9 +83,15 @@ pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
         "threads_available": std::thread::available_parallelism().map_or(1, |n| n.get()),
         "threads_used": 1,
         "repeat": a.repeat,
-        "fidelity": fidelity.name(),
-        "numerics": num,
-        "cases": rows,
+        "start": a.start,
+        "cases": rows
+            .iter()
+            .map(|(row, num)| {
+                let mut v = serde_json::to_value(row).unwrap_or_default();
+                v["numerics"] = serde_json::to_value(num).unwrap_or_default();
+                v
+            })
+            .collect::<Vec<_>>(),
     });
     std::fs::write(
         &out,

@@ -9,7 +9,7 @@ mod simulate;
 mod study;
 
 pub use args::{
-    ApproachN2, BenchArgs, CacheAction, CacheArgs, Cli, Command, OptimiseArgs, SimulateArgs,
+    ApproachArg, BenchArgs, CacheAction, CacheArgs, Cli, Command, OptimiseArgs, SimulateArgs,
     StudyArgs,
 };
 pub use simulate::case_from_args;

@@ -5,7 +5,8 @@ use std::io::{IsTerminal, Write};
 use super::{flag, input_message, CmdError, SimulateArgs};
 use crate::model::case::{bad, CaseSpec, InputError, Texture};
 use crate::time::{
-    simulate_with, Numerics, Outcome, Progress, RunOptions, RunResult, SeriesRow, Watch,
+    simulate_with, unresolved_depth, Numerics, Outcome, Progress, RunOptions, RunResult, SeriesRow,
+    TimeScheme, Watch, DEEP_POCKET_RATIO,
 };
 
 /// The case and numerics named by the flags, validated (errors name the flags).
@@ -57,8 +58,9 @@ fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
         periodic_tol: a.periodic_tol.unwrap_or(tier.periodic_tol),
         t_max: a.t_max,
         start: a.start,
-        extrapolate: !a.no_extrapolate,
-        approach_n2: a.approach_n2.map_or(tier.approach_n2, |x| x.0),
+        accelerate: !a.no_accelerate,
+        approach: a.approach.map_or(tier.approach, |x| x.0),
+        scheme: a.time_scheme.unwrap_or(tier.scheme),
         ..Numerics::default()
     };
     case.validate(a.allow_thick_pockets)?;
@@ -66,12 +68,12 @@ fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
     Ok((case, num))
 }
 
-/// Rings at least this flat (cm) get a note when the time step exceeds [`CONFORMAL_DT`]: the
-/// time-step error of the film grows with R (`fast` against 2048×8 at dt = 1e-4 with the
-/// Case I pocket: 0.3 % at R = 5, 0.8–1.0 % at R = 12.8, 3 % at R = 51.2; docs/validation.md),
-/// while the tiers keep the paper's dt = 4e-4.
+/// Rings at least this flat (cm) get a note when they run backward Euler (the `paper` tier, or
+/// `--time-scheme backward-euler`) at a step above [`CONFORMAL_DT`]: its first-order
+/// time-step error grows with R (Case I's pocket at 512×8, dt = 4e-4: 3 % at R = 51.2, against
+/// 1 % with BDF2; docs/validation.md).
 const CONFORMAL_R_CM: f64 = 10.0;
-/// The time step (L/U units) that keeps R = 51.2 within ≈ 0.7 % of the 2048-cell reference.
+/// The backward-Euler step that keeps R = 51.2 within ≈ 0.7 % of its dt-converged answer.
 const CONFORMAL_DT: f64 = 1e-4;
 
 pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
@@ -81,9 +83,13 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     {
         eprintln!("note: --depth is 0 or absent, so the liner is untextured; the pocket flags are not used");
     }
-    if case.texture.is_some() && case.r >= CONFORMAL_R_CM && num.dt > CONFORMAL_DT {
+    if case.texture.is_some()
+        && case.r >= CONFORMAL_R_CM
+        && num.dt > CONFORMAL_DT
+        && num.scheme == TimeScheme::BackwardEuler
+    {
         eprintln!(
-            "note: R = {} cm is a conformal ring, where the time step sets the error: dt = {:.0e} can be several % off in f and C_min; --dt {CONFORMAL_DT:.0e} keeps it near 1 % (docs/validation.md)",
+            "note: R = {} cm is a conformal ring, where backward Euler's time step sets the error: dt = {:.0e} can be several % off in f and C_min; --time-scheme bdf2 (the default of every tier but paper) or --dt {CONFORMAL_DT:.0e} keeps it near 1 % (docs/validation.md)",
             case.r, num.dt
         );
     }
@@ -164,6 +170,14 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     } else {
         print_summary(&case, &num, &outcome);
     }
+    if let Some(t) = case.texture.as_ref() {
+        if unresolved_depth(t.depth, outcome.c_min) {
+            eprintln!(
+                "note: pockets {} µm deep against a least clearance of {:.2} µm (more than {DEEP_POCKET_RATIO}×): their rims are narrower than the cells, and the tiers' errors grow to several % (20 µm on R = 3.2 at fast: f̄ +5 %, C_min −11 % against the converged answer; results/deep_pockets/, docs/validation.md); compare such designs by trends, not by differences of a few %",
+                t.depth, outcome.c_min
+            );
+        }
+    }
     if !outcome.converged {
         eprintln!(
             "warning: the periodic regime was not reached by t = {} (estimated error {:.1e} > tolerance {:.1e}); the numbers above are not final. Raise --t-max or loosen --periodic-tol.",
@@ -216,8 +230,8 @@ fn print_summary(case: &CaseSpec, num: &Numerics, o: &Outcome) {
         );
         if let (true, Some(coarse)) = (o.approach_steps > 0, num.approach_numerics(case)) {
             println!(
-                "  (the first {} steps on {}x{} cells, the coarse approach: the outcomes are those of the full mesh; --approach-n2 off to run every step on it)",
-                o.approach_steps, coarse.n1, coarse.n2
+                "  (the first {} steps on {}x{} cells at dt = {:.4e}, the coarse approach: the outcomes are those of the full mesh; --approach off to run every step on it)",
+                o.approach_steps, coarse.n1, coarse.n2, coarse.dt
             );
         }
     }

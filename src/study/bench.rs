@@ -1,5 +1,6 @@
-//! The benchmark: a fixed set of cases run to their periodic regime at a named fidelity,
-//! timed, with the numbers a speed-up is judged by (issue targets in the README).
+//! The benchmark: a fixed set of cases run to their periodic regime at named fidelities,
+//! timed, with the numbers a speed-up is judged by: wall time against the product's target
+//! and the error against each case's converged reference (docs/validation.md).
 
 use serde::{Deserialize, Serialize};
 
@@ -10,29 +11,113 @@ use crate::time::{simulate, Fidelity, Numerics, Outcome, SolveError};
 pub struct BenchCase {
     pub name: &'static str,
     pub case: CaseSpec,
+    /// The converged answer the tiers are judged against (None: the untextured ring, whose
+    /// steady 1D balance has no mesh error worth a reference).
+    pub reference: Option<Reference>,
+}
+
+/// A converged answer: f̄ and C_min extrapolated to zero cell size and time step from
+/// refinement sequences, with the uncertainty of the extrapolation (relative). Computed by
+/// `texopt-lab references` (results/references/, where the sequences, the orders observed and
+/// the method are; a lab test keeps these numbers equal to that study's).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Reference {
+    pub f_mean: f64,
+    pub c_min: f64,
+    pub f_uncertainty: f64,
+    pub c_uncertainty: f64,
+}
+
+/// The wall time (s, one core, from the paper's initial state) the product aims at for a
+/// case at a tier, if it has one: `fast` Case I 0.5 s and the other reference cases 1 s,
+/// `paper` Case III 2 s.
+pub fn target_s(name: &str, fidelity: Fidelity) -> Option<f64> {
+    match (fidelity, name) {
+        (Fidelity::Fast, "case-I") => Some(0.5),
+        (Fidelity::Fast, "case-III" | "conformal-R51.2" | "deep-close-packed") => Some(1.0),
+        (Fidelity::Paper, "case-III") => Some(2.0),
+        _ => None,
+    }
+}
+
+/// The benchmark's runs by default: the four reference cases at `fast` (the tier of studies,
+/// the optimiser and `simulate`), Case III at `paper`, and the untextured ring.
+pub fn default_runs() -> Vec<(&'static str, Fidelity)> {
+    vec![
+        ("case-I", Fidelity::Fast),
+        ("case-III", Fidelity::Fast),
+        ("conformal-R51.2", Fidelity::Fast),
+        ("deep-close-packed", Fidelity::Fast),
+        ("case-III", Fidelity::Paper),
+        ("untextured-R0.8", Fidelity::Fast),
+    ]
 }
 
 /// The fixed set: the paper's Case I and Case III, the slow conformal transient (R = 51.2 with
-/// Case I's pocket) and an untextured ring.
+/// Case I's pocket), the deep close-packed array (Case III's lattice 20 µm deep, the paper's
+/// #3 for large rings) and an untextured ring.
 pub fn cases() -> Vec<BenchCase> {
     vec![
         BenchCase {
             name: "case-I",
             case: CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0)),
+            reference: Some(REFERENCES[0]),
         },
         BenchCase {
             name: "case-III",
             case: CaseSpec::paper(3.2).with_texture(Texture::circular(0.03, 0.06, 10.0)),
+            reference: Some(REFERENCES[1]),
         },
         BenchCase {
             name: "conformal-R51.2",
             case: CaseSpec::paper(51.2).with_texture(Texture::circular(0.01, 0.06, 5.0)),
+            reference: Some(REFERENCES[2]),
+        },
+        BenchCase {
+            name: "deep-close-packed",
+            case: CaseSpec::paper(3.2).with_texture(Texture::circular(0.03, 0.06, 20.0)),
+            reference: Some(REFERENCES[3]),
         },
         BenchCase {
             name: "untextured-R0.8",
             case: CaseSpec::paper(0.8),
+            reference: None,
         },
     ]
+}
+
+/// The converged references of case-I, case-III, conformal-R51.2 and deep-close-packed, in
+/// that order (results/references/references.json).
+pub const REFERENCES: [Reference; 4] = [
+    Reference {
+        f_mean: 0.07758976668404993,
+        c_min: 6.129549679153179,
+        f_uncertainty: 0.0015748327020322097,
+        c_uncertainty: 6.676498829385901e-05,
+    },
+    Reference {
+        f_mean: 0.08710757977130612,
+        c_min: 3.8533527840272583,
+        f_uncertainty: 0.00486488562171904,
+        c_uncertainty: 0.0037498078873137125,
+    },
+    Reference {
+        f_mean: 0.25406307284827023,
+        c_min: 2.9232410749029474,
+        f_uncertainty: 0.0028295170926159368,
+        c_uncertainty: 0.00492444513827408,
+    },
+    Reference {
+        f_mean: 0.11380343867567604,
+        c_min: 1.7433267250887203,
+        f_uncertainty: 0.009497841951499286,
+        c_uncertainty: 0.007163988147603941,
+    },
+];
+
+/// The case of this name.
+pub fn case(name: &str) -> Option<BenchCase> {
+    cases().into_iter().find(|c| c.name == name)
 }
 
 /// What one benchmark case measured.
@@ -50,6 +135,13 @@ pub struct BenchRow {
     pub periods: usize,
     pub iterations_per_step: f64,
     pub ms_per_step: f64,
+    /// The product's target wall time for this case and tier ([`target_s`]), if any.
+    pub target_s: Option<f64>,
+    /// The case's converged reference and the outcome's relative errors against it
+    /// (signed: (outcome − reference)/reference).
+    pub reference: Option<Reference>,
+    pub f_error: Option<f64>,
+    pub c_error: Option<f64>,
     pub outcome: Outcome,
 }
 
@@ -58,10 +150,12 @@ impl BenchRow {
     pub fn line(&self) -> String {
         let o = &self.outcome;
         format!(
-            "{:16} {:6} {:8.2} s{}  {:6} steps{} {:4} periods  {:5.2} it/step  {:7.3} ms/step  f̄ {:.5}  C_min {:.4} µm{}",
+            "{:17} {:5} {:6.2} s{}{}  {:5} steps{} {:3} periods  {:4.2} it/step  {:6.3} ms/step  f̄ {:.5}{}  C_min {:.4} µm{}{}",
             self.name,
             self.fidelity,
             self.wall_time_s,
+            self.target_s
+                .map_or(String::new(), |t| format!(" (target {t} s)")),
             match self.wall_times_s.len() {
                 0 | 1 => String::new(),
                 n => format!(" (best of {n})"),
@@ -76,7 +170,11 @@ impl BenchRow {
             self.iterations_per_step,
             self.ms_per_step,
             o.f_mean,
+            self.f_error
+                .map_or(String::new(), |e| format!(" ({:+.2} %)", 100.0 * e)),
             o.c_min,
+            self.c_error
+                .map_or(String::new(), |e| format!(" ({:+.2} %)", 100.0 * e)),
             if o.converged { "" } else { "  (NOT periodic)" }
         )
     }
@@ -115,6 +213,7 @@ pub fn run_case(
         }
     }
     let o = best.expect("at least one run");
+    let error = |x: f64, r: f64| (x - r) / r;
     Ok(BenchRow {
         name: c.name.to_string(),
         label: c.case.label(),
@@ -129,6 +228,10 @@ pub fn run_case(
         } else {
             0.0
         },
+        target_s: target_s(c.name, fidelity),
+        reference: c.reference,
+        f_error: c.reference.map(|r| error(o.f_mean, r.f_mean)),
+        c_error: c.reference.map(|r| error(o.c_min, r.c_min)),
         outcome: o,
     })
 }

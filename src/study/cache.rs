@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 use crate::model::case::CaseSpec;
 use crate::solve::Method;
-use crate::time::{Numerics, Outcome, Start};
+use crate::time::{Approach, Numerics, Outcome, Start, TimeScheme};
 
 /// The model version in every key. It changes whenever a change of the code changes the
 /// answers for the same inputs beyond the tolerances they were computed to; old entries
@@ -88,9 +88,11 @@ struct KeyNumerics {
     solve_tol: f64,
     cycles: usize,
     start: Start,
-    extrapolate: bool,
+    accelerate: bool,
     #[serde(skip_serializing_if = "Option::is_none")]
-    approach_n2: Option<usize>,
+    approach: Option<Approach>,
+    #[serde(skip_serializing_if = "TimeScheme::is_backward_euler")]
+    scheme: TimeScheme,
 }
 
 impl KeyNumerics {
@@ -104,8 +106,9 @@ impl KeyNumerics {
             min_periods,
             solver,
             start,
-            extrapolate,
-            approach_n2,
+            accelerate,
+            approach,
+            scheme,
         } = n.clone();
         KeyNumerics {
             n1,
@@ -118,8 +121,9 @@ impl KeyNumerics {
             solve_tol: 1e-8,
             cycles: 8,
             start,
-            extrapolate,
-            approach_n2,
+            accelerate,
+            approach,
+            scheme,
         }
     }
 }

@@ -53,30 +53,38 @@ pub(super) fn start_transient(
     Ok(t.refined(num, done, make()))
 }
 
-/// The film state of scene `from` (ring at z) on the mesh of scene `to`: same N1, other N2,
-/// both placed at the same texture phase. Saturation θ and pressure are interpolated
-/// linearly in x2 between node centres (held constant beyond the outermost ones, the
-/// symmetry lines), φ = θ·h on the new gap (h on the pressurised set, θ = 1), the active set
-/// that of the nearer node. Why θ rather than φ: the pockets' depth differs node by node
-/// between the meshes, the saturation far less.
-pub(super) fn interpolate_x2(from: &Scene, state: &FilmState, z: f64, to: &Scene) -> FilmState {
+/// The film state of scene `from` (ring at z) on the mesh of scene `to`, both placed at the
+/// same texture phase: saturation θ and pressure interpolated bilinearly between the coarse
+/// nodes (x1 nodes are vertices, x2 nodes cell centres, held constant beyond the outermost
+/// ones, the symmetry lines), φ = θ·h on the new gap (h on the pressurised set, θ = 1), the
+/// active set that of the nearest node. Why θ rather than φ: the pockets' depth differs node
+/// by node between the meshes, the saturation far less.
+pub(super) fn interpolate(from: &Scene, state: &FilmState, z: f64, to: &Scene) -> FilmState {
     let (gc, gf) = (&from.grid, &to.grid);
     let mut out = FilmState::cavitated(gf, &to.gap, z, 0.0);
-    let last = (gc.n2 - 1) as f64;
-    for j in 0..gf.n2 {
-        // The fine node's x2 in coarse node units, and its two neighbours there.
-        let s = (gf.y(j) / gc.dy - 0.5).clamp(0.0, last);
-        let j0 = s.floor() as usize;
-        let j1 = (j0 + 1).min(gc.n2 - 1);
-        let w = s - j0 as f64;
-        for i in 0..=gf.n1 {
-            let (k0, k1) = (gc.idx(i, j0), gc.idx(i, j1));
-            let theta_at = |k: usize| state.theta(gc, &from.gap, z, k).clamp(0.0, 1.0);
-            let theta = (1.0 - w) * theta_at(k0) + w * theta_at(k1);
-            let p = (1.0 - w) * state.p[k0] + w * state.p[k1];
+    // A fine coordinate in coarse node units: the two neighbours and the weight of the second.
+    let between = |s: f64, last: usize| {
+        let s = s.clamp(0.0, last as f64);
+        let a = (s.floor() as usize).min(last);
+        (a, (a + 1).min(last), s - a as f64)
+    };
+    let theta_at = |k: usize| state.theta(gc, &from.gap, z, k).clamp(0.0, 1.0);
+    for i in 0..=gf.n1 {
+        let (i0, i1, u) = between(gf.x(i) / gc.dx, gc.n1);
+        for j in 0..gf.n2 {
+            let (j0, j1, w) = between(gf.y(j) / gc.dy - 0.5, gc.n2 - 1);
+            let corners = [
+                (gc.idx(i0, j0), (1.0 - u) * (1.0 - w)),
+                (gc.idx(i1, j0), u * (1.0 - w)),
+                (gc.idx(i0, j1), (1.0 - u) * w),
+                (gc.idx(i1, j1), u * w),
+            ];
+            let theta: f64 = corners.iter().map(|&(k, c)| c * theta_at(k)).sum();
+            let p: f64 = corners.iter().map(|&(k, c)| c * state.p[k]).sum();
+            let nearest = gc.idx(if u < 0.5 { i0 } else { i1 }, if w < 0.5 { j0 } else { j1 });
+            let pressurised = state.pressurised[nearest];
             let k = gf.idx(i, j);
             let h = to.gap.h(gf, k, z);
-            let pressurised = state.pressurised[if w < 0.5 { k0 } else { k1 }];
             out.pressurised[k] = pressurised;
             out.p[k] = if pressurised { p.max(0.0) } else { 0.0 };
             out.phi[k] = if pressurised { h } else { theta * h };

@@ -3,9 +3,9 @@
 //! reports. The accelerators (period-old guesses, slow-mode jumps, the coarse approach) sit
 //! beside the step, outside the physics.
 
+mod anderson;
 mod approach;
 mod fidelity;
-mod jump;
 mod memory;
 mod numerics;
 mod outcome;
@@ -17,12 +17,13 @@ mod transient;
 #[cfg(test)]
 mod tests;
 
-pub use fidelity::{Fidelity, POCKET_CELLS};
-pub use numerics::{Numerics, Start, APPROACH_N2, APPROACH_TOL};
+pub use fidelity::{unresolved_depth, Fidelity, APPROACH, DEEP_POCKET_RATIO, POCKET_CELLS};
+pub use numerics::{Approach, Numerics, Start, TimeScheme, APPROACH_TOL};
 pub use outcome::{Outcome, Progress, RunResult, SeriesRow, SolveError};
 pub use periodic::{window_periods, MIN_WINDOW};
 pub use run::{simulate, simulate_with, RunOptions, Watch};
 pub use steady::{solve_untextured, steady_outcome, Steady, SteadyError};
 pub use transient::{
-    equilibrium_start, paper_start, ApproachDone, Transient, CONTACT_Z, MASS_TOL, UNTEXTURED_PERIOD,
+    equilibrium_start, paper_start, ApproachDone, Transient, BDF2_PATIENCE, CONTACT_Z, MASS_TOL,
+    UNTEXTURED_PERIOD,
 };

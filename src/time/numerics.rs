@@ -28,20 +28,52 @@ pub struct Numerics {
     /// Initial state of the transient.
     #[serde(default)]
     pub start: Start,
-    /// Jump the state along a slow mode to its limit when the window means show one (the
-    /// periodic regime is then verified on fresh windows).
+    /// Accelerate the approach to the periodic regime: Anderson acceleration of the period
+    /// map (docs/solver.md, "Periodic regime"), stopped on the map's residual. Off: every
+    /// window is marched plainly and the stopping rule reads the slow modes of the window
+    /// means.
     #[serde(default = "yes")]
-    pub extrapolate: bool,
-    /// Coarse approach: reach the periodic regime first on a mesh of this many x2 cells (same
-    /// N1 and time step; raised where a pocket would span fewer than 2 cells), then carry the
-    /// state over to this mesh and run on to its own periodic regime. The answer is this
-    /// mesh's (the periodic regime does not depend on the start); the coarse mesh only takes
-    /// the ring's transient, where a step costs a few band factorisations (∝ N2³). None, or
-    /// not below n2: off. Off in `Numerics::default()` (the plain method, which the tests
-    /// compare against); the `paper` and `fine` tiers set it. Not serialised when off, so
-    /// cache keys of runs without it do not carry it.
+    pub accelerate: bool,
+    /// Coarse approach: reach the periodic regime first on a cheaper mesh and time step
+    /// (N2 raised where a pocket would span fewer than 2 cells), then carry the state over to
+    /// this mesh and run on to its own periodic regime. The answer is this mesh's (the
+    /// periodic regime does not depend on the start); the coarse mesh only takes the ring's
+    /// transient. None: off (the plain method, which the tests compare against). Not
+    /// serialised when off, so cache keys of runs without it do not carry it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub approach_n2: Option<usize>,
+    pub approach: Option<Approach>,
+    /// Time discretisation of the film (docs/model.md §3). Not serialised when backward
+    /// Euler, so cache keys of runs with it do not carry it.
+    #[serde(default, skip_serializing_if = "TimeScheme::is_backward_euler")]
+    pub scheme: TimeScheme,
+}
+
+/// The mesh and time step of a coarse approach (see [`Numerics::approach`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Approach {
+    pub n1: usize,
+    pub n2: usize,
+    pub dt: f64,
+}
+
+/// How the film's storage term ∂(hθ)/∂t is discretised in time (docs/solver.md, "Time
+/// scheme").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum TimeScheme {
+    /// First order: (φⁿ⁺¹ − φⁿ)/dt.
+    #[default]
+    BackwardEuler,
+    /// Second order: (3φⁿ⁺¹ − 4φⁿ + φⁿ⁻¹)/(2dt), with a backward-Euler step where the two
+    /// previous levels are not at hand (a start, a jump, a new mesh) or where the old-level
+    /// term (4φⁿ − φⁿ⁻¹)/3 would be negative somewhere (a film emptying within a step).
+    Bdf2,
+}
+
+impl TimeScheme {
+    pub fn is_backward_euler(&self) -> bool {
+        *self == TimeScheme::BackwardEuler
+    }
 }
 
 fn yes() -> bool {
@@ -72,14 +104,12 @@ impl Default for Numerics {
             min_periods: 3,
             solver: Method::default(),
             start: Start::default(),
-            extrapolate: true,
-            approach_n2: None,
+            accelerate: true,
+            approach: None,
+            scheme: TimeScheme::BackwardEuler,
         }
     }
 }
-
-/// x2 cells of the coarse approach of the tiers with more (`paper`, `fine`).
-pub const APPROACH_N2: usize = 8;
 
 /// Periodic tolerance at which a coarse approach hands over to the full mesh: about the
 /// coarse mesh's own offset from the full one (512×8 against 512×32: 0.1–0.4 % in f̄ and Z̄),
@@ -106,21 +136,26 @@ impl Numerics {
         }
     }
 
-    /// The numerics of the coarse approach to the periodic regime (`approach_n2`), if it
-    /// applies to this case: N2 = approach_n2, raised where a pocket would span fewer than 2
-    /// cells (as for `draft`), and still below this N2; periodic tolerance [`APPROACH_TOL`];
-    /// no approach of its own; the direct solver.
+    /// The numerics of the coarse approach to the periodic regime ([`Numerics::approach`]),
+    /// if it applies to this case (textured, and a cheaper mesh or step than this one): its
+    /// mesh and step, N2 raised where a pocket would span fewer than 2 cells (as for
+    /// `draft`); periodic tolerance [`APPROACH_TOL`]; no approach of its own; the direct
+    /// solver.
     pub fn approach_numerics(&self, case: &CaseSpec) -> Option<Numerics> {
         case.texture.as_ref()?;
+        let a = self.approach?;
         let mut coarse = Numerics {
-            n2: self.approach_n2?,
+            n1: a.n1.min(self.n1),
+            n2: a.n2.min(self.n2),
+            dt: a.dt.max(self.dt),
             periodic_tol: APPROACH_TOL.max(self.periodic_tol),
-            approach_n2: None,
+            approach: None,
             solver: Method::Direct,
             ..self.clone()
         };
         coarse.resolve_pockets(case, 2.0);
-        (coarse.n2 < self.n2).then_some(coarse)
+        let cheaper = coarse.n1 < self.n1 || coarse.n2 < self.n2 || coarse.dt > self.dt;
+        (cheaper && coarse.n2 <= self.n2 && coarse.validate(case).is_ok()).then_some(coarse)
     }
 
     /// Checks the numerics against the case (cells across pockets, time step, guards).
@@ -132,12 +167,15 @@ impl Numerics {
         if self.n2 < 1 {
             return Err(bad("mesh", self.n2, "needs at least 1 cell along x2"));
         }
-        if self.approach_n2 == Some(0) {
-            return Err(bad(
-                "approach_n2",
-                0,
-                "needs at least 1 cell along x2 (or none for no coarse approach)",
-            ));
+        if let Some(a) = self.approach {
+            if a.n1 < 16 || a.n2 < 1 || !(a.dt > 0.0 && a.dt.is_finite()) {
+                return Err(bad(
+                    "approach",
+                    format!("{}x{}@{}", a.n1, a.n2, a.dt),
+                    "needs at least 16 cells along x1, 1 along x2 and a time step > 0 \
+                     (or none for no coarse approach)",
+                ));
+            }
         }
         positive("dt", self.dt)?;
         positive("periodic_tol", self.periodic_tol)?;
@@ -180,19 +218,45 @@ mod tests {
     use crate::time::Fidelity;
 
     #[test]
-    fn the_coarse_approach_runs_on_the_direct_solver_at_n2_8() {
+    fn the_coarse_approach_runs_on_the_direct_solver_on_its_own_mesh() {
         let case = CaseSpec::paper(3.2).with_texture(Texture::circular(0.03, 0.06, 10.0));
         for solver in [Method::Direct, Method::Reference] {
             let num = Numerics {
                 solver,
                 ..Fidelity::Paper.numerics_for(&case)
             };
+            let a = num.approach.expect("the paper tier approaches");
             let coarse = num
                 .approach_numerics(&case)
-                .expect("the paper tier approaches");
+                .expect("the paper tier approaches this case");
             assert_eq!(coarse.solver, Method::Direct);
-            assert_eq!((coarse.n1, coarse.n2, coarse.dt), (num.n1, 8, num.dt));
-            assert_eq!(coarse.approach_n2, None);
+            assert_eq!((coarse.n1, coarse.n2, coarse.dt), (a.n1, a.n2, a.dt));
+            assert_eq!(coarse.approach, None);
         }
+    }
+
+    #[test]
+    fn no_coarse_approach_where_it_would_not_be_cheaper() {
+        let case = CaseSpec::paper(3.2).with_texture(Texture::circular(0.03, 0.06, 10.0));
+        let num = Numerics {
+            approach: Some(Approach {
+                n1: 1024,
+                n2: 64,
+                dt: 1e-4,
+            }),
+            ..Numerics::default()
+        };
+        // Never finer than the run itself: clipped to its mesh and step, which is no approach.
+        assert_eq!(num.approach_numerics(&case), None);
+        // Nor for an untextured liner (its steady balance needs none).
+        let coarse = Numerics {
+            approach: Some(Approach {
+                n1: 128,
+                n2: 4,
+                dt: 1.6e-3,
+            }),
+            ..Numerics::default()
+        };
+        assert_eq!(coarse.approach_numerics(&CaseSpec::paper(3.2)), None);
     }
 }

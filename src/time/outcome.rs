@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::numerics::TimeScheme;
 use super::steady::SteadyError;
 use super::transient::CONTACT_Z;
 use crate::model::friction::Friction;
@@ -45,6 +46,11 @@ pub struct Outcome {
     /// (`Numerics::approach_n2`); 0 without one. Absent in records made before it existed.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub approach_steps: usize,
+    /// The film's time scheme of the last window: the run's own, or backward Euler where a
+    /// BDF2 run did not settle (`time::BDF2_PATIENCE`). Absent (backward Euler) in records
+    /// made before BDF2 existed, and for steady solves.
+    #[serde(default, skip_serializing_if = "TimeScheme::is_backward_euler")]
+    pub scheme: TimeScheme,
 }
 
 fn is_zero(n: &usize) -> bool {

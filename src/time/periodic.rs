@@ -19,12 +19,10 @@ pub fn window_periods(period: f64) -> usize {
     ((MIN_WINDOW / period) - 1e-9).ceil().max(1.0) as usize
 }
 
-/// The window means of a run since its start or its last jump, and the stopping rule.
+/// The window means of a run (on its own mesh), and the stopping rule.
 #[derive(Default)]
 pub(crate) struct Windows {
     history: Vec<PeriodMeans>,
-    /// Windows before this index precede the last jump: the rule reads only later ones.
-    since_jump: usize,
 }
 
 impl Windows {
@@ -32,14 +30,9 @@ impl Windows {
         self.history.push(m);
     }
 
-    /// The windows since the start or the last jump.
-    pub fn fresh(&self) -> &[PeriodMeans] {
-        &self.history[self.since_jump..]
-    }
-
-    /// After a jump: the rule starts afresh, so the reported regime is a simulated one.
-    pub fn restart(&mut self) {
-        self.since_jump = self.history.len();
+    /// The windows so far.
+    pub fn all(&self) -> &[PeriodMeans] {
+        &self.history
     }
 
     /// Windows run in all.
@@ -55,7 +48,7 @@ impl Windows {
     /// window ends, so that one lucky cancellation between a decaying oscillation and a
     /// drift does not stop the run.
     pub fn error(&self) -> f64 {
-        let fresh = self.fresh();
+        let fresh = self.all();
         periodic_error(fresh).max(if fresh.len() > 3 {
             periodic_error(&fresh[..fresh.len() - 1])
         } else {
@@ -64,10 +57,23 @@ impl Windows {
     }
 
     /// Whether the run has reached its periodic regime at estimated distance `err`: at
-    /// least `min_periods` (and 4) fresh windows, and the distance within the tolerance.
+    /// least `min_periods` (and 4) windows, and the distance within the tolerance.
     pub fn periodic(&self, err: f64, num: &Numerics) -> bool {
-        self.fresh().len() >= num.min_periods.max(4) && err <= num.periodic_tol
+        self.history.len() >= num.min_periods.max(4) && err <= num.periodic_tol
     }
+}
+
+/// Whether a run's estimated distance from the periodic regime has stopped falling: after
+/// `patience` windows, the best of the last `patience / 2` is not half the best before them.
+/// A settling run's distance falls geometrically (by 0.5–0.75 a window in the benchmark
+/// cases), a spurious oscillation's or a steady drift's stays put.
+pub(crate) fn stalled(errors: &[f64], patience: usize) -> bool {
+    if errors.len() < patience {
+        return false;
+    }
+    let (early, late) = errors.split_at(errors.len() - patience / 2);
+    let best = |e: &[f64]| e.iter().copied().fold(f64::INFINITY, f64::min);
+    best(late) > 0.5 * best(early)
 }
 
 /// Means over one averaging window (whole texture periods).
@@ -78,7 +84,9 @@ pub(crate) struct PeriodMeans {
     pub z_mean: f64,
     pub z_min: f64,
     pub z_max: f64,
-    /// Oil the film holds at the window's end (∫ h·θ dx1 dx2 over the domain, nondimensional).
+    /// Oil the film holds at the window's start and end (∫ h·θ dx1 dx2 over the domain,
+    /// nondimensional).
+    pub start_content: f64,
     pub content: f64,
     /// Oil through the domain over the window at the end's boundary flow rates (the larger
     /// of inflow and outflow, times the window's length): the scale of a content change.
@@ -93,6 +101,7 @@ impl PeriodMeans {
             z_mean: 0.0,
             z_min: f64::INFINITY,
             z_max: f64::NEG_INFINITY,
+            start_content: 0.0,
             content: 0.0,
             throughput: 0.0,
         }
@@ -135,8 +144,7 @@ impl SlowMode {
         (y2 - self.alpha * y1 - self.beta * y0) / (1.0 - self.alpha - self.beta)
     }
 
-    /// |λ| of the two roots of λ² = αλ + β, larger first (equal for a complex pair): the
-    /// decay per window of the slower and the faster mode.
+    /// |λ| of the two roots of λ² = αλ + β, larger first (equal for a complex pair).
     fn radii(&self) -> (f64, f64) {
         let (a, b) = (self.alpha, self.beta);
         let disc = a * a + 4.0 * b;
@@ -154,32 +162,6 @@ impl SlowMode {
     pub fn radius(&self) -> f64 {
         self.radii().0
     }
-
-    /// Smaller |λ| (equal to the larger for a complex pair).
-    pub fn second_radius(&self) -> f64 {
-        self.radii().1
-    }
-}
-
-/// The per-period decay ratio r of the period-mean Z when the last four periods show one
-/// monotone geometric mode (three successive ratios within 2 % of each other, 0.5 < r < 0.99,
-/// and the changes still well above round-off); None otherwise (oscillating or noisy).
-pub(crate) fn slow_mode_ratio(h: &[PeriodMeans]) -> Option<SlowMode> {
-    if h.len() < 5 {
-        return None;
-    }
-    let k = h.len() - 1;
-    let d: Vec<f64> = (k - 3..=k).map(|i| h[i].z_mean - h[i - 1].z_mean).collect();
-    if d.iter().any(|x| x.abs() < 1e-9 * h[k].z_mean.abs()) {
-        return None;
-    }
-    let r: Vec<f64> = d.windows(2).map(|w| w[1] / w[0]).collect();
-    let steady = r.iter().all(|&x| x > 0.5 && x < 0.99)
-        && r.windows(2).all(|w| (w[1] - w[0]).abs() <= 0.02 * w[1]);
-    steady.then_some(SlowMode {
-        alpha: r[2],
-        beta: 0.0,
-    })
 }
 
 /// The ring's slow mode as a damped oscillation: coefficients (α, β) of the recurrence
@@ -187,7 +169,7 @@ pub(crate) fn slow_mode_ratio(h: &[PeriodMeans]) -> Option<SlowMode> {
 /// period-mean Z̄ (six period means), when it fits them (RMS residual ≤ [`PAIR_FIT`] of the
 /// changes) and decays (both roots of λ² = αλ + β inside |λ| < [`PAIR_RADIUS`]); None
 /// otherwise, and for one monotone mode (the changes then lie on one line and β is
-/// undetermined: [`slow_mode_ratio`] and the geometric tail read it).
+/// undetermined: the geometric tail reads it).
 ///
 /// Why: near its periodic regime a textured ring settles by a complex pair of slow modes
 /// (Case III: |λ| ≈ 0.49 a period, a pseudo-period of ≈ 5 periods; Case I: 0.65, 7.5). Its
@@ -248,19 +230,42 @@ pub(crate) fn periodic_error(h: &[PeriodMeans]) -> f64 {
         return f64::INFINITY;
     }
     let k = h.len() - 1;
-    oil_imbalance(&h[k - 1], &h[k]).max(motion_error(h))
+    oil_imbalance(&h[k]).max(motion_error(h))
 }
 
-/// The change of the oil the film holds over the last window, relative to the oil through
-/// the domain in it: zero in the periodic regime (the film holds the same oil at every window
+/// Estimated relative distance from the periodic regime of an accelerated run (each window
+/// starts where the acceleration put it, not where the last one ended), never less than the
+/// film's oil imbalance over the last window ([`oil_imbalance`]):
+/// - the acceleration's residual `residual`, the state's change over the last window
+///   (G(x) − x: θ at every node, and the ring's relative change counted as the whole film);
+/// - the change of the window means f̄ and Z̄ from the window before, relative. Why this
+///   measures the distance: the acceleration moves each start far closer to the fixed point
+///   than the last, so the change is nearly the previous window's whole distance, and the
+///   last window is nearer still.
+///
+/// Infinite before three windows.
+pub(crate) fn accelerated_error(h: &[PeriodMeans], residual: f64) -> f64 {
+    if h.len() < 3 {
+        return f64::INFINITY;
+    }
+    let (a, b) = (&h[h.len() - 2], &h[h.len() - 1]);
+    let change = |x: f64, y: f64| (y - x).abs() / y.abs().max(f64::MIN_POSITIVE);
+    change(a.friction.total(), b.friction.total())
+        .max(change(a.z_mean, b.z_mean))
+        .max(residual)
+        .max(oil_imbalance(b))
+}
+
+/// The change of the oil the film holds over a window, relative to the oil through the
+/// domain in it: zero in the periodic regime (the film holds the same oil at every window
 /// end). Why: a ring that passes more oil than arrives (deep pockets carry it) drains the
 /// flooded bank in front of it at a steady rate, and with it Z and f̄ creep by less than the
 /// tolerance per window for as long as the bank lasts, then settle elsewhere (R = 0.2,
 /// pockets 0.02 / 0.04 / 30 µm at `fast`: 43 % more oil out than in, Z̄ creeping by 4e-6 a
 /// window for ≈ 190 windows, after which f̄ is 17 % lower; the motion alone had passed for
 /// periodic at window 36).
-fn oil_imbalance(before: &PeriodMeans, now: &PeriodMeans) -> f64 {
-    (now.content - before.content).abs() / now.throughput.max(f64::MIN_POSITIVE)
+pub(crate) fn oil_imbalance(w: &PeriodMeans) -> f64 {
+    (w.content - w.start_content).abs() / w.throughput.max(f64::MIN_POSITIVE)
 }
 
 /// The periodic error of the motion: f̄ and Z̄ (see [`periodic_error`]).

@@ -1,16 +1,20 @@
 //! A run: a case brought to its periodic regime (docs/model.md §6), or, for an untextured
 //! liner, the steady 1D force balance. The loop steps window by window; the stopping rule
-//! ([`super::periodic`]), the accelerator ([`super::jump`]) and the observers sit beside it.
+//! ([`super::periodic`]), the accelerator ([`super::anderson`]) and the observers sit beside
+//! it.
 
 use std::time::Instant;
 
+use super::anderson::Anderson;
 use super::approach::start_transient;
-use super::jump::Extrapolator;
 use super::numerics::Numerics;
+use super::numerics::TimeScheme;
 use super::outcome::{Outcome, Progress, RunResult, SeriesRow, SolveError};
-use super::periodic::{window_periods, PeriodMeans, Windows};
+use super::periodic::{
+    accelerated_error, oil_imbalance, stalled, window_periods, PeriodMeans, Windows,
+};
 use super::steady::steady_outcome;
-use super::transient::Transient;
+use super::transient::{Transient, BDF2_PATIENCE};
 use crate::model::case::CaseSpec;
 use crate::solve::FilmMethod;
 
@@ -97,16 +101,28 @@ impl Transient {
         let start = Instant::now();
         let mut series = record_series.then(Vec::new);
         let mut windows = Windows::default();
-        let mut accelerator = Extrapolator::default();
         let wp = self.window_periods();
+        let window = self.dt * (self.steps_per_period * wp) as f64;
+        let mut anderson = num.accelerate.then(|| Anderson::new(window));
+        // Windows run before a fall-back to backward Euler (they count in the periods).
+        let mut earlier = 0;
+        let mut errors = Vec::new();
         let (converged, periodic_error) = loop {
+            if let Some(a) = anderson.as_mut() {
+                a.before_window(self);
+            }
             let means = self.advance_window(wp, series.as_mut(), watch)?;
             windows.push(means);
-            accelerator.after_window(self, &mut windows, num);
-            let err = windows.error();
+            let err = match anderson.as_mut() {
+                Some(a) => {
+                    a.after_window(self, oil_imbalance(windows.last()));
+                    accelerated_error(windows.all(), a.residual)
+                }
+                None => windows.error(),
+            };
             let last = windows.last();
             watch.window(&Progress {
-                period: self.approach.periods + windows.len() * wp,
+                period: self.approach.periods + (earlier + windows.len()) * wp,
                 t: self.t,
                 f_mean: last.friction.total(),
                 z_mean: last.z_mean,
@@ -115,11 +131,20 @@ impl Transient {
             if windows.periodic(err, num) {
                 break (true, err);
             }
+            errors.push(err);
+            if self.scheme == TimeScheme::Bdf2 && stalled(&errors, BDF2_PATIENCE) {
+                // A new map: its windows and the acceleration's pairs start afresh.
+                self.fall_back_to_backward_euler();
+                earlier += windows.len();
+                windows = Windows::default();
+                errors.clear();
+                anderson = num.accelerate.then(|| Anderson::new(window));
+            }
             if self.t + 1e-12 >= num.t_max {
                 break (false, err);
             }
         };
-        let periods = self.approach.periods + windows.len() * wp;
+        let periods = self.approach.periods + (earlier + windows.len()) * wp;
         let outcome = self.outcome(windows.last(), periods, converged, periodic_error, start);
         let extra = self
             .extra_theta_s
@@ -149,6 +174,7 @@ impl Transient {
     ) -> Result<PeriodMeans, SolveError> {
         let n = self.steps_per_period * wp;
         let mut acc = PeriodMeans::empty();
+        let start_content = self.oil_held().0;
         for _ in 0..n {
             self.step()?;
             watch.step(self);
@@ -160,6 +186,7 @@ impl Transient {
         }
         let (content, flow) = self.oil_held();
         Ok(PeriodMeans {
+            start_content,
             content,
             throughput: flow * n as f64 * self.dt,
             ..acc.finish(n)
@@ -185,7 +212,9 @@ impl Transient {
             z_max: last.z_max,
             c_min: self.scene.contact.clearance_um(last.z_min),
             periods,
-            steps: self.steps,
+            // The steps on this mesh and those of a coarse approach before it (this run's
+            // count starts at the texture period the approach ended on).
+            steps: self.steps + self.approach.steps - self.approach.periods * self.steps_per_period,
             converged,
             periodic_error,
             method: "transient-2d".into(),
@@ -195,6 +224,7 @@ impl Transient {
             max_residual: self.max_residual,
             wall_time_s: self.approach.wall_time_s + start.elapsed().as_secs_f64(),
             approach_steps: self.approach.steps,
+            scheme: self.scheme,
         }
     }
 }

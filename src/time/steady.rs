@@ -4,6 +4,7 @@
 
 use std::time::Instant;
 
+use super::numerics::TimeScheme;
 use super::outcome::{Outcome, RunResult, SolveError};
 use crate::mesh::integrals::friction;
 use crate::mesh::{FilmState, Grid, Scene};
@@ -182,6 +183,7 @@ pub fn steady_outcome(case: &CaseSpec, n1: usize) -> Result<RunResult, SolveErro
         max_residual: 0.0,
         wall_time_s: start.elapsed().as_secs_f64(),
         approach_steps: 0,
+        scheme: TimeScheme::BackwardEuler,
     };
     Ok(RunResult {
         outcome,

@@ -1,10 +1,11 @@
-//! Unit tests of the time layer: the stopping rule, the jump, what a transient keeps from
-//! one period to the next.
+//! Unit tests of the time layer: the stopping rules, what a transient keeps from one period
+//! to the next.
 
-use super::jump::{worth_a_jump, PeriodEnd};
 use super::memory::TextureShift;
 use super::numerics::Numerics;
-use super::periodic::{periodic_error, slow_mode_ratio, slow_pair, PeriodMeans, SlowMode};
+use super::periodic::{
+    accelerated_error, periodic_error, slow_pair, stalled, PeriodMeans, SlowMode,
+};
 use super::transient::Transient;
 use crate::mesh::integrals::{friction, friction_thresholds};
 use crate::mesh::FilmState;
@@ -29,13 +30,12 @@ fn a_damped_oscillation_is_read_to_its_limit() {
     let h = oscillation(12, 0.75, 1.5);
     let mode = slow_pair(&h).expect("a clean damped oscillation fits");
     assert!((mode.radius() - 0.75).abs() < 1e-9, "{mode:?}");
-    assert!((mode.second_radius() - 0.75).abs() < 1e-9, "{mode:?}");
     // Two real modes, 0.9 and 0.1: λ² = λ − 0.09.
     let real = SlowMode {
         alpha: 1.0,
         beta: -0.09,
     };
-    assert!((real.radius() - 0.9).abs() < 1e-12 && (real.second_radius() - 0.1).abs() < 1e-12);
+    assert!((real.radius() - 0.9).abs() < 1e-12);
     assert!((real.limit(1.0, 2.0, 2.5) - (2.5 - 2.0 + 0.09) / 0.09).abs() < 1e-9);
     // The estimate is the larger of the distance from the limit and the last change.
     let k = h.len() - 1;
@@ -46,9 +46,6 @@ fn a_damped_oscillation_is_read_to_its_limit() {
     let expected = rel(&|m| m.z_mean, 3.0).max(rel(&|m| m.friction.total(), 0.08));
     let est = periodic_error(&h);
     assert!((est / expected - 1.0).abs() < 1e-6, "{est} vs {expected}");
-    // The geometric tail alone cannot read it: the ratio of the last two changes is
-    // negative or above 1 for most windows of a rotating mode.
-    assert!(slow_mode_ratio(&h).is_none());
 }
 
 #[test]
@@ -61,16 +58,61 @@ fn a_film_that_still_gains_or_loses_oil_is_not_periodic() {
             m.z_mean = 3.0;
             m.friction.couette = 0.08;
             m.throughput = 0.5;
-            m.content = 1.0 - 0.005 * k as f64;
+            m.start_content = 1.0 - 0.005 * k as f64;
+            m.content = 1.0 - 0.005 * (k + 1) as f64;
             m
         })
         .collect();
     assert!((periodic_error(&h) - 0.01).abs() < 1e-12);
+    // The same for an accelerated run, whatever its residual says.
+    assert!((accelerated_error(&h, 0.0) - 0.01).abs() < 1e-12);
     let held: Vec<PeriodMeans> = h
         .into_iter()
-        .map(|m| PeriodMeans { content: 1.0, ..m })
+        .map(|m| PeriodMeans {
+            start_content: 1.0,
+            content: 1.0,
+            ..m
+        })
         .collect();
     assert_eq!(periodic_error(&held), 0.0);
+    assert_eq!(accelerated_error(&held, 0.0), 0.0);
+}
+
+#[test]
+fn an_accelerated_run_is_as_far_as_its_last_change_or_residual() {
+    let means = |f: f64, z: f64| {
+        let mut m = PeriodMeans::empty();
+        m.friction.couette = f;
+        m.z_mean = z;
+        m.throughput = 1.0;
+        m
+    };
+    let h = vec![
+        means(0.1, 3.0),
+        means(0.09, 3.3),
+        means(0.0801, 3.003),
+        means(0.08, 3.0),
+    ];
+    // Two windows are too few to read a change from a window that started afresh.
+    assert_eq!(accelerated_error(&h[..2], 0.0), f64::INFINITY);
+    let change = (0.0001f64 / 0.08).max(0.003 / 3.0);
+    assert!((accelerated_error(&h, 1e-6) - change).abs() < 1e-15);
+    assert_eq!(accelerated_error(&h, 0.5), 0.5);
+}
+
+#[test]
+fn a_run_stalls_when_its_distance_stops_halving() {
+    // Settling at 0.75 a window (the slowest benchmark case): never stalled.
+    let settling: Vec<f64> = (0..60).map(|k| 0.1 * 0.75f64.powi(k)).collect();
+    assert!((1..=60).all(|n| !stalled(&settling[..n], 30)));
+    // A spurious oscillation: the distance swings between the same bounds.
+    let swinging: Vec<f64> = (0..30).map(|k| 0.02 + 0.01 * (k as f64).sin()).collect();
+    assert!(!stalled(&swinging[..29], 30));
+    assert!(stalled(&swinging, 30));
+    // Before three windows the distance is unknown (infinite): not a stall on its own.
+    let mut late = vec![f64::INFINITY; 3];
+    late.extend((0..27).map(|k| 0.1 * 0.75f64.powi(k)));
+    assert!(!stalled(&late, 30));
 }
 
 #[test]
@@ -87,7 +129,6 @@ fn the_slow_pair_is_refused_when_it_does_not_describe_the_changes() {
         })
         .collect();
     assert!(slow_pair(&geometric).is_none());
-    assert!(slow_mode_ratio(&geometric).is_some());
     // Growing, or changes that follow no recurrence.
     assert!(slow_pair(&oscillation(12, 1.05, 1.5)).is_none());
     let mut noisy = oscillation(12, 0.75, 1.5);
@@ -98,29 +139,6 @@ fn the_slow_pair_is_refused_when_it_does_not_describe_the_changes() {
             ][i];
     }
     assert!(slow_pair(&noisy).is_none());
-}
-
-#[test]
-fn a_jump_is_weighed_against_a_tight_tolerance_whatever_the_runs() {
-    // A damped oscillation ≈ 1e-4 from its limit, decaying at 0.75 a window: six
-    // windows bring it to ≈ 2e-5, above 1e-5, so the jump pays even for a run at 1e-3,
-    // whose periodic test would still have to watch it decay.
-    let h = oscillation(12, 0.75, 1.5);
-    let mode = slow_pair(&h).expect("a clean damped oscillation fits");
-    let loose = Numerics {
-        periodic_tol: 1e-3,
-        ..Numerics::default()
-    };
-    assert!(worth_a_jump(&mode, &h, &loose));
-    // Far into the decay (≈ 1e-7 from the limit) no tolerance makes it worth a jump.
-    let late = oscillation(40, 0.75, 1.5);
-    let mode = slow_pair(&late).expect("still a clean damped oscillation");
-    assert!(!worth_a_jump(&mode, &late, &loose));
-    let tight = Numerics {
-        periodic_tol: 1e-6,
-        ..Numerics::default()
-    };
-    assert!(!worth_a_jump(&mode, &late, &tight));
 }
 
 /// A transient of Case III's texture on a small mesh, `steps` steps in (two periods and
@@ -161,32 +179,6 @@ fn the_texture_kept_from_a_period_ago_is_the_texture_placed_now() {
     }
     // The kept phases served: every slot is filled.
     assert!(t.placed.slots.iter().all(Option::is_some));
-}
-
-#[test]
-fn a_jump_keeps_the_states_of_the_last_period_as_guesses() {
-    let mut t = case_iii_after(0);
-    let n = t.steps_per_period;
-    let mut ends = Vec::new();
-    for _ in 0..3 {
-        for _ in 0..n {
-            t.step().expect("a coarse Case III steps");
-        }
-        ends.push(PeriodEnd::of(&t));
-    }
-    let mode = SlowMode {
-        alpha: 0.5,
-        beta: 0.0,
-    };
-    assert!(t.jump_to_limit([&ends[0], &ends[1], &ends[2]], mode));
-    // Every phase of the next period still has its state of a period ago (dropping them
-    // cost the period after a jump 2.5× the iterations).
-    assert!(t.period_ago.slots.iter().all(Option::is_some));
-    assert!(t.period_ago.z.iter().all(Option::is_some));
-    // And the run goes on from the jumped state.
-    for _ in 0..n {
-        t.step().expect("the period after a jump steps");
-    }
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! dynamics and the friction, advanced one backward-Euler step at a time.
 
 use super::memory::{PeriodGuess, PlacedTexture, TextureShift};
-use super::numerics::{Numerics, Start};
+use super::numerics::{Numerics, Start, TimeScheme};
 use super::outcome::{SeriesRow, SolveError};
 use super::steady::{solve_untextured, Steady};
 use crate::mesh::integrals::{boundary_flows, friction_thresholds};
@@ -20,6 +20,19 @@ pub const UNTEXTURED_PERIOD: f64 = 0.06;
 /// map, results/stability/).
 pub const MASS_TOL: f64 = 1e-6;
 
+/// Averaging windows a BDF2 run may take on its mesh, without its distance from the periodic
+/// regime halving over the last half of them, before it goes on with backward Euler.
+/// Why: at a Courant number u·dt/Δx1 near 1, BDF2 can settle into a slow spurious oscillation
+/// where backward Euler's damping finds the periodic regime (R = 1.6, pockets 0.005 / 0.01 /
+/// 10 µm at `fast`: f̄ swinging between 0.181 and 0.209 with a period of 2.4 ms, where backward
+/// Euler settles at 0.151 in 102 periods and both schemes at dt = 1e-4 agree on 0.158); 27 of
+/// the paper study's 730 cases did so, most with 20–30 µm pockets on R ≥ 25.6. Every benchmark case settles within 12 windows, a
+/// conformal ring's creep within 20; a run whose distance stalls after 30 (a spurious
+/// oscillation, or a draining oil bank, which takes ≈ 220) finishes with backward Euler, at
+/// its first-order accuracy, and says so (`Outcome::scheme`). A run still settling goes on:
+/// the plain march to 1e-8 takes ≈ 40 windows.
+pub const BDF2_PATIENCE: usize = 30;
+
 /// Contact: the ring is on the liner once Z (its apex's clearance above the plateau, µm) is at
 /// or below this, 1 nm, a few oil molecules: no continuum film (docs/model.md §3's thin-film
 /// model) is left to lubricate. Why not Z ≤ 0: the film iteration closes the gap by at most
@@ -36,6 +49,18 @@ pub struct Transient {
     pub state: FilmState,
     /// φ at the previous time level.
     pub phi_old: Vec<f64>,
+    /// φ one level before that (BDF2), and the old-level term the last step's stencil read:
+    /// φⁿ (backward Euler) or (4φⁿ − φⁿ⁻¹)/3 (BDF2).
+    phi_older: Vec<f64>,
+    phi_eff: Vec<f64>,
+    /// The film's time scheme, the levels solved since the last restart of its history (a
+    /// start, a jump, a new mesh), and 1/dt of the last step's storage term (1/dt, or 1.5/dt
+    /// for BDF2).
+    pub scheme: TimeScheme,
+    levels: usize,
+    inv_dt_eff: f64,
+    /// Whether the last step's storage term read `phi_eff` (BDF2 or a flux correction).
+    eff: bool,
     pub ring: Ring,
     pub ring_state: RingState,
     pub t: f64,
@@ -116,6 +141,12 @@ impl Transient {
         Transient {
             case: case.clone(),
             phi_old: state.phi.clone(),
+            phi_older: state.phi.clone(),
+            phi_eff: Vec::new(),
+            scheme: num.scheme,
+            levels: 0,
+            inv_dt_eff: 1.0 / dt,
+            eff: false,
             state,
             ring: Ring {
                 mass: case.mass,
@@ -171,14 +202,69 @@ impl Transient {
         Step {
             grid: &self.scene.grid,
             gap: &self.scene.gap,
-            phi_old: &self.phi_old,
-            inv_dt: 1.0 / self.dt,
+            phi_old: self.old_level(),
+            inv_dt: self.inv_dt_eff,
             boundary: self.case.film_boundary(),
             ring: None,
         }
     }
 
-    /// One backward-Euler step of the film with the implicit Newmark ring update.
+    /// The old-level film the last step's storage term read.
+    fn old_level(&self) -> &[f64] {
+        if !self.eff {
+            &self.phi_old
+        } else {
+            &self.phi_eff
+        }
+    }
+
+    /// Restarts the time scheme's history: the next step is backward Euler (after the state
+    /// was moved: a jump, another mesh).
+    pub fn restart_history(&mut self) {
+        self.levels = 0;
+    }
+
+    /// Goes on with backward Euler (see [`BDF2_PATIENCE`]): the history restarts and the
+    /// factors kept a period ago, of BDF2's storage coefficient, are dropped.
+    pub fn fall_back_to_backward_euler(&mut self) {
+        self.scheme = TimeScheme::BackwardEuler;
+        self.restart_history();
+        self.set_period_guess(!self.period_ago.slots.is_empty());
+    }
+
+    /// Keeps the time scheme's history after the film was moved from `before` to the
+    /// present `state.phi` on the same mesh (an extrapolation along slow modes): the previous
+    /// level moves by the same change (kept ≥ 0), so BDF2 continues instead of restarting
+    /// with a backward-Euler step, whose first-order error a periodic orbit would otherwise
+    /// carry at every window.
+    pub fn shift_history(&mut self, before: &[f64]) {
+        for ((old, &now), &b) in self.phi_old.iter_mut().zip(&self.state.phi).zip(before) {
+            *old = (*old + now - b).max(0.0);
+        }
+    }
+
+    /// The storage term of the next step (docs/solver.md, "Time scheme"): BDF2 when the
+    /// scheme asks for it, the two previous levels are at hand and its old-level term
+    /// (4φⁿ − φⁿ⁻¹)/3 (into `phi_eff`) is nowhere negative; else backward Euler. Returns
+    /// 1/dt of the storage term (1.5/dt for BDF2).
+    fn storage_term(&mut self) -> f64 {
+        if self.scheme == TimeScheme::Bdf2 && self.levels >= 1 {
+            self.phi_eff.clear();
+            self.phi_eff.extend(
+                self.phi_old
+                    .iter()
+                    .zip(&self.phi_older)
+                    .map(|(&now, &before)| (4.0 * now - before) / 3.0),
+            );
+            if self.phi_eff.iter().all(|&p| p >= 0.0) {
+                return 1.5 / self.dt;
+            }
+        }
+        1.0 / self.dt
+    }
+
+    /// One step of the film (backward Euler or BDF2 on φ) with the implicit Newmark ring
+    /// update.
     pub fn step(&mut self) -> Result<(), SolveError> {
         let t_new = (self.steps + 1) as f64 * self.dt;
         // The texture placed by its phase within the period, so that the gap is the same to
@@ -188,20 +274,33 @@ impl Transient {
         let slot = (self.steps + 1) % self.steps_per_period;
         self.placed
             .place(&mut self.scene, slot, slot as f64 * self.dt);
+        // The last two levels move down (φⁿ⁻¹, φⁿ); the third buffer takes the guess.
+        std::mem::swap(&mut self.phi_older, &mut self.phi_old);
         std::mem::swap(&mut self.phi_old, &mut self.state.phi);
+        self.inv_dt_eff = self.storage_term();
+        self.eff = self.inv_dt_eff != 1.0 / self.dt;
+        // Factors kept a period ago are of the scheme's own storage term: a restart step of
+        // BDF2 (backward Euler) neither takes nor keeps them.
+        let regular = (self.inv_dt_eff != 1.0 / self.dt) == (self.scheme == TimeScheme::Bdf2);
         let s = self.ring_state;
         let link = self.ring.link(&s, self.dt);
         let mut z = self.initial_guess(&s, t_new)?;
         let step = Step {
             grid: &self.scene.grid,
             gap: &self.scene.gap,
-            phi_old: &self.phi_old,
-            inv_dt: 1.0 / self.dt,
+            phi_old: if !self.eff {
+                &self.phi_old
+            } else {
+                &self.phi_eff
+            },
+            inv_dt: self.inv_dt_eff,
             boundary: self.case.film_boundary(),
             ring: Some(link),
         };
         let level = self.steps + 1;
-        self.period_ago.lend_factors(level, self.solver.as_mut());
+        if regular {
+            self.period_ago.lend_factors(level, self.solver.as_mut());
+        }
         let stats = self
             .solver
             .solve(&step, &mut self.state, &mut z)
@@ -210,7 +309,9 @@ impl Transient {
                 t: t_new,
                 source,
             })?;
-        self.period_ago.keep_factors(level, self.solver.as_mut());
+        if regular {
+            self.period_ago.keep_factors(level, self.solver.as_mut());
+        }
         if z <= CONTACT_Z {
             return Err(SolveError::Contact {
                 case: self.case.label(),
@@ -222,6 +323,7 @@ impl Transient {
         self.check_mass(t_new)?;
         self.t = t_new;
         self.steps += 1;
+        self.levels += 1;
         self.period_ago.store(
             self.steps,
             &self.state,
@@ -301,11 +403,11 @@ impl Transient {
     }
 
     /// This run, after `done` (its periods, wall time) on a coarse mesh, carried over to the
-    /// mesh of `num` with `solver`: same N1 and time step, another N2. The ring state, time, step count and
-    /// tallies go on as they are; the film's saturation θ and pressure are interpolated in x2
-    /// (time/approach.rs) at the current texture phase, and that film is
-    /// also the new mesh's previous time level. The new mesh's first step then solves its own
-    /// film; the mismatch decays like any start's.
+    /// mesh and time step of `num` with `solver`, at the end of a texture period. The ring
+    /// state, time and tallies go on as they are; the film's saturation θ and pressure are
+    /// interpolated (time/approach.rs) at the texture's phase, and that film is also the new
+    /// mesh's previous time level. The new mesh's first step then solves its own film; the
+    /// mismatch decays like any start's.
     pub fn refined(
         &self,
         num: &Numerics,
@@ -319,19 +421,21 @@ impl Transient {
         };
         let mut fine = Transient::with_solver(&self.case, &fresh, solver);
         debug_assert_eq!(
-            (fine.scene.grid.n1, fine.steps_per_period),
-            (self.scene.grid.n1, self.steps_per_period)
+            self.steps % self.steps_per_period,
+            0,
+            "hand over at a period end"
         );
-        let phase = (self.steps % self.steps_per_period) as f64 * self.dt;
-        fine.scene.place(phase);
+        let periods = self.steps / self.steps_per_period;
+        fine.scene.place(0.0);
         let mut coarse = self.scene.clone();
-        coarse.place(phase);
+        coarse.place(0.0);
         fine.state =
-            super::approach::interpolate_x2(&coarse, &self.state, self.ring_state.z, &fine.scene);
+            super::approach::interpolate(&coarse, &self.state, self.ring_state.z, &fine.scene);
         fine.phi_old.copy_from_slice(&fine.state.phi);
+        fine.restart_history();
+        fine.steps = periods * fine.steps_per_period;
+        fine.t = fine.steps as f64 * fine.dt;
         fine.ring_state = self.ring_state;
-        fine.t = self.t;
-        fine.steps = self.steps;
         fine.total_iterations = self.total_iterations;
         fine.max_residual = self.max_residual;
         fine.max_mass_defect = self.max_mass_defect;
@@ -363,11 +467,21 @@ impl Transient {
     /// φ ≈ 1000 µm, and would lose the per-step change to summation round-off.)
     pub fn mass_defect(&self) -> f64 {
         let g = &self.scene.grid;
-        let change: f64 = (g.n2..g.n1 * g.n2)
-            .map(|k| self.state.phi[k] - self.phi_old[k])
-            .sum::<f64>()
-            * g.dx
-            * g.dy;
+        let change: f64 = if !self.eff {
+            (g.n2..g.n1 * g.n2)
+                .map(|k| self.state.phi[k] - self.phi_old[k])
+                .sum::<f64>()
+                * g.dx
+                * g.dy
+        } else {
+            // BDF2: 1.5·Σ(φⁿ⁺¹ − (4φⁿ − φⁿ⁻¹)/3)·area is what a step holds to the flows.
+            (g.n2..g.n1 * g.n2)
+                .map(|k| self.state.phi[k] - self.phi_eff[k])
+                .sum::<f64>()
+                * g.dx
+                * g.dy
+                * (self.inv_dt_eff * self.dt)
+        };
         let (inflow, outflow) = boundary_flows(
             g,
             &self.scene.gap,

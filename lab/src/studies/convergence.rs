@@ -1,9 +1,9 @@
 //! Mesh and time-step convergence for the paper's convergence case (§3.3: Case I texture,
 //! R = 0.8), meshes refined together with dt (dt ∝ dx): `texopt-lab convergence`.
 //!
-//! `run MESH DT [--solver NAME] [--approach N2]` runs one mesh into results/convergence/
-//! (`--solver pt-multigrid` for the finest, where the band LU is too slow; `--approach N2`
-//! reaches the periodic regime first on N1×N2 cells: the periodic answer does not depend on
+//! `run MESH DT [--solver NAME] [--approach N1xN2@DT]` runs one mesh into results/convergence/
+//! (`--solver pt-multigrid` for the finest, where the band LU is too slow; `--approach`
+//! reaches the periodic regime first on that coarser mesh and step: the answer does not depend on
 //! the start); `report` writes the table and Fig. 4 from the runs there.
 //!
 //! Each run writes `run_<mesh>.json` (outcome, numerics, solver) and `boundary_<mesh>.csv`: per
@@ -59,12 +59,10 @@ fn run(mesh: &str, dt: f64, opts: &[String]) -> Result<(), String> {
     for pair in opts.chunks(2) {
         match pair {
             [k, v] if k == "--solver" => solver = Solver::parse(v)?,
-            [k, v] if k == "--approach" => {
-                num.approach_n2 = Some(v.parse().map_err(|_| "--approach takes a cell count")?)
-            }
+            [k, v] if k == "--approach" => num.approach = Some(super::parse_approach(v)?),
             _ => {
                 return Err(format!(
-                    "unknown option {pair:?}: --solver NAME | --approach N2"
+                    "unknown option {pair:?}: --solver NAME | --approach N1xN2@DT"
                 ))
             }
         }
@@ -114,12 +112,12 @@ fn run(mesh: &str, dt: f64, opts: &[String]) -> Result<(), String> {
 /// The solver of a run as the table names it: the film method, and the coarse approach's
 /// mesh and steps when the run had one (they count in the run's steps and time).
 fn solver_name(r: &RunRecord) -> String {
-    match r.numerics.approach_n2 {
+    match &r.numerics.approach {
         Some(a) => format!(
-            "{} after {} steps on {}×{a}",
+            "{} after {} steps on {}",
             r.solver.name(),
             r.outcome.approach_steps,
-            r.numerics.n1
+            super::approach_name(a)
         ),
         None => r.solver.name().to_string(),
     }

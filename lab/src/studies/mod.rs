@@ -1,6 +1,8 @@
 //! The lab's studies, run by `texopt-lab STUDY …`: each writes under `results/<study>/`.
 
 pub mod convergence;
+pub mod deep_pockets;
+pub mod references;
 pub mod speed;
 pub mod stability;
 pub mod where_time_goes;
@@ -35,6 +37,12 @@ impl RunRecord {
         };
         if let Some(n) = v["numerics"].as_object_mut() {
             n.insert("solver".into(), "direct".into());
+            // Older records name their coarse approach by its cells across alone (on the
+            // run's own N1 and time step).
+            if let Some(n2) = n.remove("approach_n2") {
+                let approach = serde_json::json!({"n1": n["n1"], "n2": n2, "dt": n["dt"]});
+                n.entry("approach").or_insert(approach);
+            }
         }
         Ok(RunRecord {
             case: v["case"].as_str().unwrap_or("case-I").to_string(),
@@ -66,6 +74,22 @@ impl RunRecord {
             }
         }
         Ok(runs)
+    }
+
+    /// Appends this record as one line of the JSON-lines file `path` (its folder made if
+    /// missing). One write per line: runs on both cores append to the same file.
+    pub fn append(&self, path: &str) -> Result<(), String> {
+        if let Some(dir) = std::path::Path::new(path).parent() {
+            fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        }
+        let line = serde_json::to_string(self).map_err(|e| e.to_string())?;
+        let mut f = fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(path)
+            .map_err(|e| format!("{path}: {e}"))?;
+        std::io::Write::write_all(&mut f, format!("{line}\n").as_bytes())
+            .map_err(|e| format!("{path}: {e}"))
     }
 }
 
@@ -118,4 +142,21 @@ pub fn run_case(
         on_step: Some(on_step),
     };
     simulate_with(case, num, &opts, &mut watch).map_err(|e| e.to_string())
+}
+
+/// A coarse approach written N1xN2@DT (as texopt's `--approach`).
+pub fn parse_approach(s: &str) -> Result<texopt::time::Approach, String> {
+    let bad = || format!("an approach is N1xN2@DT (e.g. 128x4@1.6e-3), not {s:?}");
+    let (mesh, dt) = s.split_once('@').ok_or_else(bad)?;
+    let (a, b) = mesh.split_once('x').ok_or_else(bad)?;
+    Ok(texopt::time::Approach {
+        n1: a.parse().map_err(|_| bad())?,
+        n2: b.parse().map_err(|_| bad())?,
+        dt: dt.parse().map_err(|_| bad())?,
+    })
+}
+
+/// An approach as tables name it.
+pub fn approach_name(a: &texopt::time::Approach) -> String {
+    format!("{}×{}@{}", a.n1, a.n2, a.dt)
 }
