@@ -36,6 +36,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         jobs: 2,
         retry_failed: false,
         progress: false,
+        limits: Default::default(),
     };
     let (_, results) = sweep::run(&jobs, &cache, &options, &AtomicBool::new(false))?;
     // Each ring's plain liner comes first among its jobs.

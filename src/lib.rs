@@ -19,6 +19,7 @@ pub mod cli;
 pub mod mesh;
 pub mod model;
 pub mod optimise;
+pub mod output;
 pub mod plot;
 pub mod solve;
 pub mod study;

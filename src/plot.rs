@@ -231,7 +231,11 @@ fn least_covered(
 
 /// Writes an x–y chart of the series to `path` (PNG, 900×600).
 pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
-    let err = |e: &dyn std::fmt::Display| format!("plot {}: {e}", path.display());
+    crate::output::atomically(path, |tmp| draw(tmp, chart, series))
+}
+
+fn draw(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
+    let err = |e: &dyn std::fmt::Display| e.to_string();
     let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
     let all = || series.iter().flat_map(|s| s.points.iter());

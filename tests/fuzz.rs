@@ -33,6 +33,7 @@ proptest! {
         let n1 = (0.2 / l1.min(0.05)).ceil().max(48.0) as usize;
         let mut num = Numerics { n1, n2: 2, dt: 2e-3, t_max: 0.3, periodic_tol: 1e-3, ..Numerics::default() };
         num.resolve_pockets(&case, texopt::time::POCKET_CELLS);
+        num.fit_step_to_period(&case);
         if let Err(e) = case.validate(true) {
             // Refused with a typed InputError before any simulation (a ring radius below
             // half the ring width).

@@ -34,6 +34,8 @@ fn settings(r: f64, w_min_um: f64) -> Settings {
             bounds: Bounds {
                 l1: (0.005, 0.03),
                 l2: (0.005, 0.03),
+                // 8 steps a period at the quick look's dt = 1.6e-3 at least.
+                per: (0.0128, 0.06),
                 ..Bounds::default()
             },
             cons: Constraints {
@@ -56,6 +58,7 @@ fn settings(r: f64, w_min_um: f64) -> Settings {
         },
         balanced: vec![0.5],
         jobs: 2,
+        limits: texopt::time::Limits::default(),
         progress: false,
         out_dir: None,
     }
@@ -88,9 +91,13 @@ fn check_contracts(r: &Report) {
 #[test]
 fn large_ring_optimum_is_a_close_packed_array_and_reruns_are_free() {
     let c = cache("large");
-    // The paper's bounds (l ≥ 0.0025 cm needs 128 cells along x1 to resolve the pocket).
+    // The paper's bounds (l ≥ 0.0025 cm needs 128 cells along x1 to resolve the pocket),
+    // periods from 0.0128 cm (8 steps a period at the quick look's dt).
     let mut s = settings(5.0, 0.0);
-    s.space.bounds = Bounds::default();
+    s.space.bounds = Bounds {
+        per: (0.0128, 0.06),
+        ..Bounds::default()
+    };
     s.overrides.n1 = Some(128);
     let r = run(&s, &c);
     check_contracts(&r);
@@ -146,7 +153,7 @@ fn bad_optimiser_inputs_are_refused_with_exit_2_and_nothing_written() {
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(&bad_config, "l1 = [0.005, 0.03]\ncolour = 3\n").unwrap();
     let missing = dir.join("missing.toml");
-    let cases: [(&[&str], &str); 14] = [
+    let cases: [(&[&str], &str); 16] = [
         (
             &["--config", bad_config.to_str().unwrap()],
             "unknown field `colour`",
@@ -162,7 +169,12 @@ fn bad_optimiser_inputs_are_refused_with_exit_2_and_nothing_written() {
         (&["--balanced", "1.5"], "strictly between 0 and 1"),
         (&["--particles", "1"], "--particles"),
         (&["--max-area", "0.9"], "--max-area"),
-        (&["--jobs", "0"], "--jobs 0"),
+        (
+            &["--jobs", "0"],
+            "'--jobs <N>': must be a whole number from 1 to 256",
+        ),
+        (&["--jobs", "100000"], "from 1 to 256"),
+        (&["--dt", "0.06"], "--dt 0.06: gives only 1 time steps"),
         (&["--w-min", "-5"], "--w-min"),
         (&["--max-depth-ratio", "0"], "--max-depth-ratio"),
         (&["--mesh", "8x2"], "--mesh"),
@@ -246,6 +258,8 @@ fn a_killed_search_resumes_through_the_cache_with_the_same_answer() {
             "0.005..0.03",
             "--l2",
             "0.005..0.03",
+            "--per",
+            "0.0128..0.06",
             "--search-fidelity",
             "fast",
             "--jobs",

@@ -45,19 +45,19 @@ pub struct OptimiseArgs {
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// Range of the pocket semiaxis along sliding (cm) [default: 0.0025..0.03].
-    #[arg(long, value_name = "LO..HI", value_parser = parse_range)]
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range, allow_hyphen_values = true)]
     pub l1: Option<(f64, f64)>,
     /// Range of the pocket semiaxis across sliding (cm) [default: 0.0025..0.03].
-    #[arg(long, value_name = "LO..HI", value_parser = parse_range)]
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range, allow_hyphen_values = true)]
     pub l2: Option<(f64, f64)>,
     /// Range of the texture period along sliding (cm) [default: 0.005..0.06].
-    #[arg(long, value_name = "LO..HI", value_parser = parse_range)]
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range, allow_hyphen_values = true)]
     pub per: Option<(f64, f64)>,
     /// Make the period across sliding a free variable in this range (cm) [default: width = per].
-    #[arg(long = "free-width", value_name = "LO..HI", value_parser = parse_range)]
+    #[arg(long = "free-width", value_name = "LO..HI", value_parser = parse_range, allow_hyphen_values = true)]
     pub free_width: Option<(f64, f64)>,
     /// Range of the pocket depth (µm) [default: 2..30].
-    #[arg(long, value_name = "LO..HI", value_parser = parse_range)]
+    #[arg(long, value_name = "LO..HI", value_parser = parse_range, allow_hyphen_values = true)]
     pub depth: Option<(f64, f64)>,
     /// Least wall thickness between neighbouring pockets (µm): per − 2·l1 and width − 2·l2
     /// [default: 10].
@@ -99,9 +99,11 @@ pub struct OptimiseArgs {
     /// cache) [default: 1].
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Worker threads [default: all cores].
-    #[arg(long, value_name = "N")]
+    /// Worker threads, 1 to 256 [default: all cores].
+    #[arg(long, value_name = "N", value_parser = parse_jobs)]
     pub jobs: Option<usize>,
+    #[command(flatten)]
+    pub limits: LimitArgs,
     /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
     #[arg(long, value_name = "FILE")]
     pub cache: Option<PathBuf>,
@@ -118,10 +120,15 @@ pub struct OptimiseArgs {
 #[derive(serde::Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields)]
 pub(super) struct OptimiseFile {
+    #[serde(default, deserialize_with = "bounds")]
     pub(super) l1: Option<(f64, f64)>,
+    #[serde(default, deserialize_with = "bounds")]
     pub(super) l2: Option<(f64, f64)>,
+    #[serde(default, deserialize_with = "bounds")]
     pub(super) per: Option<(f64, f64)>,
+    #[serde(default, deserialize_with = "bounds")]
     pub(super) free_width: Option<(f64, f64)>,
+    #[serde(default, deserialize_with = "bounds")]
     pub(super) depth: Option<(f64, f64)>,
     pub(super) w_min: Option<f64>,
     pub(super) max_area: Option<f64>,
@@ -136,6 +143,41 @@ pub(super) struct OptimiseFile {
     pub(super) out: Option<PathBuf>,
 }
 
+/// The limits a run is checked against before it starts (time/limits.rs).
+#[derive(Args, Debug, Clone, Copy)]
+pub struct LimitArgs {
+    /// Most memory one run may take, in GiB (estimated from its mesh before it starts)
+    /// [default: 8].
+    #[arg(long = "max-memory", value_name = "GIB")]
+    pub max_memory: Option<f64>,
+    /// Most time steps one run may take up to t_max [default: 1e7].
+    #[arg(long = "max-steps", value_name = "N")]
+    pub max_steps: Option<f64>,
+}
+
+/// Most worker threads: more than this is a typo (each thread holds a run's memory).
+pub(super) const MAX_JOBS: usize = 256;
+
+fn parse_jobs(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(n) if (1..=MAX_JOBS).contains(&n) => Ok(n),
+        _ => Err(format!("must be a whole number from 1 to {MAX_JOBS}")),
+    }
+}
+
+/// A `--config` range: exactly two numbers `[LO, HI]` (a list of three is an error, not two
+/// of them).
+fn bounds<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<(f64, f64)>, D::Error> {
+    let v: Vec<f64> = serde::Deserialize::deserialize(d)?;
+    match v[..] {
+        [lo, hi] => Ok(Some((lo, hi))),
+        _ => Err(serde::de::Error::custom(format!(
+            "a range is two numbers [LO, HI], found {} numbers",
+            v.len()
+        ))),
+    }
+}
+
 pub(super) fn parse_range(s: &str) -> Result<(f64, f64), String> {
     let err = || format!("expected a range LO..HI of numbers, e.g. 0.0025..0.03, got {s:?}");
     let (a, b) = s.split_once("..").ok_or_else(err)?;
@@ -148,9 +190,11 @@ pub(super) fn parse_range(s: &str) -> Result<(f64, f64), String> {
 pub struct StudyArgs {
     /// The study file (TOML), e.g. studies/paper.toml.
     pub file: PathBuf,
-    /// Worker threads [default: all cores].
-    #[arg(long, value_name = "N")]
+    /// Worker threads, 1 to 256 [default: all cores].
+    #[arg(long, value_name = "N", value_parser = parse_jobs)]
     pub jobs: Option<usize>,
+    #[command(flatten)]
+    pub limits: LimitArgs,
     /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
     #[arg(long, value_name = "FILE")]
     pub cache: Option<PathBuf>,
@@ -359,6 +403,8 @@ pub struct SimulateArgs {
     /// Accept pockets that break thin-film validity (10⁴·l < 5·depth).
     #[arg(long = "allow-thick-pockets")]
     pub allow_thick_pockets: bool,
+    #[command(flatten)]
+    pub limits: LimitArgs,
     /// Solve an untextured liner with the 2D transient too (default: steady 1D force balance).
     #[arg(long)]
     pub transient: bool,

@@ -37,6 +37,8 @@ pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
             dir.display()
         )));
     }
+    crate::output::check_writable(&out)
+        .map_err(|why| CmdError::Input(format!("--out {}: {why}", out.display())))?;
     let runs: Vec<(&str, Fidelity)> = match a.fidelity {
         Some(f) => all.iter().map(|c| (c.name, f)).collect(),
         None => default_runs(),
@@ -93,11 +95,8 @@ pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
             })
             .collect::<Vec<_>>(),
     });
-    std::fs::write(
-        &out,
-        serde_json::to_string_pretty(&report).unwrap_or_default(),
-    )
-    .map_err(|e| CmdError::Other(format!("could not write --out {}: {e}", out.display())))?;
+    let json = serde_json::to_string_pretty(&report).map_err(|e| CmdError::Other(e.to_string()))?;
+    crate::output::write(&out, json).map_err(|e| CmdError::Other(format!("--out: {e}")))?;
     eprintln!("wrote {}", out.display());
     Ok(if failed > 0 { 1 } else { 0 })
 }

@@ -1,19 +1,19 @@
 //! `texopt cache`: inspect, export or clear the evaluation cache.
 
-use super::{open_cache, CacheAction, CacheArgs, CmdError};
-use crate::study::cache::{path_from, CacheError};
+use super::{cache_error, CacheAction, CacheArgs, CmdError};
+use crate::study::cache::{path_from, Cache, CacheError};
 
 pub(super) fn run(a: &CacheArgs) -> Result<i32, CmdError> {
-    // Inspecting or clearing must not create a cache (nor its directories): a mistyped path
+    // Inspecting or clearing must not create, initialise or convert a file: a mistyped path
     // would otherwise show an empty cache as if it were the one meant.
-    let path = path_from(a.cache.as_deref());
+    let path = path_from(a.cache.as_deref()).map_err(CmdError::Input)?;
     if !path.exists() {
         return Err(CmdError::Input(format!(
             "no cache at {}: nothing has been evaluated there yet (`texopt study` and `texopt optimise` create it); check --cache or $TEXOPT_CACHE",
             path.display()
         )));
     }
-    let cache = open_cache(Some(&path))?;
+    let cache = Cache::open_existing(&path).map_err(cache_error)?;
     let other = |e: CacheError| CmdError::Other(e.to_string());
     match &a.action {
         CacheAction::Stats => {
@@ -28,10 +28,15 @@ pub(super) fn run(a: &CacheArgs) -> Result<i32, CmdError> {
         CacheAction::Export { out } => {
             let n = match out {
                 Some(p) => {
-                    let mut f = std::fs::File::create(p).map_err(|e| {
-                        CmdError::Input(format!("--out {}: cannot create it: {e}", p.display()))
-                    })?;
-                    cache.export(&mut f).map_err(other)?
+                    crate::output::check_writable(p)
+                        .map_err(|why| CmdError::Input(format!("--out {}: {why}", p.display())))?;
+                    let mut n = 0;
+                    crate::output::write_with(p, |w| {
+                        n = cache.export(w).map_err(std::io::Error::other)?;
+                        Ok(())
+                    })
+                    .map_err(|e| CmdError::Other(format!("--out: {e}")))?;
+                    n
                 }
                 None => cache.export(&mut std::io::stdout().lock()).map_err(other)?,
             };

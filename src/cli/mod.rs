@@ -9,8 +9,8 @@ mod simulate;
 mod study;
 
 pub use args::{
-    ApproachArg, BenchArgs, CacheAction, CacheArgs, Cli, Command, OptimiseArgs, SimulateArgs,
-    StudyArgs,
+    ApproachArg, BenchArgs, CacheAction, CacheArgs, Cli, Command, LimitArgs, OptimiseArgs,
+    SimulateArgs, StudyArgs,
 };
 pub use simulate::case_from_args;
 
@@ -18,6 +18,13 @@ use crate::model::case::{InputError, Waiver};
 use crate::study::cache::{path_from, Cache, CacheError};
 
 pub fn main_with(cli: Cli) -> i32 {
+    // A command asked for JSON answers with JSON on stdout even when it fails, so that a
+    // script reading it gets an object to test, not an empty line.
+    let json = match &cli.command {
+        Command::Simulate(a) => a.json,
+        Command::Optimise(a) => a.json,
+        _ => false,
+    };
     let result = match cli.command {
         Command::Simulate(a) => simulate::run(&a),
         Command::Bench(a) => bench::run(&a),
@@ -25,17 +32,19 @@ pub fn main_with(cli: Cli) -> i32 {
         Command::Cache(a) => cache::run(&a),
         Command::Optimise(a) => optimise::run(&a),
     };
-    match result {
-        Ok(code) => code,
-        Err(CmdError::Input(e)) => {
-            eprintln!("error: {e}");
-            2
-        }
-        Err(CmdError::Other(e)) => {
-            eprintln!("error: {e}");
-            1
-        }
+    let (code, message) = match result {
+        Ok(code) => return code,
+        Err(CmdError::Input(e)) => (2, e),
+        Err(CmdError::Other(e)) => (1, e),
+    };
+    eprintln!("error: {message}");
+    if json {
+        println!(
+            "{}",
+            serde_json::json!({ "error": message, "exit_code": code })
+        );
     }
+    code
 }
 
 pub(super) enum CmdError {
@@ -59,6 +68,8 @@ pub(super) fn flag(param: &str) -> String {
 pub(super) fn input_message(e: &InputError, to_flag: impl Fn(&str) -> String) -> String {
     let waiver = match e.waiver {
         Some(Waiver::ThickPockets) => "; pass --allow-thick-pockets to run anyway",
+        Some(Waiver::MemoryLimit) => ", or raise the limit with --max-memory GIB",
+        Some(Waiver::StepLimit) => ", or raise the limit with --max-steps N",
         None => "",
     };
     format!("{} = {}: {}{waiver}", to_flag(&e.param), e.value, e.rule)
@@ -83,22 +94,55 @@ pub(super) fn install_ctrl_c() {
     });
 }
 
-pub(super) fn open_cache(flag: Option<&std::path::Path>) -> Result<Cache, CmdError> {
-    let path = path_from(flag);
-    Cache::open(&path).map_err(|e| match e {
-        CacheError::Foreign { .. } => CmdError::Input(e.to_string()),
-        other => CmdError::Other(other.to_string()),
-    })
+impl LimitArgs {
+    /// The limits these flags set (the defaults where absent).
+    pub(super) fn limits(&self) -> Result<crate::time::Limits, CmdError> {
+        let mut l = crate::time::Limits::default();
+        for (name, v) in [
+            ("--max-memory", self.max_memory),
+            ("--max-steps", self.max_steps),
+        ] {
+            if let Some(x) = v.filter(|x| !(x.is_finite() && *x > 0.0)) {
+                return Err(CmdError::Input(format!(
+                    "{name} = {}: must be a finite number > 0",
+                    crate::time::short(x)
+                )));
+            }
+        }
+        if let Some(g) = self.max_memory {
+            l = l.with_memory_gib(g);
+        }
+        if let Some(n) = self.max_steps {
+            l.steps = n;
+        }
+        Ok(l)
+    }
 }
 
-/// Whether `dir` is, or could be made as, a directory, without making anything (bad input/// must leave no trace): its nearest existing ancestor must be a directory. (Permissions are
-/// left to the write itself.)
+/// The cache a command stores results in (created if missing, refused if not writable).
+pub(super) fn open_cache(flag: Option<&std::path::Path>) -> Result<Cache, CmdError> {
+    let path = path_from(flag).map_err(CmdError::Input)?;
+    Cache::open(&path).map_err(cache_error)
+}
+
+/// A cache error as a command reports it: a file that is not ours, or cannot be written, is
+/// the user's to fix (exit 2).
+pub(super) fn cache_error(e: CacheError) -> CmdError {
+    match e {
+        CacheError::Foreign { .. } | CacheError::Io { .. } => CmdError::Input(e.to_string()),
+        other => CmdError::Other(other.to_string()),
+    }
+}
+
+/// Whether `dir` is, or could be made as, a directory we can write in, without making it
+/// (bad input must leave no trace): its nearest existing ancestor must be a directory in
+/// which a file can be created (a probe file is made and removed there).
 pub(super) fn directory_can_be_made(dir: &std::path::Path) -> Result<(), String> {
     let mut p = dir;
     loop {
         if p.exists() {
             return if p.is_dir() {
-                Ok(())
+                crate::output::check_writable(&p.join(".texopt-probe"))
             } else {
                 Err(format!("{} is not a directory", p.display()))
             };

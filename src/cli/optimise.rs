@@ -14,7 +14,7 @@ use crate::optimise::report::table;
 use crate::optimise::search::SwarmSettings;
 use crate::optimise::space::{Bounds, Constraints, Space};
 use crate::study::NumericsOverride;
-use crate::time::Fidelity;
+use crate::time::{short, steps_per_period, Fidelity, MIN_STEPS_PER_PERIOD};
 
 pub(super) fn run(a: &OptimiseArgs) -> Result<i32, CmdError> {
     let settings = settings(a)?;
@@ -69,7 +69,7 @@ fn settings(a: &OptimiseArgs) -> Result<Settings, CmdError> {
             "--balanced {w}: each weight must lie strictly between 0 and 1"
         )));
     }
-    check_numerics(a)?;
+    check_numerics(a, &space, &base)?;
     // A directory that cannot be made stops the search now, not after its simulations.
     directory_can_be_made(&out_dir).map_err(|why| {
         CmdError::Input(format!(
@@ -100,6 +100,7 @@ fn settings(a: &OptimiseArgs) -> Result<Settings, CmdError> {
         jobs: a
             .jobs
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
+        limits: a.limits.limits()?,
         progress: true,
         out_dir: Some(out_dir),
     })
@@ -155,17 +156,24 @@ fn space_error(e: &InputError) -> CmdError {
     }))
 }
 
-/// `--jobs`, `--dt` and `--mesh`, checked before the search.
-fn check_numerics(a: &OptimiseArgs) -> Result<(), CmdError> {
-    if a.jobs == Some(0) {
-        return Err(CmdError::Input(
-            "--jobs 0: need at least one worker thread".into(),
-        ));
-    }
+/// `--dt` and `--mesh`, checked before the search (`--dt` against the shortest texture
+/// period of the design space).
+fn check_numerics(a: &OptimiseArgs, space: &Space, base: &CaseSpec) -> Result<(), CmdError> {
     if let Some(dt) = a.dt {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(CmdError::Input(format!(
-                "--dt {dt}: must be a finite number > 0"
+                "--dt {}: must be a finite number > 0",
+                short(dt)
+            )));
+        }
+        let period = space.bounds.per.0 / base.u;
+        let steps = steps_per_period(period, dt);
+        if steps < MIN_STEPS_PER_PERIOD as f64 {
+            return Err(CmdError::Input(format!(
+                "--dt {}: gives only {steps} time steps per texture period at the shortest period (--per from {} cm), where at least {MIN_STEPS_PER_PERIOD} are needed: --dt ≤ {}",
+                short(dt),
+                short(space.bounds.per.0),
+                short(period / MIN_STEPS_PER_PERIOD as f64)
             )));
         }
     }

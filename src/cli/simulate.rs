@@ -11,7 +11,12 @@ use crate::time::{
 
 /// The case and numerics named by the flags, validated (errors name the flags).
 pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), String> {
-    resolve(a).map_err(|e| input_message(&e, flag))
+    let (case, num) = resolve(a).map_err(|e| input_message(&e, flag))?;
+    let limits = a.limits.limits().map_err(|e| match e {
+        CmdError::Input(m) | CmdError::Other(m) => m,
+    })?;
+    crate::time::limits::check(&case, &num, &limits).map_err(|e| input_message(&e, flag))?;
+    Ok((case, num))
 }
 
 fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
@@ -112,6 +117,8 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
                 dir.display()
             )));
         }
+        crate::output::check_writable(path)
+            .map_err(|why| CmdError::Input(format!("--series {}: {why}", path.display())))?;
     }
 
     // On a terminal the line is redrawn every period; elsewhere (or beside --json output) a
@@ -153,11 +160,6 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
         outcome, series, ..
     } = result.map_err(|e| CmdError::Other(e.to_string()))?;
 
-    if let (Some(path), Some(rows)) = (&a.series, &series) {
-        write_series(path, rows).map_err(|e| {
-            CmdError::Other(format!("could not write --series {}: {e}", path.display()))
-        })?;
-    }
     if a.json {
         let report = serde_json::json!({
             "inputs": { "case": case, "numerics": num, "mesh": format!("{}x{}", num.n1, num.n2) },
@@ -178,6 +180,14 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
             );
         }
     }
+    // The series is written after the result is printed: a full disk loses the file, not
+    // the answer.
+    if let (Some(path), Some(rows)) = (&a.series, &series) {
+        if let Err(e) = write_series(path, rows) {
+            eprintln!("error: --series: {e}");
+            return Ok(1);
+        }
+    }
     if !outcome.converged {
         eprintln!(
             "warning: the periodic regime was not reached by t = {} (estimated error {:.1e} > tolerance {:.1e}); the numbers above are not final. Raise --t-max or loosen --periodic-tol.",
@@ -188,17 +198,18 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     Ok(0)
 }
 
-fn write_series(path: &std::path::Path, rows: &[SeriesRow]) -> std::io::Result<()> {
-    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
-    writeln!(w, "t,Z,W_h,f,f_couette,f_poiseuille,f_pressure")?;
-    for r in rows {
-        writeln!(
-            w,
-            "{},{},{},{},{},{},{}",
-            r.t, r.z, r.w_h, r.f, r.f_couette, r.f_poiseuille, r.f_pressure
-        )?;
-    }
-    w.flush()
+fn write_series(path: &std::path::Path, rows: &[SeriesRow]) -> Result<(), String> {
+    crate::output::write_with(path, |w| {
+        writeln!(w, "t,Z,W_h,f,f_couette,f_poiseuille,f_pressure")?;
+        for r in rows {
+            writeln!(
+                w,
+                "{},{},{},{},{},{},{}",
+                r.t, r.z, r.w_h, r.f, r.f_couette, r.f_poiseuille, r.f_pressure
+            )?;
+        }
+        Ok(())
+    })
 }
 
 fn print_summary(case: &CaseSpec, num: &Numerics, o: &Outcome) {

@@ -4,11 +4,7 @@ use super::{directory_can_be_made, install_ctrl_c, open_cache, CmdError, StudyAr
 
 pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
     let study = crate::study::load(&a.file).map_err(|e| CmdError::Input(e.to_string()))?;
-    if a.jobs == Some(0) {
-        return Err(CmdError::Input(
-            "--jobs 0: need at least one worker thread".into(),
-        ));
-    }
+    let limits = a.limits.limits()?;
     let jobs = a
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -53,6 +49,7 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
         jobs,
         retry_failed: a.retry_failed,
         progress: true,
+        limits,
     };
     let stop_now = std::sync::atomic::AtomicBool::new(true);
     let stop = if a.cached_only { &stop_now } else { &STOP };
@@ -64,6 +61,20 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
         sum.cases, sum.cached, sum.computed, sum.simulations, sum.failed, sum.not_run, sum.wall_time_s
     );
     println!("{note}");
+    // Cases over the run limits are not stored: say why here, whatever the report.
+    let unrun: Vec<&String> = results
+        .iter()
+        .filter_map(|r| match r {
+            Some(Err(why)) if why.contains(": not run: ") => Some(why),
+            _ => None,
+        })
+        .collect();
+    for why in unrun.iter().take(5) {
+        eprintln!("  {why}");
+    }
+    if unrun.len() > 5 {
+        eprintln!("  … and {} more cases over the limits", unrun.len() - 5);
+    }
     if sum.stopped && !a.cached_only {
         println!("stopped before the end: run the same command again to compute the rest");
         return Ok(130);

@@ -114,7 +114,9 @@ impl CaseSpec {
                 })),
                 per_cm: t.per,
                 width_cm: t.width,
-                phase_cm: t.phase,
+                // The phase within one period: a phase of 1e15 cm would leave no digits for
+                // the pocket's position (the texture repeats every `per`).
+                phase_cm: t.phase.rem_euclid(t.per),
             },
         };
         let mut c = Contact::paper(Arc::new(CircularArc { radius_cm: self.r }), liner);
@@ -157,15 +159,42 @@ pub struct InputError {
 pub enum Waiver {
     /// The thin-film rule 10⁴·l ≥ 5·depth (docs/model.md §2).
     ThickPockets,
+    /// The memory a run may take (time/limits.rs).
+    MemoryLimit,
+    /// The time steps a run may take (time/limits.rs).
+    StepLimit,
 }
 
-/// The error for `param` = `value` breaking `rule`.
+/// The error for `param` = `value` breaking `rule` (a number as value in short form).
 pub fn bad(param: &str, value: impl std::fmt::Display, rule: impl Into<String>) -> InputError {
+    let value = value.to_string();
     InputError {
         param: param.to_string(),
-        value: value.to_string(),
+        value: match value.parse::<f64>() {
+            Ok(x) => short(x),
+            _ => value,
+        },
         rule: rule.into(),
         waiver: None,
+    }
+}
+
+/// A number for a message, at most about a dozen characters: as written where that is short
+/// (`0.06`, `1000`), else in scientific notation with 6 significant digits at most (`1e-308`,
+/// not 308 digits).
+pub fn short(x: f64) -> String {
+    let plain = format!("{x}");
+    let a = x.abs();
+    if !x.is_finite() || a == 0.0 || ((1e-4..1e9).contains(&a) && plain.len() <= 12) {
+        return plain;
+    }
+    let sci = format!("{x:.5e}");
+    match sci.split_once('e') {
+        Some((mantissa, exp)) if mantissa.contains('.') => {
+            let m = mantissa.trim_end_matches('0').trim_end_matches('.');
+            format!("{m}e{exp}")
+        }
+        _ => sci,
     }
 }
 

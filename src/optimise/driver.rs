@@ -15,7 +15,7 @@ use crate::model::case::{CaseSpec, Texture};
 use crate::study::cache::Cache;
 use crate::study::sweep;
 use crate::study::NumericsOverride;
-use crate::time::{Fidelity, Outcome};
+use crate::time::{Fidelity, Limits, Outcome};
 
 /// Everything `optimise` needs.
 pub struct Settings {
@@ -31,6 +31,8 @@ pub struct Settings {
     /// Weights w of the balanced (Chebyshev) searches between the two single-objective ones.
     pub balanced: Vec<f64>,
     pub jobs: usize,
+    /// What one evaluation may cost (a design over them fails unrun).
+    pub limits: Limits,
     pub progress: bool,
     /// Output directory; None: write nothing.
     pub out_dir: Option<PathBuf>,
@@ -57,6 +59,7 @@ pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result
         jobs: s.jobs,
         retry_failed: false,
         progress: false,
+        limits: s.limits,
     };
     let evaluator = |fidelity| Evaluator {
         base: CaseSpec {

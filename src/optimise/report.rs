@@ -201,8 +201,8 @@ fn last_period(
         .filter(|x| x.t > t_end - period - 1e-12)
         .collect();
     let kept = Kept { key, rows };
-    std::fs::write(path, serde_json::to_string(&kept).unwrap_or_default())
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    let json = serde_json::to_string(&kept).map_err(|e| format!("{}: {e}", path.display()))?;
+    crate::output::write(path, json)?;
     Ok(kept.rows)
 }
 
@@ -216,10 +216,10 @@ pub(super) fn write(dir: &Path, r: &Report, s: &Settings) -> Result<(), String> 
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let stem = stem(dir, r.r);
     let p = stem.with_extension("json");
-    std::fs::write(&p, serde_json::to_string_pretty(r).unwrap_or_default())
-        .map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+    let json = serde_json::to_string_pretty(r).map_err(|e| format!("{}: {e}", p.display()))?;
+    crate::output::write(&p, json)?;
     let p = PathBuf::from(format!("{}.csv", stem.display()));
-    let mut w = csv::Writer::from_path(&p).map_err(|e| format!("{}: {e}", p.display()))?;
+    let mut w = csv::Writer::from_writer(Vec::new());
     let _ = w.write_record([
         "design",
         "l1",
@@ -266,7 +266,10 @@ pub(super) fn write(dir: &Path, r: &Report, s: &Settings) -> Result<(), String> 
             r.report_fidelity.clone(),
         ]);
     }
-    w.flush().map_err(|e| format!("{}: {e}", p.display()))?;
+    let bytes = w
+        .into_inner()
+        .map_err(|e| format!("{}: {}", p.display(), e.error()))?;
+    crate::output::write(&p, bytes)?;
     front_plot(&stem, r)?;
     period_plots(&stem, r, s)
 }

@@ -4,7 +4,7 @@
 
 use serde::Serialize;
 
-use crate::model::case::{bad, InputError, Texture};
+use crate::model::case::{bad, short, InputError, Texture};
 
 /// Bounds of the design variables. Lengths in cm, depth in µm. Defaults: the paper's ranges
 /// (docs/model.md §7).
@@ -155,7 +155,12 @@ impl Space {
         let mut v = Vec::new();
         let mut within = |name: &str, x: f64, (lo, hi): (f64, f64)| {
             if x < lo * (1.0 - tol) || x > hi * (1.0 + tol) {
-                v.push(format!("{name} = {x} outside [{lo}, {hi}]"));
+                v.push(format!(
+                    "{name} = {} outside [{}, {}]",
+                    short(x),
+                    short(lo),
+                    short(hi)
+                ));
             }
         };
         within("l1", t.l1, b.l1);
@@ -170,7 +175,7 @@ impl Space {
         if w1 < c.w_min - tol || w2 < c.w_min - tol {
             v.push(format!(
                 "wall thickness ({w1:.6}, {w2:.6}) cm below w_min = {}",
-                c.w_min
+                short(c.w_min)
             ));
         }
         if !c.allow_thick && 1e4 * t.l1.min(t.l2) < 5.0 * t.depth * (1.0 - tol) {
@@ -233,7 +238,7 @@ impl Space {
             if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo <= hi) {
                 return Err(bad(
                     name,
-                    format!("{lo}..{hi}"),
+                    range((lo, hi)),
                     "a range LO..HI needs 0 < LO ≤ HI",
                 ));
             }
@@ -268,8 +273,12 @@ impl Space {
                 return Err(bad(
                     "constraints",
                     format!(
-                        "w_min = {} cm, l1 {:?}, l2 {:?}, per {:?}, depth {:?}",
-                        c.w_min, b.l1, b.l2, b.per, b.depth
+                        "w_min = {} cm, l1 {}, l2 {}, per {}, depth {}",
+                        short(c.w_min),
+                        range(b.l1),
+                        range(b.l2),
+                        range(b.per),
+                        range(b.depth)
                     ),
                     format!(
                         "no feasible texture in part of the space ({v}); widen the ranges or relax the constraints"
@@ -279,6 +288,11 @@ impl Space {
         }
         Ok(())
     }
+}
+
+/// A range for a message, `LO..HI` in short numbers.
+fn range((lo, hi): (f64, f64)) -> String {
+    format!("{}..{}", short(lo), short(hi))
 }
 
 /// Wall thickness between neighbouring pockets along x1 and x2 (cm).

@@ -32,11 +32,38 @@ const SCHEMA: i32 = 1;
 /// or `--cache` choose another.
 pub const DEFAULT_PATH: &str = ".texopt/cache.sqlite";
 
-/// The cache path: the flag, else `TEXOPT_CACHE`, else `DEFAULT_PATH`.
-pub fn path_from(flag: Option<&Path>) -> PathBuf {
-    flag.map(Path::to_path_buf)
-        .or_else(|| std::env::var_os("TEXOPT_CACHE").map(PathBuf::from))
-        .unwrap_or_else(|| PathBuf::from(DEFAULT_PATH))
+/// The cache path: the flag, else `TEXOPT_CACHE` (set and not empty), else `DEFAULT_PATH`.
+/// Refused: an empty flag, SQLite's in-memory and URI names (`:memory:`, `file:…`), which
+/// would store nothing a rerun finds, and a path that exists but is not a file.
+pub fn path_from(flag: Option<&Path>) -> Result<PathBuf, String> {
+    let from_env = || {
+        std::env::var_os("TEXOPT_CACHE")
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
+    let (path, source) = match flag {
+        Some(p) => (p.to_path_buf(), "--cache"),
+        None => match from_env() {
+            Some(p) => (p, "$TEXOPT_CACHE"),
+            None => return Ok(PathBuf::from(DEFAULT_PATH)),
+        },
+    };
+    let name = path.to_string_lossy();
+    let why = if name.is_empty() {
+        Some("is empty")
+    } else if name == ":memory:" || name.starts_with("file:") {
+        Some("names an SQLite database that is not a file (nothing would be kept for a rerun)")
+    } else if path.exists() && !path.is_file() {
+        Some("exists and is not a file")
+    } else {
+        None
+    };
+    match why {
+        Some(why) => Err(format!(
+            "{source} = {name:?}: the cache path {why}; give a file path such as {DEFAULT_PATH}"
+        )),
+        None => Ok(path),
+    }
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -159,20 +186,46 @@ pub struct Cache {
 }
 
 impl Cache {
-    /// Opens the cache file, creating it (and its directory) if missing. A file that is not
-    /// an SQLite database, or another application's database, is reported and left alone.
+    /// Opens the cache file to store results, creating it (and its directory) if missing;
+    /// a cache that cannot be written is refused before anything is computed. A file that is
+    /// not an SQLite database, or another application's database, is reported and left alone.
     pub fn open(path: &Path) -> Result<Cache, CacheError> {
+        let cache = Cache::open_with(path, true)?;
+        if cache.conn.is_readonly(rusqlite::MAIN_DB).unwrap_or(true) {
+            return Err(CacheError::Io {
+                path: cache.path.display().to_string(),
+                why: "cannot be written (read-only file or directory); results would be lost — choose a writable file with --cache".into(),
+            });
+        }
+        Ok(cache)
+    }
+
+    /// Opens an existing cache to inspect or clear it: never creates, initialises or
+    /// converts a file (an empty file, or another application's empty database, is refused
+    /// and left as it was).
+    pub fn open_existing(path: &Path) -> Result<Cache, CacheError> {
+        Cache::open_with(path, false)
+    }
+
+    fn open_with(path: &Path, create: bool) -> Result<Cache, CacheError> {
         let shown = path.display().to_string();
+        if !create && !path.is_file() {
+            return Err(CacheError::Io {
+                path: shown,
+                why: "no such file".into(),
+            });
+        }
         check_file(path, &shown)?;
         let sql = |source| CacheError::Sqlite {
             path: shown.clone(),
             source,
         };
-        let conn = Connection::open_with_flags(
-            path,
-            OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_CREATE,
-        )
-        .map_err(sql)?;
+        let flags = if create {
+            OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_CREATE
+        } else {
+            OpenFlags::SQLITE_OPEN_READ_WRITE
+        };
+        let conn = Connection::open_with_flags(path, flags).map_err(sql)?;
         conn.busy_timeout(std::time::Duration::from_secs(120))
             .map_err(sql)?;
         check_integrity(&conn, &shown)?;
@@ -182,6 +235,12 @@ impl Cache {
         conn.execute_batch("COMMIT").map_err(sql)?;
         let (app, tables) = seen.map_err(sql)?;
         check_identity(&conn, &shown, app, tables)?;
+        if !create && app != APPLICATION_ID {
+            return Err(CacheError::Foreign {
+                path: shown,
+                why: "not a texopt cache (an empty file or database)".into(),
+            });
+        }
         // Switching a fresh file to WAL needs it to itself for a moment; SQLite may answer
         // "busy" at once instead of waiting, so wait here (bounded like the busy timeout).
         let t0 = std::time::Instant::now();

@@ -77,6 +77,19 @@ struct Header {
     untextured: bool,
     #[serde(default)]
     allow_thick_pockets: bool,
+    /// Most combinations the parameters may expand to (valid or not), [`MAX_CASES`] unless
+    /// raised here.
+    #[serde(default = "max_cases")]
+    max_cases: u64,
+}
+
+/// Most combinations a study expands by default: 100,000 (the paper's study has 1,760; at
+/// `fast`, 100,000 cases are ≈ 14 h on two cores). Why a limit: a typo in a range (a step of
+/// 1e-9) would otherwise expand to billions of cases, in memory, before any is run.
+pub const MAX_CASES: u64 = 100_000;
+
+fn max_cases() -> u64 {
+    MAX_CASES
 }
 
 fn fast() -> Fidelity {
@@ -227,6 +240,17 @@ fn check_header(raw: &FileToml) -> Result<(), String> {
             r.small_r_max, r.large_r_min
         ));
     }
+    // The table is a file of the report directory: a plain name, never a path out of it.
+    if let Some(t) = &r.table {
+        let plain = std::path::Path::new(t)
+            .file_name()
+            .is_some_and(|n| n == t.as_str());
+        if t.trim().is_empty() || !plain || t == "." || t == ".." {
+            return Err(format!(
+                "[report] table = {t:?}: give a file name such as \"table1.md\" (it is written in the report directory)"
+            ));
+        }
+    }
     Ok(())
 }
 
@@ -302,7 +326,20 @@ fn expand_cases(
     let mut jobs = Vec::new();
     let mut skipped = BTreeMap::new();
     let mut seen = std::collections::HashSet::new();
-    let total: usize = free.iter().map(|(_, v)| v.len()).product();
+    // Counted before anything is expanded (checked: ranges whose product passes 2⁶⁴ must
+    // not wrap around to a small number).
+    let total = free
+        .iter()
+        .try_fold(1u64, |n, (_, v)| n.checked_mul(v.len() as u64))
+        .filter(|n| *n <= raw.study.max_cases)
+        .ok_or_else(|| {
+            let sizes: Vec<String> = free.iter().map(|(n, v)| format!("{n}: {}", v.len())).collect();
+            format!(
+                "the parameters combine into more than {} cases ({}); narrow the lists and ranges, or raise max_cases in [study]",
+                raw.study.max_cases,
+                sizes.join(", ")
+            )
+        })?;
     let mut index = vec![0usize; free.len()];
     for _ in 0..total {
         let mut point: BTreeMap<&str, f64> = BTreeMap::new();
@@ -354,6 +391,7 @@ fn expand_cases(
 /// pocket would span fewer cells across than the tier asks (`Fidelity::pocket_cells`).
 pub fn numerics_for(case: &CaseSpec, fidelity: Fidelity, o: &NumericsOverride) -> Numerics {
     let mut n = fidelity.numerics();
+    n.fit_step_to_period(case);
     if let Some(v) = o.n1 {
         n.n1 = v;
     }
@@ -426,7 +464,11 @@ const MAX_VALUES: usize = 10_000;
 
 fn number(key: &str, v: &toml::Value) -> Result<f64, String> {
     match v {
-        toml::Value::Float(x) => Ok(*x),
+        toml::Value::Float(x) if x.is_finite() || (key == "R" && *x == f64::INFINITY) => Ok(*x),
+        toml::Value::Float(x) => Err(format!(
+            "[parameters] {key}: {x} is not a finite number; write a finite value in {}",
+            unit(key)
+        )),
         toml::Value::Integer(i) => Ok(*i as f64),
         toml::Value::String(s) if s == "inf" && key == "R" => Ok(f64::INFINITY),
         toml::Value::String(s) => Err(format!(
@@ -469,11 +511,25 @@ fn expand(key: &str, v: &toml::Value) -> Result<Values, String> {
                 .map(|x| number(key, x))
                 .collect::<Result<Vec<_>, _>>()?
         }
-        toml::Value::Table(t) => range(key, t)?,
+        toml::Value::Table(t) => {
+            let values = range(key, t)?;
+            // Ranges can overflow (a log range from 1e-300 to 1e300): every value finite.
+            if let Some(x) = values.iter().find(|x| !x.is_finite()) {
+                return Err(format!(
+                    "[parameters] {key}: the range gives {x}, not a finite number; narrow the range"
+                ));
+            }
+            values
+        }
         other => vec![number(key, other)?],
     };
-    if let Some(x) = list.iter().find(|x| x.is_nan()) {
-        return Err(format!("[parameters] {key}: {x} is not a number"));
+    if let Some(x) = list
+        .iter()
+        .find(|x| !(x.is_finite() || (key == "R" && **x == f64::INFINITY)))
+    {
+        return Err(format!(
+            "[parameters] {key}: {x} is not a finite number; narrow the range"
+        ));
     }
     Ok(Values::List(list))
 }

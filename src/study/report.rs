@@ -172,8 +172,7 @@ pub fn write(study: &Study, results: &[CaseResult], wall_note: &str) -> Result<W
         }
     }
     let summary_path = dir.join(format!("{name}_summary.md"));
-    std::fs::write(&summary_path, md)
-        .map_err(|e| format!("cannot write {}: {e}", summary_path.display()))?;
+    crate::output::write(&summary_path, md)?;
     files.push(summary_path);
     if textured && !radii.is_empty() {
         let table = study
@@ -182,15 +181,18 @@ pub fn write(study: &Study, results: &[CaseResult], wall_note: &str) -> Result<W
             .clone()
             .unwrap_or_else(|| format!("{name}_table1.md"));
         let p = dir.join(table);
-        std::fs::write(&p, table1(study, &main, &radii))
-            .map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+        crate::output::write(&p, table1(study, &main, &radii))?;
         files.push(p);
     }
     Ok(Written { files, headline })
 }
 
 fn write_csv(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {
-    let err = |e: &dyn std::fmt::Display| format!("cannot write {}: {e}", path.display());
+    crate::output::atomically(path, |tmp| csv_rows(tmp, study, rows))
+}
+
+fn csv_rows(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {
+    let err = |e: &dyn std::fmt::Display| e.to_string();
     let mut w = csv::Writer::from_path(path).map_err(|e| err(&e))?;
     w.write_record([
         "R",

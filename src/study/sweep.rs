@@ -12,9 +12,10 @@ use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use crate::model::case::CaseSpec;
+use crate::model::case::Waiver;
 use crate::study::cache::{Cache, CacheError, Entry, Key};
 use crate::study::file::Job;
-use crate::time::{simulate_with, Numerics, Outcome, RunOptions, Watch};
+use crate::time::{limits, simulate_with, Limits, Numerics, Outcome, RunOptions, Watch};
 
 /// How a sweep runs.
 #[derive(Clone, Debug)]
@@ -25,6 +26,9 @@ pub struct Options {
     pub retry_failed: bool,
     /// Show progress on stderr (a bar on a terminal, a line every 10 s otherwise).
     pub progress: bool,
+    /// What one run may cost: a case over them fails unrun, and is not stored (raising the
+    /// limits runs it).
+    pub limits: Limits,
 }
 
 /// The result of one case: its outcome, or why it failed; None when it was not run
@@ -68,6 +72,7 @@ pub fn run(
     let keys: Vec<Key> = jobs.iter().map(|j| Key::of(&j.case, &j.numerics)).collect();
     let mut results: Vec<CaseResult> = vec![None; jobs.len()];
     let mut missing: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    let mut over_limit = 0;
     let mut summary = Summary {
         cases: jobs.len(),
         ..Summary::default()
@@ -75,6 +80,21 @@ pub fn run(
     {
         let c = cache.lock().expect("cache lock");
         for (i, k) in keys.iter().enumerate() {
+            if let Err(e) = limits::check(&jobs[i].case, &jobs[i].numerics, &opt.limits) {
+                let raise = match e.waiver {
+                    Some(Waiver::MemoryLimit) => "; raise the memory limit to run it",
+                    _ => "; raise the step limit to run it",
+                };
+                over_limit += 1;
+                results[i] = Some(Err(format!(
+                    "case {}: not run: {} = {}: {}{raise}",
+                    jobs[i].case.label(),
+                    e.param,
+                    e.value,
+                    e.rule
+                )));
+                continue;
+            }
             match c.get(k)? {
                 Some(Entry::Done(o)) => results[i] = Some(Ok(o)),
                 Some(Entry::Failed(r)) if !opt.retry_failed => results[i] = Some(Err(r)),
@@ -87,7 +107,7 @@ pub fn run(
             }
         }
     }
-    summary.cached = results.iter().filter(|r| r.is_some()).count();
+    summary.cached = results.iter().filter(|r| r.is_some()).count() - over_limit;
     let groups: Vec<Vec<usize>> = missing.into_values().collect();
     let to_compute: usize = groups.iter().map(Vec::len).sum();
 

@@ -106,6 +106,7 @@ impl Fidelity {
     pub fn numerics_for(self, case: &CaseSpec) -> Numerics {
         let mut num = self.numerics();
         num.resolve_pockets(case, self.pocket_cells());
+        num.fit_step_to_period(case);
         num
     }
 

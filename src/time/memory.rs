@@ -22,7 +22,7 @@ pub(super) struct PlacedTexture {
 
 /// Most memory the placed texture of a period may take (bytes): 512×32 with 150 steps a
 /// period needs ≈ 40 MB; longer periods or finer meshes place the texture every step.
-const PLACED_TEXTURE_MEMORY: usize = 128 << 20;
+pub(crate) const PLACED_TEXTURE_MEMORY: usize = 128 << 20;
 
 impl PlacedTexture {
     pub(super) fn new(textured: bool, steps_per_period: usize, nodes: usize) -> Self {
@@ -98,10 +98,10 @@ pub(super) struct PeriodGuess {
 /// windows (0.11 factorisations a step, 1160 rows eliminated); at 1.5 GiB 0.00–0.02 (0–10
 /// rows), and the whole 512×32 stage eliminated 11 % fewer rows. Finer meshes (1024×64:
 /// ≈ 37 MB a step) keep what fits.
-const PERIOD_FACTORS_MEMORY: usize = 3 << 29;
+pub(crate) const PERIOD_FACTORS_MEMORY: usize = 3 << 29;
 
 /// Most memory the period's states may take (bytes); longer periods go without.
-const PERIOD_GUESS_MEMORY: usize = 256 << 20;
+pub(crate) const PERIOD_GUESS_MEMORY: usize = 256 << 20;
 
 impl PeriodGuess {
     pub(super) fn new(textured: bool, steps_per_period: usize, nodes: usize) -> Self {

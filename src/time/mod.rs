@@ -6,6 +6,7 @@
 mod anderson;
 mod approach;
 mod fidelity;
+pub mod limits;
 mod memory;
 mod numerics;
 mod outcome;
@@ -18,7 +19,11 @@ mod transient;
 mod tests;
 
 pub use fidelity::{unresolved_depth, Fidelity, APPROACH, DEEP_POCKET_RATIO, POCKET_CELLS};
-pub use numerics::{Approach, Numerics, Start, TimeScheme, APPROACH_TOL};
+pub use limits::Limits;
+pub use numerics::{
+    short, steps_per_period, Approach, Numerics, Start, TimeScheme, APPROACH_TOL,
+    MIN_STEPS_PER_PERIOD,
+};
 pub use outcome::{Outcome, Progress, RunResult, SeriesRow, SolveError};
 pub use periodic::{window_periods, MIN_WINDOW};
 pub use run::{simulate, simulate_with, RunOptions, Watch};

@@ -85,8 +85,10 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
                 w_ps: case.w_ps,
                 hint: if case.r.is_infinite() {
                     "a flat ring on a plain liner has no converging wedge to build pressure"
+                } else if case.r > 1e4 {
+                    "a ring this flat builds too little pressure to carry the load"
                 } else {
-                    "is the inlet starved (--d-oil)?"
+                    "the inlet oil film (d_oil) may be too thin to carry the load"
                 },
             });
         }

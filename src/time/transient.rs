@@ -122,7 +122,7 @@ impl Transient {
             .texture
             .as_ref()
             .map_or(UNTEXTURED_PERIOD, |t| t.per / case.u);
-        let steps_per_period = ((period / num.dt) - 1e-9).ceil().max(1.0) as usize;
+        let steps_per_period = super::numerics::steps_per_period(period, num.dt) as usize;
         let dt = period / steps_per_period as f64;
         let equilibrium = match num.start {
             Start::Paper => None,

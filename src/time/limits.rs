@@ -1,0 +1,119 @@
+//! What a run may cost, estimated from its numerics before anything is allocated, and the
+//! stated limits it must stay within (a front end lets the user raise them).
+
+use super::memory::{PERIOD_FACTORS_MEMORY, PERIOD_GUESS_MEMORY, PLACED_TEXTURE_MEMORY};
+use super::numerics::{short, steps_per_period, Numerics};
+use crate::model::case::{bad, CaseSpec, InputError, Waiver};
+
+/// Memory a run may take by default: 8 GiB, a third of the 24 GiB this project is developed
+/// on and half of a common 16 GiB workstation. Measured peak (estimate): 512×32 0.6 GiB
+/// (1.3), 1024×64 1.8 GiB (1.9); the estimate errs high, most of it the factors kept over a
+/// period, which stop growing at 1.5 GiB.
+pub const DEFAULT_MEMORY_GIB: f64 = 8.0;
+
+/// Time steps a run may take by default (t_max / dt): 10⁷, ≈ 1 h at 512×8 were a run never
+/// to settle. The paper's t_max of 30 ms takes 75,000 at dt = 4e-4, and 2048×128 at
+/// dt = 1e-4 300,000.
+pub const DEFAULT_STEPS: f64 = 1e7;
+
+const GIB: f64 = (1u64 << 30) as f64;
+
+/// The limits a run is checked against.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// Bytes of memory.
+    pub memory: f64,
+    /// Time steps up to t_max.
+    pub steps: f64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            memory: DEFAULT_MEMORY_GIB * GIB,
+            steps: DEFAULT_STEPS,
+        }
+    }
+}
+
+impl Limits {
+    /// The limits with `gib` of memory.
+    pub fn with_memory_gib(self, gib: f64) -> Self {
+        Limits {
+            memory: gib * GIB,
+            ..self
+        }
+    }
+}
+
+/// A run's estimated cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cost {
+    /// Cells of the mesh (N1·N2, in floating point so that no product overflows).
+    pub cells: f64,
+    /// Bytes of memory at most.
+    pub memory: f64,
+    /// Time steps up to t_max.
+    pub steps: f64,
+}
+
+/// The cost of running `case` with `num`. Memory: per cell the band LU's matrix and factors,
+/// 2·(2w + 1) numbers with a band half-width w ≈ N2, and ≈ 40 numbers of fields; and what a
+/// textured run keeps from one period to the next (time/memory.rs), each store up to its cap.
+pub fn estimate(case: &CaseSpec, num: &Numerics) -> Cost {
+    let cells = num.n1 as f64 * num.n2 as f64;
+    let n2 = num.n2 as f64;
+    let per_cell = 8.0 * (4.0 * n2 + 2.0 + 40.0);
+    let kept = match &case.texture {
+        Some(t) => {
+            let spp = steps_per_period(t.per / case.u, num.dt);
+            let store = |per_cell: f64, cap: usize| (spp * cells * per_cell).min(cap as f64);
+            store(8.0 * (2.0 * n2 + 1.0), PERIOD_FACTORS_MEMORY)
+                + store(17.0, PERIOD_GUESS_MEMORY)
+                + store(16.0, PLACED_TEXTURE_MEMORY)
+        }
+        None => 0.0,
+    };
+    Cost {
+        cells,
+        memory: cells * per_cell + kept,
+        steps: (num.t_max / num.dt).ceil(),
+    }
+}
+
+/// Checks a run's estimated cost against `limits`: the mesh (memory) and the time step
+/// (steps), each error waivable by raising its limit.
+pub fn check(case: &CaseSpec, num: &Numerics, limits: &Limits) -> Result<(), InputError> {
+    let cost = estimate(case, num);
+    if cost.memory.is_nan() || cost.memory > limits.memory {
+        return Err(InputError {
+            waiver: Some(Waiver::MemoryLimit),
+            ..bad(
+                "mesh",
+                format!("{}x{}", num.n1, num.n2),
+                format!(
+                    "needs ≈ {} GiB of memory ({} cells), over the limit of {} GiB; use fewer cells",
+                    short((cost.memory / GIB * 10.0).ceil() / 10.0),
+                    short(cost.cells),
+                    short(limits.memory / GIB)
+                ),
+            )
+        });
+    }
+    if cost.steps.is_nan() || cost.steps > limits.steps {
+        return Err(InputError {
+            waiver: Some(Waiver::StepLimit),
+            ..bad(
+                "dt",
+                num.dt,
+                format!(
+                    "gives {} steps up to t_max = {} ms, over the limit of {}; use a larger dt or a shorter t_max",
+                    short(cost.steps),
+                    short(num.t_max),
+                    short(limits.steps)
+                ),
+            )
+        });
+    }
+    Ok(())
+}

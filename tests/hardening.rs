@@ -1,0 +1,339 @@
+//! What a careless user, a closed pipe or a full disk must not break: each class of input
+//! is refused up front with exit 2 and a one-line message naming the flag, the value and the
+//! rule, or handled (a closed pipe ends quietly; an output is complete or not there).
+
+mod common;
+
+use common::{scratch, texopt};
+use std::path::Path;
+use std::process::{Command, Stdio};
+
+/// The base case of these tests, a quick Case I at `draft`, with extra flags.
+fn simulate(extra: &[&str]) -> (i32, String, String) {
+    let mut args = vec![
+        "simulate",
+        "--R",
+        "0.8",
+        "--l1",
+        "0.01",
+        "--per",
+        "0.06",
+        "--depth",
+        "5",
+        "--fidelity",
+        "draft",
+    ];
+    args.extend_from_slice(extra);
+    texopt(&args)
+}
+
+/// Refused with exit 2, one line naming `needle`, no panic, nothing on stdout.
+fn refused(extra: &[&str], needle: &str) {
+    let (code, out, err) = simulate(extra);
+    assert_eq!(code, 2, "{extra:?}: {err}");
+    assert!(out.is_empty(), "{extra:?} printed {out}");
+    assert!(err.contains(needle), "{extra:?}: {err:?} lacks {needle:?}");
+    assert_eq!(err.trim().lines().count(), 1, "{extra:?}: {err}");
+    assert!(!err.contains("panicked"), "{extra:?}: {err}");
+}
+
+fn write_study(dir: &Path, parameters: &str, numerics: &str) -> std::path::PathBuf {
+    let p = dir.join("s.toml");
+    let text = format!(
+        "[study]\nname = \"s\"\nfidelity = \"draft\"\n\n[parameters]\n{parameters}\n\n[numerics]\n{numerics}\n\n[report]\ndir = \"{}\"\n",
+        dir.join("out").display()
+    );
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn memory_is_estimated_and_bounded_before_anything_is_allocated() {
+    refused(&["--mesh", "100000x100000"], "--max-memory");
+    // The tier raises N2 so that a pocket in a 100 cm wide cell spans 2 cells: 384×5000.
+    refused(&["--width", "100"], "--max-memory");
+    // A count whose product overflows is over the limit, not a panic.
+    refused(&["--mesh", "18446744073709551615x8"], "--max-memory");
+    // The limit is the user's to set, both ways.
+    refused(&["--max-memory", "0.001"], "over the limit of 0.001 GiB");
+    refused(&["--max-memory", "-1"], "--max-memory = -1");
+}
+
+#[test]
+fn a_study_case_over_the_limits_fails_unrun_and_is_not_stored() {
+    let dir = scratch("hardening-study-limit");
+    let cache = dir.join("c.sqlite");
+    let study = write_study(
+        &dir,
+        "R = 0.8\nl1 = 0.01\nper = 0.06\ndepth = 5",
+        "n1 = 4096\nn2 = 4096",
+    );
+    let (code, out, err) = texopt(&[
+        "study",
+        study.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+        "--no-report",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(out.contains("1 failed"), "{out}");
+    assert!(err.contains("not run") && err.contains("memory"), "{err}");
+    let (_, out, _) = texopt(&["cache", "stats", "--cache", cache.to_str().unwrap()]);
+    assert!(out.contains("0 evaluations done, 0 failed"), "{out}");
+}
+
+#[test]
+fn a_closed_pipe_ends_the_program_quietly() {
+    for (args, close_stdout) in [
+        (vec!["simulate", "--R", "0.8", "--fidelity", "draft"], true),
+        (
+            vec!["cache", "stats", "--cache", "/nonexistent/c.sqlite"],
+            false,
+        ),
+    ] {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_texopt"));
+        cmd.args(&args);
+        // The closed end: a pipe whose reader has gone before the program writes.
+        if close_stdout {
+            cmd.stdout(Stdio::piped()).stderr(Stdio::piped());
+        } else {
+            cmd.stdout(Stdio::null()).stderr(Stdio::piped());
+        }
+        let mut child = cmd.spawn().unwrap();
+        let mut err = String::new();
+        if close_stdout {
+            drop(child.stdout.take());
+            use std::io::Read;
+            child
+                .stderr
+                .take()
+                .unwrap()
+                .read_to_string(&mut err)
+                .unwrap();
+        } else {
+            drop(child.stderr.take());
+        }
+        let status = child.wait().unwrap();
+        assert_ne!(status.code(), Some(101), "{args:?} panicked: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn a_time_step_must_leave_eight_steps_a_texture_period() {
+    refused(&["--dt", "1e308"], "time steps per texture period");
+    refused(&["--dt", "0.06"], "dt ≤ 0.0075");
+    // A tier's own step is shortened to fit a short period (0.0004 cm: 8 steps of 5e-5 ms).
+    let (code, out, err) = texopt(&[
+        "simulate",
+        "--R",
+        "0.8",
+        "--per",
+        "0.0004",
+        "--l1",
+        "0.0002",
+        "--depth",
+        "0.4",
+        "--mesh",
+        "1000x8",
+        "--fidelity",
+        "draft",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert!((v["inputs"]["numerics"]["dt"].as_f64().unwrap() - 5e-5).abs() < 1e-15);
+    // And a study file's step is checked like the flag.
+    let dir = scratch("hardening-study-dt");
+    let study = write_study(
+        &dir,
+        "R = 0.8\nl1 = 0.01\nper = 0.06\ndepth = 5",
+        "dt = 0.06",
+    );
+    let (code, _, err) = texopt(&["study", study.to_str().unwrap(), "--dry-run"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("time steps per texture period"), "{err}");
+}
+
+#[test]
+fn a_huge_phase_is_taken_within_one_period() {
+    let f = |phase: &str| {
+        let (code, out, err) = simulate(&["--phase", phase, "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+        v["f_mean"].as_f64().unwrap()
+    };
+    let base = f("0.01");
+    // 60000.01 = 10⁶ periods + 0.01, to the double's precision (≈ 1e-11 cm).
+    assert!(((f("60000.01") - base) / base).abs() < 1e-6);
+    assert!(f("1e15").is_finite());
+    refused(&["--phase", "inf"], "--phase = inf");
+}
+
+#[test]
+fn study_sizes_are_counted_without_overflow_and_capped() {
+    let dir = scratch("hardening-study-size");
+    for (parameters, needle) in [
+        // 10⁴ values each: 10¹⁶ combinations, once wrapped to a small number.
+        (
+            "R = { from = 1, to = 2, count = 10000 }\nl1 = { from = 0.005, to = 0.01, count = 10000 }\nper = { from = 0.02, to = 0.06, count = 10000 }\ndepth = { from = 2, to = 5, count = 10000 }\nd_oil = { from = 1, to = 20, count = 10000 }",
+            "more than 100000 cases",
+        ),
+        ("R = { from = 1, to = 2, count = 1000 }\nl1 = { from = 0.005, to = 0.01, count = 1000 }\nper = 0.06\ndepth = 5", "raise max_cases"),
+        ("R = { from = 1e-300, to = 1e300, count = 3, spacing = \"log\" }", "not a finite number"),
+        ("R = inf\nl1 = 0.01\nper = 0.06\ndepth = nan", "not a finite number"),
+    ] {
+        let study = write_study(&dir, parameters, "");
+        let t0 = std::time::Instant::now();
+        let (code, _, err) = texopt(&["study", study.to_str().unwrap(), "--dry-run"]);
+        assert_eq!(code, 2, "{parameters}: {err}");
+        assert!(err.contains(needle), "{parameters}: {err}");
+        assert!(t0.elapsed().as_secs() < 10, "{parameters}: counted slowly");
+    }
+}
+
+#[test]
+fn the_cache_path_must_name_a_file() {
+    let dir = scratch("hardening-cache-path");
+    for (cache, needle) in [
+        (":memory:", "not a file"),
+        ("file:x.sqlite?mode=memory", "not a file"),
+        (dir.to_str().unwrap(), "exists and is not a file"),
+        ("", "--cache"),
+    ] {
+        let (code, _, err) = texopt(&["cache", "stats", "--cache", cache]);
+        assert_eq!(code, 2, "{cache:?}: {err}");
+        assert!(err.contains(needle), "{cache:?}: {err}");
+    }
+    // TEXOPT_CACHE set but empty is unset: the default file, here absent.
+    let out = Command::new(env!("CARGO_BIN_EXE_texopt"))
+        .args(["cache", "stats"])
+        .env("TEXOPT_CACHE", "")
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("no cache at .texopt/cache.sqlite"), "{err}");
+}
+
+#[test]
+fn inspecting_a_cache_never_creates_or_converts_a_file() {
+    let dir = scratch("hardening-cache-inspect");
+    let empty = dir.join("empty.sqlite");
+    std::fs::write(&empty, "").unwrap();
+    for action in [&["stats"][..], &["clear"][..], &["export"][..]] {
+        let mut args = vec!["cache"];
+        args.extend_from_slice(action);
+        args.extend(["--cache", empty.to_str().unwrap()]);
+        let (code, _, err) = texopt(&args);
+        assert_eq!(code, 2, "{action:?}: {err}");
+        assert!(err.contains("not a texopt cache"), "{action:?}: {err}");
+        assert_eq!(
+            std::fs::metadata(&empty).unwrap().len(),
+            0,
+            "{action:?} wrote"
+        );
+    }
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        1,
+        "side files were made"
+    );
+}
+
+#[test]
+fn destinations_are_checked_before_the_run() {
+    let dir = scratch("hardening-destinations");
+    // --series at a directory: refused before simulating (exit 2, at once).
+    refused(&["--series", dir.to_str().unwrap()], "is a directory");
+    // A study table that is not a plain file name of the report directory.
+    for table in ["\"\"", "\"../escape.md\"", "\"sub/t.md\""] {
+        let p = dir.join("t.toml");
+        std::fs::write(
+            &p,
+            format!("[study]\nname = \"t\"\n[parameters]\nR = 0.8\n[report]\ntable = {table}\n"),
+        )
+        .unwrap();
+        let (code, _, err) = texopt(&["study", p.to_str().unwrap(), "--dry-run"]);
+        assert_eq!(code, 2, "{table}: {err}");
+        assert!(err.contains("[report] table"), "{table}: {err}");
+    }
+}
+
+#[test]
+fn runaway_work_is_refused() {
+    refused(&["--dt", "1e-9"], "--max-steps");
+    let (code, _, err) = texopt(&["study", "studies/paper.toml", "--jobs", "100000"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("from 1 to 256"), "{err}");
+}
+
+#[test]
+fn messages_are_short_and_name_the_flag() {
+    // 1e-308, not 308 digits.
+    let (code, _, err) = texopt(&[
+        "simulate", "--R", "0.8", "--l1", "1e-308", "--per", "0.06", "--depth", "5",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.len() < 300 && err.contains("1e-308"), "{err}");
+    let (code, _, err) = texopt(&["optimise", "--R", "5", "--w-min", "1e308"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.len() < 400 && err.contains("w_min = 1e304 cm"), "{err}");
+    // A negative range reaches the range check, not the argument parser.
+    let (code, _, err) = texopt(&["optimise", "--R", "5", "--l1", "-0.01..0.03"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("0 < LO ≤ HI"), "{err}");
+    // A --config range of three numbers is an error, not two of them.
+    let dir = scratch("hardening-messages");
+    let cfg = dir.join("c.toml");
+    std::fs::write(&cfg, "l1 = [0.005, 0.01, 0.02]\n").unwrap();
+    let (code, _, err) = texopt(&["optimise", "--R", "5", "--config", cfg.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("two numbers"), "{err}");
+    // A failing --json run answers with a JSON object.
+    let (code, out, _) = simulate(&["--dt", "0.06", "--json"]);
+    assert_eq!(code, 2);
+    let v: serde_json::Value = serde_json::from_str(out.trim()).expect("a JSON object");
+    assert!(v["error"].as_str().unwrap().contains("--dt"), "{v}");
+}
+
+/// A full disk, on a 1 MiB tmpfs mounted for the test where the system allows it (as root);
+/// the same fault injected at the write layer runs everywhere (src/output.rs).
+#[test]
+fn a_full_disk_leaves_the_previous_output_and_the_answer() {
+    let dir = scratch("hardening-full-disk");
+    let mnt = dir.join("small");
+    std::fs::create_dir_all(&mnt).unwrap();
+    let mounted = Command::new("mount")
+        .args([
+            "-t",
+            "tmpfs",
+            "-o",
+            "size=1m",
+            "tmpfs",
+            mnt.to_str().unwrap(),
+        ])
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if !mounted {
+        eprintln!("no tmpfs could be mounted here; the write layer's own test covers this");
+        return;
+    }
+    let series = mnt.join("series.csv");
+    std::fs::write(&series, "previous\n").unwrap();
+    // Fill the rest of the file system.
+    let _ = std::fs::write(mnt.join("filler"), vec![0u8; 2 << 20]);
+    let (code, out, err) = simulate(&["--series", series.to_str().unwrap()]);
+    let kept = std::fs::read_to_string(&series).unwrap_or_default();
+    let left = std::fs::read_dir(&mnt).map_or(0, |d| d.count());
+    let _ = Command::new("umount").arg(&mnt).status();
+    assert_eq!(kept, "previous\n", "the previous file was replaced");
+    assert_eq!(left, 2, "a temporary file was left");
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        out.contains("mean friction coefficient"),
+        "the answer was lost: {out}"
+    );
+    assert!(err.contains("left as it was"), "{err}");
+}
