@@ -290,6 +290,13 @@ fn messages_are_short_and_name_the_flag() {
     let (code, _, err) = texopt(&["optimise", "--R", "5", "--config", cfg.to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("two numbers"), "{err}");
+    // A flat ring has no plain liner to weigh textures against: said before any search.
+    let (code, _, err) = texopt(&["optimise", "--R", "inf"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--R = inf") && !err.contains("designs at"),
+        "{err}"
+    );
     // A failing --json run answers with a JSON object.
     let (code, out, _) = simulate(&["--dt", "0.06", "--json"]);
     assert_eq!(code, 2);
@@ -336,4 +343,65 @@ fn a_full_disk_leaves_the_previous_output_and_the_answer() {
         "the answer was lost: {out}"
     );
     assert!(err.contains("left as it was"), "{err}");
+}
+
+#[test]
+fn a_ring_that_cannot_move_is_not_taken_for_periodic() {
+    // 10¹⁹ times the paper's mass: the ring stands still and every window repeats, while the
+    // film carries 0.91 of the load. The periodic regime must balance the mean force.
+    for mass in ["1e10", "1e6"] {
+        let (code, out, err) = simulate(&["--mass", mass, "--t-max", "3", "--json"]);
+        assert_eq!(code, 1, "--mass {mass}: {err}");
+        let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+        assert_eq!(v["converged"], false, "--mass {mass}: {v}");
+        assert!(
+            v["periodic_error"].as_f64().unwrap() > 1e-2,
+            "--mass {mass}: {v}"
+        );
+    }
+}
+
+#[test]
+fn two_studies_on_one_cache_share_the_work() {
+    let dir = scratch("hardening-shared-cache");
+    let cache = dir.join("c.sqlite");
+    // 12 simulations of ≈ 0.1–0.3 s each: long enough for the two runs to overlap.
+    let study = write_study(
+        &dir,
+        "R = [0.8, 3.2, 12.8]\nl1 = [0.01, 0.02]\nper = 0.06\ndepth = [5, 10]",
+        "n1 = 96\nn2 = 4\ndt = 1.2e-3\nperiodic_tol = 1e-3",
+    );
+    let start = || {
+        Command::new(env!("CARGO_BIN_EXE_texopt"))
+            .args([
+                "study",
+                study.to_str().unwrap(),
+                "--jobs",
+                "1",
+                "--no-report",
+            ])
+            .arg("--cache")
+            .arg(&cache)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap()
+    };
+    let (a, b) = (start(), start());
+    let simulations = |c: std::process::Child| -> usize {
+        let out = c.wait_with_output().unwrap();
+        assert!(out.status.success());
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        let n = text
+            .split(" computed in ")
+            .nth(1)
+            .and_then(|t| t.split_whitespace().next())
+            .and_then(|n| n.parse().ok());
+        n.unwrap_or_else(|| panic!("no count in {text}"))
+    };
+    let (na, nb) = (simulations(a), simulations(b));
+    assert_eq!(na + nb, 12, "each case once: {na} + {nb}");
+    eprintln!("simulations: {na} + {nb}");
+    let (_, out, _) = texopt(&["cache", "stats", "--cache", cache.to_str().unwrap()]);
+    assert!(out.contains("12 evaluations done"), "{out}");
 }

@@ -42,6 +42,14 @@ pub(super) fn run(a: &OptimiseArgs) -> Result<i32, CmdError> {
 /// The settings of a run: each from its flag, else the config file, else its default;
 /// every one checked before anything runs.
 fn settings(a: &OptimiseArgs) -> Result<Settings, CmdError> {
+    // Every design is weighed against the plain liner on the same ring; under a flat ring the
+    // plain liner has no converging wedge and carries no load, so there is nothing to weigh
+    // against (a textured flat ring simulates: `texopt simulate --R inf …`).
+    if a.r.is_infinite() {
+        return Err(CmdError::Input(
+            "--R = inf: the optimiser weighs each texture against the plain liner, which under a flat ring carries no load (no converging wedge); give a finite face radius, or simulate textured flat rings with `texopt simulate --R inf`".into(),
+        ));
+    }
     let base = CaseSpec::paper(a.r);
     base.validate(false)?;
     let file = config(a)?;

@@ -260,6 +260,16 @@ impl Cache {
         if app != APPLICATION_ID {
             create_schema(&conn, &shown)?;
         }
+        if create {
+            // Leases (see [`Cache::claim`]); a table of their own, so that caches made before
+            // keep their schema version and older texopt versions still read them.
+            conn.execute_batch(
+                "CREATE TABLE IF NOT EXISTS leases (
+                     lease TEXT PRIMARY KEY, host TEXT NOT NULL, pid INTEGER NOT NULL,
+                     taken REAL NOT NULL)",
+            )
+            .map_err(sql)?;
+        }
         Ok(Cache {
             conn,
             path: path.to_path_buf(),
@@ -331,6 +341,58 @@ impl Cache {
                     wall_time_s,
                     env!("CARGO_PKG_VERSION")
                 ],
+            )
+            .map(|_| ())
+            .map_err(|e| self.sql(e))
+    }
+
+    /// Claims the computation named `lease` for this process, so that processes sharing the
+    /// cache (two studies, an optimiser beside a study) compute each case once: true if it is
+    /// now ours (it was free, ours already, or its holder is gone), false while another live
+    /// process holds it. A holder on this host is gone when its process is; one on another
+    /// host after [`LEASE_STALE_S`].
+    pub fn claim(&self, lease: &str) -> Result<bool, CacheError> {
+        let me = Owner::this();
+        let tx = || -> rusqlite::Result<bool> {
+            let held: Option<(String, i64, f64)> = self
+                .conn
+                .query_row(
+                    "SELECT host, pid, taken FROM leases WHERE lease = ?1",
+                    [lease],
+                    |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
+                )
+                .optional()?;
+            let free = held.is_none_or(|(host, pid, taken)| !me.sees_alive(&host, pid, taken));
+            if free {
+                self.conn.execute(
+                    "INSERT OR REPLACE INTO leases (lease, host, pid, taken) VALUES (?1, ?2, ?3, ?4)",
+                    params![lease, me.host, me.pid, now_s()],
+                )?;
+            }
+            Ok(free)
+        };
+        self.conn
+            .execute_batch("BEGIN IMMEDIATE")
+            .map_err(|e| self.sql(e))?;
+        match tx() {
+            Ok(free) => {
+                self.conn.execute_batch("COMMIT").map_err(|e| self.sql(e))?;
+                Ok(free)
+            }
+            Err(e) => {
+                let _ = self.conn.execute_batch("ROLLBACK");
+                Err(self.sql(e))
+            }
+        }
+    }
+
+    /// Gives up this process's lease `lease` (its results are stored).
+    pub fn release(&self, lease: &str) -> Result<(), CacheError> {
+        let me = Owner::this();
+        self.conn
+            .execute(
+                "DELETE FROM leases WHERE lease = ?1 AND host = ?2 AND pid = ?3",
+                params![lease, me.host, me.pid],
             )
             .map(|_| ())
             .map_err(|e| self.sql(e))
@@ -482,6 +544,43 @@ fn identity(conn: &Connection) -> rusqlite::Result<(i32, i64)> {
     let app: i32 = conn.query_row("PRAGMA application_id", [], |r| r.get(0))?;
     let tables: i64 = conn.query_row("SELECT count(*) FROM sqlite_master", [], |r| r.get(0))?;
     Ok((app, tables))
+}
+
+/// Seconds after which a lease taken on another host is taken over (its holder cannot be
+/// seen from here): 6 h, longer than any one case runs (2048×128 at dt = 1e-4: 72 min).
+pub const LEASE_STALE_S: f64 = 6.0 * 3600.0;
+
+/// A process that can hold leases: its host and process id.
+struct Owner {
+    host: String,
+    pid: i64,
+}
+
+impl Owner {
+    fn this() -> Owner {
+        let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
+            .ok()
+            .or_else(|| std::env::var("HOSTNAME").ok())
+            .unwrap_or_default();
+        Owner {
+            host: host.trim().to_string(),
+            pid: std::process::id() as i64,
+        }
+    }
+
+    /// Whether the holder (`host`, `pid`, since `taken`) of a lease is another live process.
+    fn sees_alive(&self, host: &str, pid: i64, taken: f64) -> bool {
+        if host != self.host {
+            return now_s() - taken < LEASE_STALE_S;
+        }
+        pid != self.pid && Path::new(&format!("/proc/{pid}")).exists()
+    }
+}
+
+fn now_s() -> f64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0.0, |d| d.as_secs_f64())
 }
 
 /// A database of another application, or a texopt cache of another schema, is refused.

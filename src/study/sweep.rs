@@ -112,9 +112,6 @@ pub fn run(
     let to_compute: usize = groups.iter().map(Vec::len).sum();
 
     let bar = Display::new(opt.progress, summary.cached, jobs.len(), to_compute);
-    let done = AtomicUsize::new(0);
-    let failed_now = AtomicUsize::new(0);
-    let cache_error: Mutex<Option<CacheError>> = Mutex::new(None);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opt.jobs.max(1))
         .build()
@@ -122,48 +119,143 @@ pub fn run(
             path: "-".into(),
             why: format!("cannot start {} worker threads: {e}", opt.jobs),
         })?;
-    let computed: Vec<Vec<(usize, Result<Outcome, String>)>> = pool.install(|| {
-        groups
-            .par_iter()
-            .map(|group| {
-                if stop.load(Ordering::SeqCst) {
-                    return Vec::new();
+    let work = Work {
+        jobs,
+        keys: &keys,
+        cache,
+        stop,
+        retry_failed: opt.retry_failed,
+        bar: &bar,
+        done: AtomicUsize::new(0),
+        failed_now: AtomicUsize::new(0),
+        simulations: AtomicUsize::new(0),
+        cache_error: Mutex::new(None),
+    };
+    // Groups another process holds are looked at again until they are stored or free.
+    let mut pending: Vec<&Vec<usize>> = groups.iter().collect();
+    while !pending.is_empty() {
+        let passes: Vec<(&Vec<usize>, Pass)> =
+            pool.install(|| pending.par_iter().map(|g| (*g, work.group(g))).collect());
+        let mut held = Vec::new();
+        for (g, pass) in passes {
+            match pass {
+                Pass::Computed(out) => out.into_iter().for_each(|(i, r)| results[i] = Some(r)),
+                Pass::Stored(out) => {
+                    summary.cached += out.len();
+                    out.into_iter().for_each(|(i, r)| results[i] = Some(r));
                 }
-                let out = evaluate_group(jobs, group);
-                let c = cache.lock().expect("cache lock");
-                for (i, r) in &out {
-                    let stored = match r {
-                        Ok(o) => c.put_done(&keys[*i], o),
-                        Err(reason) => c.put_failed(&keys[*i], reason, 0.0),
-                    };
-                    if let Err(e) = stored {
-                        stop.store(true, Ordering::SeqCst);
-                        cache_error.lock().expect("lock").get_or_insert(e);
-                    }
-                }
-                drop(c);
-                let nf = out.iter().filter(|(_, r)| r.is_err()).count();
-                failed_now.fetch_add(nf, Ordering::SeqCst);
-                let d = done.fetch_add(out.len(), Ordering::SeqCst) + out.len();
-                bar.tick(d, failed_now.load(Ordering::SeqCst));
-                out
-            })
-            .collect()
-    });
+                Pass::Held => held.push(g),
+                Pass::Stopped => {}
+            }
+        }
+        if stop.load(Ordering::SeqCst) {
+            break;
+        }
+        if !held.is_empty() {
+            std::thread::sleep(LEASE_POLL);
+        }
+        pending = held;
+    }
     bar.finish();
-    if let Some(e) = cache_error.into_inner().expect("lock") {
+    if let Some(e) = work.cache_error.lock().expect("lock").take() {
         return Err(e);
     }
-    for (i, r) in computed.into_iter().flatten() {
-        results[i] = Some(r);
-    }
+    let done = &work.done;
     summary.computed = done.load(Ordering::SeqCst);
-    summary.simulations = groups.iter().filter(|g| results[g[0]].is_some()).count();
+    summary.simulations = work.simulations.load(Ordering::SeqCst);
     summary.failed = results.iter().filter(|r| matches!(r, Some(Err(_)))).count();
     summary.not_run = results.iter().filter(|r| r.is_none()).count();
     summary.stopped = summary.not_run > 0;
     summary.wall_time_s = start.elapsed().as_secs_f64();
     Ok((summary, results))
+}
+
+/// How often a sweep looks again at cases another process is computing.
+const LEASE_POLL: std::time::Duration = std::time::Duration::from_millis(500);
+
+/// What became of a group of cases (one simulation) in one pass of a sweep.
+enum Pass {
+    /// Computed here, and stored.
+    Computed(Vec<(usize, Result<Outcome, String>)>),
+    /// Stored meanwhile by another process sharing the cache.
+    Stored(Vec<(usize, Result<Outcome, String>)>),
+    /// Being computed by another live process: looked at again later.
+    Held,
+    /// Not started: the sweep was stopped.
+    Stopped,
+}
+
+/// A sweep's shared state while its groups are evaluated in parallel.
+struct Work<'a> {
+    jobs: &'a [Job],
+    keys: &'a [Key],
+    cache: &'a Mutex<Cache>,
+    stop: &'a AtomicBool,
+    retry_failed: bool,
+    bar: &'a Display,
+    done: AtomicUsize,
+    failed_now: AtomicUsize,
+    simulations: AtomicUsize,
+    cache_error: Mutex<Option<CacheError>>,
+}
+
+impl Work<'_> {
+    /// Evaluates one group unless another process holds it (its lease, [`Cache::claim`]) or
+    /// has stored it meanwhile.
+    fn group(&self, group: &[usize]) -> Pass {
+        if self.stop.load(Ordering::SeqCst) {
+            return Pass::Stopped;
+        }
+        let lease = shared_key(&self.jobs[group[0]].case, &self.jobs[group[0]].numerics);
+        let c = self.cache.lock().expect("cache lock");
+        match c.claim(&lease) {
+            Ok(true) => {}
+            Ok(false) => return Pass::Held,
+            Err(e) => return self.fail(e),
+        }
+        // Stored meanwhile by a process whose lease has ended: read, not computed again (a
+        // failure only when failures are not to be retried).
+        let stored: Option<Vec<_>> = group
+            .iter()
+            .map(|&i| match c.get(&self.keys[i]) {
+                Ok(Some(Entry::Done(o))) => Some((i, Ok(o))),
+                Ok(Some(Entry::Failed(r))) if !self.retry_failed => Some((i, Err(r))),
+                _ => None,
+            })
+            .collect();
+        if let Some(out) = stored {
+            if let Err(e) = c.release(&lease) {
+                return self.fail(e);
+            }
+            return Pass::Stored(out);
+        }
+        drop(c);
+        let out = evaluate_group(self.jobs, group);
+        self.simulations.fetch_add(1, Ordering::SeqCst);
+        let c = self.cache.lock().expect("cache lock");
+        for (i, r) in &out {
+            let stored = match r {
+                Ok(o) => c.put_done(&self.keys[*i], o),
+                Err(reason) => c.put_failed(&self.keys[*i], reason, 0.0),
+            };
+            if let Err(e) = stored.and_then(|()| c.release(&lease)) {
+                self.fail(e);
+            }
+        }
+        drop(c);
+        let nf = out.iter().filter(|(_, r)| r.is_err()).count();
+        self.failed_now.fetch_add(nf, Ordering::SeqCst);
+        let d = self.done.fetch_add(out.len(), Ordering::SeqCst) + out.len();
+        self.bar.tick(d, self.failed_now.load(Ordering::SeqCst));
+        Pass::Computed(out)
+    }
+
+    /// A cache that cannot be read or written stops the sweep (the error is returned).
+    fn fail(&self, e: CacheError) -> Pass {
+        self.stop.store(true, Ordering::SeqCst);
+        self.cache_error.lock().expect("lock").get_or_insert(e);
+        Pass::Stopped
+    }
 }
 
 /// One simulation for a group of cases differing only in θ_s. A run that ends outside the

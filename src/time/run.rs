@@ -11,7 +11,8 @@ use super::numerics::Numerics;
 use super::numerics::TimeScheme;
 use super::outcome::{Outcome, Progress, RunResult, SeriesRow, SolveError};
 use super::periodic::{
-    accelerated_error, oil_imbalance, stalled, window_periods, PeriodMeans, Windows,
+    accelerated_error, oil_imbalance, stalled, window_periods, with_force_balance, PeriodMeans,
+    Windows,
 };
 use super::steady::steady_outcome;
 use super::transient::{Transient, BDF2_PATIENCE};
@@ -120,6 +121,10 @@ impl Transient {
                 }
                 None => windows.error(),
             };
+            // The stall test reads the estimate of the motion alone; the stop, and the distance
+            // reported, also the force balance.
+            let raw = err;
+            let err = with_force_balance(raw, windows.last(), self.case.w_ps);
             let last = windows.last();
             watch.window(&Progress {
                 period: self.approach.periods + (earlier + windows.len()) * wp,
@@ -131,7 +136,7 @@ impl Transient {
             if windows.periodic(err, num) {
                 break (true, err);
             }
-            errors.push(err);
+            errors.push(raw);
             if self.scheme == TimeScheme::Bdf2 && stalled(&errors, BDF2_PATIENCE) {
                 // A new map: its windows and the acceleration's pairs start afresh.
                 self.fall_back_to_backward_euler();
