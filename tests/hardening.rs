@@ -57,6 +57,14 @@ fn memory_is_estimated_and_bounded_before_anything_is_allocated() {
     // The limit is the user's to set, both ways.
     refused(&["--max-memory", "0.001"], "over the limit of 0.001 GiB");
     refused(&["--max-memory", "-1"], "--max-memory = -1");
+    // A design space whose widest, finest corner is over the limit is refused before the
+    // search starts.
+    let (code, _, err) = texopt(&["optimise", "--R", "5", "--free-width", "0.1..100"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("design space reaches") && err.contains("--max-memory"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -85,7 +85,7 @@ fn settings(a: &OptimiseArgs) -> Result<Settings, CmdError> {
             out_dir.display()
         ))
     })?;
-    Ok(Settings {
+    let settings = Settings {
         base,
         space,
         search_fidelity: a
@@ -111,7 +111,35 @@ fn settings(a: &OptimiseArgs) -> Result<Settings, CmdError> {
         limits: a.limits.limits()?,
         progress: true,
         out_dir: Some(out_dir),
-    })
+    };
+    check_corners(&settings)?;
+    Ok(settings)
+}
+
+/// The dearest designs sit at the corners of the design space (widest cells, smallest
+/// pockets: the tiers raise N2 to resolve them): each corner's run at either tier must stay
+/// within the run limits, or the search is refused before it starts.
+fn check_corners(s: &Settings) -> Result<(), CmdError> {
+    let n = s.space.dim();
+    for corner in 0..(1usize << n) {
+        let u: Vec<f64> = (0..n).map(|k| ((corner >> k) & 1) as f64).collect();
+        let case = CaseSpec {
+            texture: Some(s.space.decode(&u)),
+            ..s.base.clone()
+        };
+        for fidelity in [s.search_fidelity, s.report_fidelity] {
+            let num = crate::study::numerics_for(&case, fidelity, &s.overrides);
+            if let Err(e) = crate::time::limits::check(&case, &num, &s.limits) {
+                return Err(CmdError::Input(format!(
+                    "the design space reaches {} (at fidelity {}): {}; narrow the bounds",
+                    case.label(),
+                    fidelity.name(),
+                    input_message(&e, flag)
+                )));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The `--config` file's settings (none without one).
