@@ -8,6 +8,15 @@ use common::{scratch, texopt};
 use std::path::Path;
 use std::process::{Command, Stdio};
 
+/// Unmounts `0` when dropped (a failed assertion must not leave a mount behind).
+struct Unmount(std::path::PathBuf);
+
+impl Drop for Unmount {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(&self.0).status();
+    }
+}
+
 /// The base case of these tests, a quick Case I at `draft`, with extra flags.
 fn simulate(extra: &[&str]) -> (i32, String, String) {
     let mut args = vec![
@@ -335,6 +344,7 @@ fn a_full_disk_leaves_the_previous_output_and_the_answer() {
         eprintln!("no tmpfs could be mounted here; the write layer's own test covers this");
         return;
     }
+    let _unmount = Unmount(mnt.clone());
     let series = mnt.join("series.csv");
     std::fs::write(&series, "previous\n").unwrap();
     // Fill the rest of the file system.
@@ -342,7 +352,6 @@ fn a_full_disk_leaves_the_previous_output_and_the_answer() {
     let (code, out, err) = simulate(&["--series", series.to_str().unwrap()]);
     let kept = std::fs::read_to_string(&series).unwrap_or_default();
     let left = std::fs::read_dir(&mnt).map_or(0, |d| d.count());
-    let _ = Command::new("umount").arg(&mnt).status();
     assert_eq!(kept, "previous\n", "the previous file was replaced");
     assert_eq!(left, 2, "a temporary file was left");
     assert_eq!(code, 1, "{err}");
@@ -412,4 +421,59 @@ fn two_studies_on_one_cache_share_the_work() {
     eprintln!("simulations: {na} + {nb}");
     let (_, out, _) = texopt(&["cache", "stats", "--cache", cache.to_str().unwrap()]);
     assert!(out.contains("12 evaluations done"), "{out}");
+}
+
+/// A cache on a read-only file system (a tmpfs the test mounts and remounts read-only, where
+/// the system allows it) is refused before any case is computed.
+#[test]
+fn a_read_only_cache_is_refused_before_computing() {
+    let dir = scratch("hardening-read-only-cache");
+    let mnt = dir.join("ro");
+    std::fs::create_dir_all(&mnt).unwrap();
+    let mount = |args: &[&str]| {
+        Command::new("mount")
+            .args(args)
+            .arg(&mnt)
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    };
+    if !mount(&["-t", "tmpfs", "-o", "size=4m", "tmpfs"]) {
+        eprintln!("no tmpfs could be mounted here");
+        return;
+    }
+    let _unmount = Unmount(mnt.clone());
+    let cache = mnt.join("c.sqlite");
+    let study = write_study(
+        &dir,
+        "R = 0.8\nl1 = 0.01\nper = 0.06\ndepth = 5",
+        "n1 = 64\nn2 = 4\ndt = 1.6e-3",
+    );
+    let run = || {
+        texopt(&[
+            "study",
+            study.to_str().unwrap(),
+            "--no-report",
+            "--cache",
+            cache.to_str().unwrap(),
+        ])
+    };
+    // A cache made by a study of the plain liner alone.
+    let other = dir.join("plain");
+    std::fs::create_dir_all(&other).unwrap();
+    let plain = write_study(&other, "R = 0.8", "n1 = 64\nn2 = 4");
+    let (code, _, err) = texopt(&[
+        "study",
+        plain.to_str().unwrap(),
+        "--no-report",
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let remounted = mount(&["-o", "remount,ro"]);
+    let (code, out, err) = run();
+    assert!(remounted, "could not remount read-only");
+    assert_eq!(code, 2, "{out} {err}");
+    assert!(err.contains("cannot be written"), "{err}");
+    assert!(!out.contains("computed in 1"), "a case was computed: {out}");
 }

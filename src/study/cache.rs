@@ -190,6 +190,16 @@ impl Cache {
     /// a cache that cannot be written is refused before anything is computed. A file that is
     /// not an SQLite database, or another application's database, is reported and left alone.
     pub fn open(path: &Path) -> Result<Cache, CacheError> {
+        // The cache and its WAL beside it need a writable directory (a read-only file
+        // system fails SQLite's open with a vaguer "unable to open").
+        if let Some(dir) = path.parent().filter(|d| d.is_dir()) {
+            crate::output::check_writable(&dir.join(".texopt-probe")).map_err(|why| {
+                CacheError::Io {
+                    path: path.display().to_string(),
+                    why: format!("cannot be written ({why}); choose a writable file with --cache"),
+                }
+            })?;
+        }
         let cache = Cache::open_with(path, true)?;
         if cache.conn.is_readonly(rusqlite::MAIN_DB).unwrap_or(true) {
             return Err(CacheError::Io {
