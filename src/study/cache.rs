@@ -568,12 +568,18 @@ struct Owner {
 
 impl Owner {
     fn this() -> Owner {
-        let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
-            .ok()
-            .or_else(|| std::env::var("HOSTNAME").ok())
-            .unwrap_or_default();
+        // The host name is read once per process, not at every claim.
+        static HOST: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+        let host = HOST.get_or_init(|| {
+            std::fs::read_to_string("/proc/sys/kernel/hostname")
+                .ok()
+                .or_else(|| std::env::var("HOSTNAME").ok())
+                .unwrap_or_default()
+                .trim()
+                .to_string()
+        });
         Owner {
-            host: host.trim().to_string(),
+            host: host.clone(),
             pid: std::process::id() as i64,
         }
     }

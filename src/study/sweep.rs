@@ -233,14 +233,13 @@ impl Work<'_> {
         let out = evaluate_group(self.jobs, group);
         self.simulations.fetch_add(1, Ordering::SeqCst);
         let c = self.cache.lock().expect("cache lock");
-        for (i, r) in &out {
-            let stored = match r {
-                Ok(o) => c.put_done(&self.keys[*i], o),
-                Err(reason) => c.put_failed(&self.keys[*i], reason, 0.0),
-            };
-            if let Err(e) = stored.and_then(|()| c.release(&lease)) {
-                self.fail(e);
-            }
+        let stored = out.iter().try_for_each(|(i, r)| match r {
+            Ok(o) => c.put_done(&self.keys[*i], o),
+            Err(reason) => c.put_failed(&self.keys[*i], reason, 0.0),
+        });
+        // The lease ends once every case of the group is stored.
+        if let Err(e) = stored.and_then(|()| c.release(&lease)) {
+            self.fail(e);
         }
         drop(c);
         let nf = out.iter().filter(|(_, r)| r.is_err()).count();
