@@ -7,6 +7,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 
 use texopt::model::case::{CaseSpec, Texture};
+use texopt::model::operating::Scales;
 use texopt::study::cache::Cache;
 use texopt::study::sweep::{self, Options};
 use texopt::study::Job;
@@ -20,6 +21,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         jobs.push(Job {
             numerics: tier.numerics_for(&plain),
             case: plain.clone(),
+            scales: Scales::PAPER,
         });
         for depth in [2.0, 5.0, 10.0] {
             let case = plain
@@ -28,6 +30,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             jobs.push(Job {
                 numerics: tier.numerics_for(&case),
                 case,
+                scales: Scales::PAPER,
             });
         }
     }

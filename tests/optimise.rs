@@ -10,6 +10,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 
 use texopt::model::case::CaseSpec;
+use texopt::model::operating::{Scales, Validity};
 use texopt::optimise::driver::{optimise, Settings};
 use texopt::optimise::goal::pareto;
 use texopt::optimise::report::Report;
@@ -30,6 +31,8 @@ fn cache(name: &str) -> Mutex<Cache> {
 fn settings(r: f64, w_min_um: f64) -> Settings {
     Settings {
         base: CaseSpec::paper(r),
+        scales: Scales::PAPER,
+        validity: Validity::default(),
         space: Space {
             bounds: Bounds {
                 l1: (0.005, 0.03),
@@ -322,4 +325,64 @@ fn a_killed_search_resumes_through_the_cache_with_the_same_answer() {
         assert_eq!(resumed[key], whole[key], "{key} differs after the kill");
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// f̄ of `t` (None: the plain liner) on ring `r`, simulated directly at `s`'s numerics: an
+/// evaluation that shares nothing with the optimiser's cache.
+fn f_direct(s: &Settings, r: f64, t: Option<&texopt::model::case::Texture>) -> f64 {
+    let case = CaseSpec {
+        texture: t.cloned(),
+        ..CaseSpec::paper(r)
+    };
+    let num = texopt::study::numerics_for(&case, s.report_fidelity, &s.overrides);
+    let opts = texopt::time::RunOptions::default();
+    texopt::time::simulate_with(&case, &num, &opts, &mut Default::default())
+        .unwrap()
+        .outcome
+        .f_mean
+}
+
+#[test]
+fn the_robust_design_is_no_worse_over_the_range_than_any_radius_optimum() {
+    let c = cache("robust");
+    let radii = [3.2, 12.8];
+    let per_r: Vec<Settings> = radii
+        .iter()
+        .map(|&r| {
+            let mut s = settings(r, 10.0);
+            s.swarm.particles = 4;
+            s.swarm.iterations = 2;
+            s
+        })
+        .collect();
+    let rep = texopt::optimise::robust::robust(&per_r, &c, &AtomicBool::new(false)).unwrap();
+    assert_eq!(rep.radii, radii);
+    // Every ratio recomputed from direct simulations, outside the optimiser.
+    let plain: Vec<f64> = radii
+        .iter()
+        .map(|&r| f_direct(&per_r[0], r, None))
+        .collect();
+    let worst = |t: &texopt::model::case::Texture| {
+        radii
+            .iter()
+            .zip(&plain)
+            .map(|(&r, p)| f_direct(&per_r[0], r, Some(t)) / p)
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    let robust = worst(&rep.robust.texture);
+    assert_eq!(
+        robust, rep.robust.worst,
+        "the report's worst ratio is the simulated one"
+    );
+    for a in &rep.at_radius {
+        if let Some(t) = &a.optimum {
+            let w = worst(t);
+            assert!(
+                robust <= w,
+                "robust worst ratio {robust} above that of R = {}'s optimum {t:?}: {w}",
+                a.r
+            );
+        }
+    }
+    assert!(rep.robust.worst < 1.0, "{}", rep.verdict);
 }

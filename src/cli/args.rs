@@ -37,9 +37,14 @@ pub enum Command {
 #[derive(Args, Debug)]
 #[command(allow_negative_numbers = true)]
 pub struct OptimiseArgs {
-    /// Ring face radius R in cm ("inf" for a flat ring).
-    #[arg(long = "R", value_name = "CM", value_parser = parse_radius)]
-    pub r: f64,
+    /// Ring face radius R in cm; a list (3.2,5,8,12.8) or a range (5..12.8, see --radii) asks
+    /// for the best design at each R and a robust design for the whole range (a ring that
+    /// wears flatter).
+    #[arg(long = "R", value_name = "CM|LIST|LO..HI", value_parser = parse_radii)]
+    pub r: Radii,
+    /// Radii a range --R LO..HI is sampled at, geometrically spaced, ends included [default: 4].
+    #[arg(long, value_name = "N")]
+    pub radii: Option<usize>,
     /// TOML file with any of the settings below (keys as the flags, with '_' for '-';
     /// ranges as [LO, HI]); flags given on the command line win.
     #[arg(long, value_name = "FILE")]
@@ -72,6 +77,8 @@ pub struct OptimiseArgs {
     /// Lift the thin-film rule 10⁴·l ≥ 5·depth.
     #[arg(long)]
     pub allow_thick_pockets: bool,
+    #[command(flatten)]
+    pub operating: OperatingArgs,
     /// Fidelity of the reported designs (each is evaluated at it) [default: fast].
     #[arg(long, value_enum)]
     pub fidelity: Option<Fidelity>,
@@ -82,7 +89,7 @@ pub struct OptimiseArgs {
     /// Override the mesh of both fidelities (N2 is still raised to resolve small pockets).
     #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
     pub mesh: Option<(usize, usize)>,
-    /// Override the time step of both fidelities (ms).
+    /// Override the time step of both fidelities (units of L/U: ms at 10 m/s).
     #[arg(long, value_name = "DT")]
     pub dt: Option<f64>,
     /// Particles per swarm [default: 8].
@@ -141,6 +148,43 @@ pub(super) struct OptimiseFile {
     pub(super) balanced: Option<Vec<f64>>,
     pub(super) seed: Option<u64>,
     pub(super) out: Option<PathBuf>,
+    pub(super) radii: Option<usize>,
+    pub(super) speed: Option<f64>,
+    pub(super) load: Option<f64>,
+    pub(super) viscosity: Option<f64>,
+    pub(super) ring_width: Option<f64>,
+    pub(super) ring_mass: Option<f64>,
+    pub(super) d_oil: Option<f64>,
+    pub(super) roughness: Option<f64>,
+}
+
+/// The operating point in physical units (defaults: the paper's, Stribeck number 1e-3), and
+/// the roughness that says where the film model stops.
+#[derive(Args, Debug, Clone, Copy, Default, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OperatingArgs {
+    /// Sliding speed of the liner under the ring (m/s) [default: 10].
+    #[arg(long, value_name = "M/S", allow_hyphen_values = true)]
+    pub speed: Option<f64>,
+    /// Ring load per unit circumferential length, elastic and gas (N/m) [default: 39.84].
+    #[arg(long, value_name = "N/M", allow_hyphen_values = true)]
+    pub load: Option<f64>,
+    /// Dynamic viscosity of the oil in the contact (Pa·s) [default: 0.004].
+    #[arg(long, value_name = "PA_S", allow_hyphen_values = true)]
+    pub viscosity: Option<f64>,
+    /// Axial width of the ring face (mm) [default: 0.8].
+    #[arg(long = "ring-width", value_name = "MM", allow_hyphen_values = true)]
+    pub ring_width: Option<f64>,
+    /// Ring mass per unit circumferential length (kg/m) [default: 0.048].
+    #[arg(long = "ring-mass", value_name = "KG/M", allow_hyphen_values = true)]
+    pub ring_mass: Option<f64>,
+    /// Inlet oil film (µm): 20 is fully flooded, a few µm starved [default: 20].
+    #[arg(long = "d-oil", value_name = "UM", allow_hyphen_values = true)]
+    pub d_oil: Option<f64>,
+    /// Composite RMS roughness of ring and liner (µm): a minimum clearance below 3 times it
+    /// is flagged as outside the hydrodynamic model [default: 0.3].
+    #[arg(long, value_name = "UM", allow_hyphen_values = true)]
+    pub roughness: Option<f64>,
 }
 
 /// The limits a run is checked against before it starts (time/limits.rs).
@@ -304,7 +348,8 @@ impl BenchArgs {
     }
 }
 
-/// Units: lengths along the liner in cm, gaps and depths in µm, time in ms (L/U), friction
+/// Units: lengths along the liner in cm, gaps and depths in µm, time in units of L/U
+/// (1 cm over the sliding speed: 1 ms at 10 m/s; reports convert to ms), friction
 /// coefficients per eq. (11) of the paper (the paper prints them divided by 10).
 #[derive(Args, Debug)]
 #[command(allow_negative_numbers = true)]
@@ -345,7 +390,8 @@ pub struct SimulateArgs {
     /// across (2 at draft), as in studies].
     #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
     pub mesh: Option<(usize, usize)>,
-    /// Largest time step (ms); the step used divides the texture period exactly
+    /// Largest time step (units of L/U: ms at 10 m/s); the step used divides the texture
+    /// period exactly
     /// [default: from --fidelity].
     #[arg(long, value_name = "DT", allow_hyphen_values = true)]
     pub dt: Option<f64>,
@@ -357,23 +403,15 @@ pub struct SimulateArgs {
         default_value_t = 0.95
     )]
     pub theta_s: f64,
-    /// Inlet oil film thickness (µm); 20 is fully flooded.
-    #[arg(
-        long = "d-oil",
-        value_name = "UM",
-        allow_hyphen_values = true,
-        default_value_t = 20.0
-    )]
-    pub d_oil: f64,
-    /// Ring mass per unit width (units of 2.4e7 kg/m; the paper's compression ring: 2e-9).
-    #[arg(long, value_name = "M", default_value_t = 2.0e-9)]
-    pub mass: f64,
+    #[command(flatten)]
+    pub operating: OperatingArgs,
     /// Relative tolerance of the periodic-regime test (estimated distance of the period-mean
     /// friction and Z from their periodic limits) [default: the tier's: 1e-4 for draft and
     /// fast, 1e-5 for paper and fine, as studies use them]
     #[arg(long = "periodic-tol", value_name = "TOL", allow_hyphen_values = true)]
     pub periodic_tol: Option<f64>,
-    /// Give up after this much simulated time (ms) and report converged = false.
+    /// Give up after this much simulated time (units of L/U: ms at 10 m/s) and report
+    /// converged = false.
     #[arg(
         long = "t-max",
         value_name = "T",
@@ -438,6 +476,24 @@ pub(super) fn parse_radius(s: &str) -> Result<f64, String> {
     }
     t.parse::<f64>()
         .map_err(|_| format!("expected a radius in cm (e.g. 0.8) or \"inf\", got {s:?}"))
+}
+
+/// `--R` of `optimise`: radii listed, or a range to sample.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Radii {
+    List(Vec<f64>),
+    Range(f64, f64),
+}
+
+pub(super) fn parse_radii(s: &str) -> Result<Radii, String> {
+    if s.contains("..") {
+        let (lo, hi) = parse_range(s)?;
+        return Ok(Radii::Range(lo, hi));
+    }
+    s.split(',')
+        .map(parse_radius)
+        .collect::<Result<Vec<_>, _>>()
+        .map(Radii::List)
 }
 
 /// `--approach`: a mesh and time step, or `off`.

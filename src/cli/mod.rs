@@ -9,12 +9,13 @@ mod simulate;
 mod study;
 
 pub use args::{
-    ApproachArg, BenchArgs, CacheAction, CacheArgs, Cli, Command, LimitArgs, OptimiseArgs,
-    SimulateArgs, StudyArgs,
+    ApproachArg, BenchArgs, CacheAction, CacheArgs, Cli, Command, LimitArgs, OperatingArgs,
+    OptimiseArgs, SimulateArgs, StudyArgs,
 };
 pub use simulate::case_from_args;
 
-use crate::model::case::{InputError, Waiver};
+use crate::model::case::{bad, InputError, Waiver};
+use crate::model::operating::{Operating, Validity};
 use crate::study::cache::{path_from, Cache, CacheError};
 
 pub fn main_with(cli: Cli) -> i32 {
@@ -116,6 +117,47 @@ impl LimitArgs {
             l.steps = n;
         }
         Ok(l)
+    }
+}
+
+impl OperatingArgs {
+    /// Each setting from these flags, else from `other` (a config file's).
+    pub(super) fn or(self, other: OperatingArgs) -> OperatingArgs {
+        OperatingArgs {
+            speed: self.speed.or(other.speed),
+            load: self.load.or(other.load),
+            viscosity: self.viscosity.or(other.viscosity),
+            ring_width: self.ring_width.or(other.ring_width),
+            ring_mass: self.ring_mass.or(other.ring_mass),
+            d_oil: self.d_oil.or(other.d_oil),
+            roughness: self.roughness.or(other.roughness),
+        }
+    }
+
+    /// The operating point and the validity limit these flags set (the paper's where
+    /// absent), checked: errors name the flag, the value and the rule.
+    pub(super) fn resolve(&self) -> Result<(Operating, Validity), InputError> {
+        let p = Operating::paper();
+        let o = Operating {
+            speed_ms: self.speed.unwrap_or(p.speed_ms),
+            load_n_per_m: self.load.unwrap_or(p.load_n_per_m),
+            viscosity_pas: self.viscosity.unwrap_or(p.viscosity_pas),
+            ring_width_mm: self.ring_width.unwrap_or(p.ring_width_mm),
+            ring_mass_kg_per_m: self.ring_mass.unwrap_or(p.ring_mass_kg_per_m),
+            d_oil_um: self.d_oil.unwrap_or(p.d_oil_um),
+        };
+        o.check()?;
+        let v = Validity {
+            roughness_um: self.roughness.unwrap_or(Validity::default().roughness_um),
+        };
+        if !(v.roughness_um.is_finite() && v.roughness_um > 0.0 && v.roughness_um <= 10.0) {
+            return Err(bad(
+                "roughness",
+                v.roughness_um,
+                "must be a composite RMS roughness in (0, 10] µm",
+            ));
+        }
+        Ok((o, v))
     }
 }
 

@@ -3,26 +3,50 @@
 
 use std::path::PathBuf;
 
-use super::args::OptimiseFile;
+use super::args::{OptimiseFile, Radii};
 use super::{
-    directory_can_be_made, flag, input_message, install_ctrl_c, open_cache, CmdError, OptimiseArgs,
-    STOP,
+    directory_can_be_made, flag, input_message, install_ctrl_c, open_cache, CmdError,
+    OperatingArgs, OptimiseArgs, STOP,
 };
 use crate::model::case::{CaseSpec, InputError};
 use crate::optimise::driver::{optimise, Settings};
 use crate::optimise::report::table;
+use crate::optimise::robust::{robust, table as robust_table};
 use crate::optimise::search::SwarmSettings;
 use crate::optimise::space::{Bounds, Constraints, Space};
 use crate::study::NumericsOverride;
 use crate::time::{short, steps_per_period, Fidelity, MIN_STEPS_PER_PERIOD};
 
 pub(super) fn run(a: &OptimiseArgs) -> Result<i32, CmdError> {
-    let settings = settings(a)?;
-    let out_dir = settings.out_dir.clone().unwrap_or_default();
+    let file = config(a)?;
+    let radii = radii(a, &file)?;
+    let all = radii
+        .iter()
+        .map(|&r| settings(a, &file, r))
+        .collect::<Result<Vec<_>, _>>()?;
+    let out_dir = all[0].out_dir.clone().unwrap_or_default();
     let cache = open_cache(a.cache.as_deref())?;
     install_ctrl_c();
     let cache = std::sync::Mutex::new(cache);
-    let report = optimise(&settings, &cache, &STOP).map_err(CmdError::Other)?;
+    if all.len() > 1 {
+        let report = robust(&all, &cache, &STOP).map_err(CmdError::Other)?;
+        if a.json {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&report).unwrap_or_default()
+            );
+        } else {
+            print!("{}", robust_table(&report));
+            eprintln!(
+                "wrote {}/{}.json, .csv, .md, .png and optimise_R<R>.* for each R",
+                out_dir.display(),
+                report.name
+            );
+        }
+        return Ok(0);
+    }
+    let settings = &all[0];
+    let report = optimise(settings, &cache, &STOP).map_err(CmdError::Other)?;
     if a.json {
         println!(
             "{}",
@@ -39,33 +63,95 @@ pub(super) fn run(a: &OptimiseArgs) -> Result<i32, CmdError> {
     Ok(0)
 }
 
-/// The settings of a run: each from its flag, else the config file, else its default;
-/// every one checked before anything runs.
-fn settings(a: &OptimiseArgs) -> Result<Settings, CmdError> {
+/// Most radii one run designs for (each is a full optimisation).
+const MAX_RADII: usize = 16;
+
+/// The radii of `--R`: one, a list (sorted, repeats dropped), or a range sampled at
+/// `--radii` geometrically spaced values rounded to 3 significant digits (so that the file
+/// names read well and a rerun finds its designs in the cache).
+fn radii(a: &OptimiseArgs, file: &OptimiseFile) -> Result<Vec<f64>, CmdError> {
+    let count = a.radii.or(file.radii);
+    let mut v = match &a.r {
+        Radii::List(v) => {
+            if count.is_some() {
+                return Err(CmdError::Input(
+                    "--radii: applies to a range of radii (--R LO..HI); a list gives its radii itself".into(),
+                ));
+            }
+            v.clone()
+        }
+        Radii::Range(lo, hi) => {
+            let n = count.unwrap_or(4);
+            if !(lo.is_finite() && hi.is_finite() && *lo > 0.0 && lo < hi) {
+                return Err(CmdError::Input(format!(
+                    "--R {lo}..{hi}: a range of radii needs 0 < LO < HI, both finite (cm)"
+                )));
+            }
+            if !(2..=MAX_RADII).contains(&n) {
+                return Err(CmdError::Input(format!(
+                    "--radii {n}: sample a range at 2 to {MAX_RADII} radii"
+                )));
+            }
+            (0..n)
+                .map(|i| {
+                    let x = lo * (hi / lo).powf(i as f64 / (n - 1) as f64);
+                    format!("{x:.2e}").parse().unwrap_or(x)
+                })
+                .collect()
+        }
+    };
     // Every design is weighed against the plain liner on the same ring; under a flat ring the
     // plain liner has no converging wedge and carries no load, so there is nothing to weigh
     // against (a textured flat ring simulates: `texopt simulate --R inf …`).
-    if a.r.is_infinite() {
+    if v.iter().any(|r| r.is_infinite()) {
         return Err(CmdError::Input(
             "--R = inf: the optimiser weighs each texture against the plain liner, which under a flat ring carries no load (no converging wedge); give a finite face radius, or simulate textured flat rings with `texopt simulate --R inf`".into(),
         ));
     }
-    let base = CaseSpec::paper(a.r);
+    v.sort_by(f64::total_cmp);
+    v.dedup();
+    if v.len() > MAX_RADII {
+        return Err(CmdError::Input(format!(
+            "--R: {} radii; give at most {MAX_RADII}",
+            v.len()
+        )));
+    }
+    Ok(v)
+}
+
+/// The operating flags, else the config file's.
+fn operating(a: &OptimiseArgs, f: &OptimiseFile) -> OperatingArgs {
+    a.operating.or(OperatingArgs {
+        speed: f.speed,
+        load: f.load,
+        viscosity: f.viscosity,
+        ring_width: f.ring_width,
+        ring_mass: f.ring_mass,
+        d_oil: f.d_oil,
+        roughness: f.roughness,
+    })
+}
+
+/// The settings of a run for ring radius `r`: each from its flag, else the config file, else
+/// its default; every one checked before anything runs.
+fn settings(a: &OptimiseArgs, file: &OptimiseFile, r: f64) -> Result<Settings, CmdError> {
+    let (op, validity) = operating(a, file).resolve()?;
+    let mut base = CaseSpec::paper(r);
+    op.apply(&mut base);
     base.validate(false)?;
-    let file = config(a)?;
-    let space = space(a, &file);
+    let space = space(a, file);
     space.validate().map_err(|e| space_error(&e))?;
     let particles = a.particles.or(file.particles).unwrap_or(8);
     let iterations = a.iterations.or(file.iterations).unwrap_or(3);
     let balanced = a
         .balanced
         .clone()
-        .or(file.balanced)
+        .or(file.balanced.clone())
         .unwrap_or_else(|| vec![0.5]);
     let out_dir = a
         .out
         .clone()
-        .or(file.out)
+        .or(file.out.clone())
         .unwrap_or_else(|| PathBuf::from("results/optimise"));
     if particles < 2 || iterations == 0 {
         return Err(CmdError::Input(
@@ -87,6 +173,8 @@ fn settings(a: &OptimiseArgs) -> Result<Settings, CmdError> {
     })?;
     let settings = Settings {
         base,
+        scales: op.scales(),
+        validity,
         space,
         search_fidelity: a
             .search_fidelity

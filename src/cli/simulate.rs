@@ -4,6 +4,7 @@ use std::io::{IsTerminal, Write};
 
 use super::{flag, input_message, CmdError, SimulateArgs};
 use crate::model::case::{bad, CaseSpec, InputError, Texture};
+use crate::model::operating::{Operating, Physical};
 use crate::time::{
     simulate_with, unresolved_depth, Numerics, Outcome, Progress, RunOptions, RunResult, SeriesRow,
     TimeScheme, Watch, DEEP_POCKET_RATIO,
@@ -22,8 +23,7 @@ pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), String> 
 fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
     let mut case = CaseSpec::paper(a.r);
     case.theta_s = a.theta_s;
-    case.d_oil = a.d_oil;
-    case.mass = a.mass;
+    a.operating.resolve()?.0.apply(&mut case);
     let depth = a.depth.unwrap_or(0.0);
     if !depth.is_finite() || depth < 0.0 {
         return Err(bad(
@@ -83,6 +83,7 @@ const CONFORMAL_DT: f64 = 1e-4;
 
 pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     let (case, num) = case_from_args(a).map_err(CmdError::Input)?;
+    let (op, validity) = a.operating.resolve()?;
     if case.texture.is_none()
         && (a.l1.is_some() || a.per.is_some() || a.l2.is_some() || a.width.is_some())
     {
@@ -130,10 +131,16 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
         .unwrap_or(std::time::Duration::MAX);
     let began = std::time::Instant::now();
     let mut last_line = began;
+    // Times are in units of L/U, U the run's speed: 1 ms at 10 m/s (docs/model.md §1).
+    let ms_per_t = op.scales().time_ms();
     let mut observe = |p: &Progress| {
         let line = format!(
-            "  period {:4}  t = {:7.3}  f̄ = {:.5}  Z̄ = {:.4} µm  est. periodic error {:.1e}",
-            p.period, p.t, p.f_mean, p.z_mean, p.periodic_error
+            "  period {:4}  t = {:7.3} ms  f̄ = {:.5}  Z̄ = {:.4} µm  est. periodic error {:.1e}",
+            p.period,
+            p.t * ms_per_t,
+            p.f_mean,
+            p.z_mean,
+            p.periodic_error
         );
         if show {
             eprint!("\r{line}   ");
@@ -160,9 +167,14 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
         outcome, series, ..
     } = result.map_err(|e| CmdError::Other(e.to_string()))?;
 
+    let physical = op.scales().physical(&case, outcome.f_mean, outcome.c_min);
+    let outside = validity.outside(&case, outcome.c_min);
     if a.json {
         let report = serde_json::json!({
-            "inputs": { "case": case, "numerics": num, "mesh": format!("{}x{}", num.n1, num.n2) },
+            "inputs": { "case": case, "numerics": num, "mesh": format!("{}x{}", num.n1, num.n2),
+                        "operating": op, "roughness_um": validity.roughness_um },
+            "physical": physical,
+            "outside_model": outside,
         });
         let mut obj = report.as_object().cloned().unwrap_or_default();
         if let serde_json::Value::Object(o) = serde_json::to_value(&outcome).unwrap_or_default() {
@@ -170,7 +182,8 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
         }
         println!("{}", serde_json::Value::Object(obj));
     } else {
-        print_summary(&case, &num, &outcome);
+        print_summary(&case, &num, &outcome, ms_per_t);
+        print_physical(&op, &physical, outside.as_deref());
     }
     if let Some(t) = case.texture.as_ref() {
         if unresolved_depth(t.depth, outcome.c_min) {
@@ -183,7 +196,7 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     // The series is written after the result is printed: a full disk loses the file, not
     // the answer.
     if let (Some(path), Some(rows)) = (&a.series, &series) {
-        if let Err(e) = write_series(path, rows) {
+        if let Err(e) = write_series(path, rows, op.scales().time_ms()) {
             eprintln!("error: --series: {e}");
             return Ok(1);
         }
@@ -198,21 +211,45 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     Ok(0)
 }
 
-fn write_series(path: &std::path::Path, rows: &[SeriesRow]) -> Result<(), String> {
+/// The series, with the time also in ms (`ms_per_t`: the time scale L/U, 1 ms at 10 m/s).
+fn write_series(path: &std::path::Path, rows: &[SeriesRow], ms_per_t: f64) -> Result<(), String> {
     crate::output::write_with(path, |w| {
-        writeln!(w, "t,Z,W_h,f,f_couette,f_poiseuille,f_pressure")?;
+        writeln!(w, "t,t_ms,Z,W_h,f,f_couette,f_poiseuille,f_pressure")?;
         for r in rows {
             writeln!(
                 w,
-                "{},{},{},{},{},{},{}",
-                r.t, r.z, r.w_h, r.f, r.f_couette, r.f_poiseuille, r.f_pressure
+                "{},{},{},{},{},{},{},{}",
+                r.t,
+                r.t * ms_per_t,
+                r.z,
+                r.w_h,
+                r.f,
+                r.f_couette,
+                r.f_poiseuille,
+                r.f_pressure
             )?;
         }
         Ok(())
     })
 }
 
-fn print_summary(case: &CaseSpec, num: &Numerics, o: &Outcome) {
+/// The operating point and the outcomes in physical units; a run outside the hydrodynamic
+/// model says so beside them.
+fn print_physical(op: &Operating, p: &Physical, outside: Option<&str>) {
+    println!(
+        "  operating point: {} m/s, load {} N/m, {} Pa·s, ring {} mm wide of {} kg/m, oil supply {} µm: Stribeck number {:.3e}",
+        op.speed_ms, op.load_n_per_m, op.viscosity_pas, op.ring_width_mm, op.ring_mass_kg_per_m, op.d_oil_um, p.stribeck
+    );
+    println!(
+        "  friction force {:.4} N/m, friction power {:.3} W/m (per unit circumferential length)",
+        p.friction_n_per_m, p.power_w_per_m
+    );
+    if let Some(why) = outside {
+        println!("  OUTSIDE THE HYDRODYNAMIC MODEL: {why}; the figures above are not a prediction");
+    }
+}
+
+fn print_summary(case: &CaseSpec, num: &Numerics, o: &Outcome, ms_per_t: f64) {
     let ring = if case.r.is_infinite() {
         "flat ring".to_string()
     } else {
@@ -232,17 +269,17 @@ fn print_summary(case: &CaseSpec, num: &Numerics, o: &Outcome) {
             "  transient on {}x{} cells, dt = {:.4e} ms: {} periods, {} steps, t = {:.3} ms; periodic regime {} (est. error {:.1e})",
             num.n1,
             num.n2,
-            o.dt,
+            o.dt * ms_per_t,
             o.periods,
             o.steps,
-            o.t_end,
+            o.t_end * ms_per_t,
             if o.converged { "reached" } else { "NOT reached" },
             o.periodic_error
         );
         if let (true, Some(coarse)) = (o.approach_steps > 0, num.approach_numerics(case)) {
             println!(
                 "  (the first {} steps on {}x{} cells at dt = {:.4e}, the coarse approach: the outcomes are those of the full mesh; --approach off to run every step on it)",
-                o.approach_steps, coarse.n1, coarse.n2, coarse.dt
+                o.approach_steps, coarse.n1, coarse.n2, coarse.dt * ms_per_t
             );
         }
     }

@@ -18,12 +18,14 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// The 2D half-cell scene of a case: n1 × n2 over [0, 0.2] × [0, width/2]; an untextured
-    /// liner has no x2 structure, so its width is nominal (1 cm).
+    /// The 2D half-cell scene of a case: n1 × n2 over the contact's domain along x1 (0.2 cm
+    /// for the paper's ring) × [0, width/2]; an untextured liner has no x2 structure, so its
+    /// width is nominal (1 cm).
     pub fn new(case: &CaseSpec, n1: usize, n2: usize) -> Self {
         let contact = case.contact();
         let width = case.texture.as_ref().map_or(1.0, |t| 0.5 * t.width);
-        Self::with_grid(contact, Grid::new(n1, n2, 0.2, width), case.u)
+        let length = contact.length_cm;
+        Self::with_grid(contact, Grid::new(n1, n2, length, width), case.u)
     }
 
     pub fn with_grid(contact: Contact, grid: Grid, u: f64) -> Self {

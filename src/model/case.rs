@@ -68,6 +68,24 @@ pub struct CaseSpec {
     /// Initial ring position Z(0) (µm) and velocity Z'(0).
     pub z0: f64,
     pub v0: f64,
+    /// Axial width of the ring face b − a (cm; the paper's ring: 0.08). Left out of the
+    /// serialised case (and so of cache keys) at the paper's width.
+    #[serde(
+        default = "paper_ring_width",
+        skip_serializing_if = "is_paper_ring_width"
+    )]
+    pub ring_width: f64,
+}
+
+/// The paper's ring width (cm, docs/model.md §2).
+pub const PAPER_RING_WIDTH: f64 = 0.08;
+
+fn paper_ring_width() -> f64 {
+    PAPER_RING_WIDTH
+}
+
+fn is_paper_ring_width(w: &f64) -> bool {
+    *w == PAPER_RING_WIDTH
 }
 
 impl CaseSpec {
@@ -95,6 +113,7 @@ impl CaseSpec {
             e: 1000.0,
             z0: 2.5,
             v0: 0.0,
+            ring_width: PAPER_RING_WIDTH,
         }
     }
     pub fn with_texture(mut self, t: Texture) -> Self {
@@ -102,7 +121,7 @@ impl CaseSpec {
         self
     }
 
-    /// The contact geometry (paper's domain and ring width).
+    /// The contact geometry (docs/model.md §2): the paper's layout scaled to the ring width.
     pub fn contact(&self) -> Contact {
         let liner = match &self.texture {
             None => Liner::smooth(),
@@ -121,7 +140,7 @@ impl CaseSpec {
         };
         let mut c = Contact::paper(Arc::new(CircularArc { radius_cm: self.r }), liner);
         c.e_um = self.e;
-        c
+        c.with_ring_width(self.ring_width)
     }
 
     /// Short label for messages, e.g. "R=0.8 l1=0.01 l2=0.01 per=0.06 width=0.06 depth=5".
@@ -137,6 +156,19 @@ impl CaseSpec {
             }
         } else {
             s += " untextured";
+        }
+        // The operating point where it is not the paper's.
+        let paper = CaseSpec::paper(self.r);
+        for (name, v, p) in [
+            ("u", self.u, paper.u),
+            ("w_ps", self.w_ps, paper.w_ps),
+            ("mass", self.mass, paper.mass),
+            ("d_oil", self.d_oil, paper.d_oil),
+            ("ring_width", self.ring_width, paper.ring_width),
+        ] {
+            if v != p {
+                s += &format!(" {name}={}", short(v));
+            }
         }
         s
     }
@@ -207,19 +239,30 @@ pub fn positive(param: &str, v: f64) -> Result<(), InputError> {
     }
 }
 
-/// Half the ring width (cm): the smallest radius an arc spanning the ring can have.
-pub const RING_HALF_WIDTH: f64 = 0.04;
+/// Narrowest and widest ring faces accepted (cm): 0.1 to 10 mm, beyond any compression or
+/// oil-control ring (a typo in the unit, not a ring).
+pub const RING_WIDTH_RANGE: (f64, f64) = (0.01, 1.0);
 
 impl CaseSpec {
     /// Checks docs/model.md §2's rules. `allow_thick` lifts the thin-film rule
     /// 10⁴·l ≥ 5·depth.
     pub fn validate(&self, allow_thick: bool) -> Result<(), InputError> {
-        if self.r.is_nan() || self.r <= RING_HALF_WIDTH {
+        let (w_lo, w_hi) = RING_WIDTH_RANGE;
+        if !(self.ring_width.is_finite() && (w_lo..=w_hi).contains(&self.ring_width)) {
+            return Err(bad(
+                "ring_width",
+                self.ring_width,
+                format!("the ring width must lie in [{w_lo}, {w_hi}] cm (0.1 to 10 mm)"),
+            ));
+        }
+        let half = 0.5 * self.ring_width;
+        if self.r.is_nan() || self.r <= half {
             return Err(bad(
                 "R",
                 self.r,
                 format!(
-                    "the ring face radius must exceed half the ring width ({RING_HALF_WIDTH} cm); use inf for a flat ring"
+                    "the ring face radius must exceed half the ring width ({} cm); use inf for a flat ring",
+                    short(half)
                 ),
             ));
         }

@@ -167,6 +167,19 @@ impl Contact {
         }
     }
 
+    /// The same layout for a ring `w` cm wide (docs/model.md §2): the domain stays 2.5 ring
+    /// widths long with the ring at its centre, so the film has as far to come and go as in
+    /// the paper's layout. The paper's width gives the paper's numbers exactly.
+    pub fn with_ring_width(mut self, w: f64) -> Self {
+        if w != self.ring_width_cm {
+            let scale = w / self.ring_width_cm;
+            self.length_cm *= scale;
+            self.x_center_cm *= scale;
+            self.ring_width_cm = w;
+        }
+        self
+    }
+
     /// Ring edges (a, b) in cm.
     pub fn ring_edges(&self) -> (f64, f64) {
         let hw = 0.5 * self.ring_width_cm;

@@ -6,5 +6,6 @@ pub mod case;
 pub mod film;
 pub mod friction;
 pub mod geometry;
+pub mod operating;
 pub mod ring;
 pub mod units;

@@ -12,6 +12,7 @@ use super::report::{row, write, Evaluated, Report, Row};
 use super::search::{refine, search, Evaluation, Evaluator, Search, SwarmSettings};
 use super::space::Space;
 use crate::model::case::{CaseSpec, Texture};
+use crate::model::operating::{Scales, Validity};
 use crate::study::cache::Cache;
 use crate::study::sweep;
 use crate::study::NumericsOverride;
@@ -21,6 +22,9 @@ use crate::time::{Fidelity, Limits, Outcome};
 pub struct Settings {
     /// The ring and operating point (texture ignored).
     pub base: CaseSpec,
+    /// The scales of the operating point, and where the film model stops.
+    pub scales: Scales,
+    pub validity: Validity,
     pub space: Space,
     /// Fidelity of the searches, and of the reported (confirmed) designs.
     pub search_fidelity: Fidelity,
@@ -39,9 +43,9 @@ pub struct Settings {
 }
 
 /// Compass refinement after each swarm: first step, last step and most polls (cube units).
-const REFINE_STEP: f64 = 0.25;
-const REFINE_MIN_STEP: f64 = 1.0 / 16.0;
-const REFINE_ITERS: u64 = 8;
+pub(super) const REFINE_STEP: f64 = 0.25;
+pub(super) const REFINE_MIN_STEP: f64 = 1.0 / 16.0;
+pub(super) const REFINE_ITERS: u64 = 8;
 
 /// Most front points confirmed at the reported fidelity.
 const MAX_CONFIRM: usize = 10;
@@ -55,27 +59,8 @@ pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result
             eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
         }
     };
-    let options = sweep::Options {
-        jobs: s.jobs,
-        retry_failed: false,
-        progress: false,
-        limits: s.limits,
-    };
-    let evaluator = |fidelity| Evaluator {
-        base: CaseSpec {
-            texture: None,
-            ..s.base.clone()
-        },
-        fidelity,
-        overrides: s.overrides.clone(),
-        cache,
-        options: options.clone(),
-        stop,
-        log: Mutex::new(Vec::new()),
-        simulations: Mutex::new(0),
-        progress: s.progress,
-    };
-    let (ev_s, ev_r) = (evaluator(s.search_fidelity), evaluator(s.report_fidelity));
+    let ev_s = evaluator(s, s.search_fidelity, cache, stop);
+    let ev_r = evaluator(s, s.report_fidelity, cache, stop);
     let plain_s = plain(&ev_s)?;
     let plain_r = plain(&ev_r)?;
     searches(s, &ev_s, &plain_s, &say)?;
@@ -91,10 +76,10 @@ pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result
     let designs: Vec<Option<Texture>> = cand.iter().cloned().map(Some).collect();
     let confirmed = ev_r.evaluate(&designs)?;
     // The reported front: confirmed designs plus the plain liner.
-    let mut rows: Vec<Row> = vec![row(&s.space, "plain liner", None, &plain_r, &plain_r)];
+    let mut rows: Vec<Row> = vec![row(s, "plain liner", None, &plain_r, &plain_r)];
     for (t, o) in cand.iter().zip(&confirmed) {
         if let Ok(o) = o {
-            rows.push(row(&s.space, "", Some(t), o, &plain_r));
+            rows.push(row(s, "", Some(t), o, &plain_r));
         }
     }
     let log_r = ev_r.log.lock().expect("lock").clone();
@@ -109,8 +94,38 @@ pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result
     Ok(report)
 }
 
+/// The evaluation service of a run at one fidelity: its ring and operating point, through
+/// the cache.
+pub(super) fn evaluator<'a>(
+    s: &Settings,
+    fidelity: Fidelity,
+    cache: &'a Mutex<Cache>,
+    stop: &'a AtomicBool,
+) -> Evaluator<'a> {
+    Evaluator {
+        base: CaseSpec {
+            texture: None,
+            ..s.base.clone()
+        },
+        scales: s.scales,
+        fidelity,
+        overrides: s.overrides.clone(),
+        cache,
+        options: sweep::Options {
+            jobs: s.jobs,
+            retry_failed: false,
+            progress: false,
+            limits: s.limits,
+        },
+        stop,
+        log: Mutex::new(Vec::new()),
+        simulations: Mutex::new(0),
+        progress: s.progress,
+    }
+}
+
 /// The plain liner's outcome at an evaluator's fidelity.
-fn plain(ev: &Evaluator) -> Result<Outcome, String> {
+pub(super) fn plain(ev: &Evaluator) -> Result<Outcome, String> {
     ev.evaluate(&[None])?
         .remove(0)
         .map_err(|e| format!("the plain liner failed: {e}"))
@@ -241,6 +256,8 @@ fn report(
     let evaluated = evaluated(s, logs);
     Ok(Report {
         r: s.base.r,
+        stribeck: crate::model::units::stribeck(s.base.u, s.base.w_ps),
+        roughness_um: s.validity.roughness_um,
         space: s.space.clone(),
         search_fidelity: s.search_fidelity.name().into(),
         report_fidelity: s.report_fidelity.name().into(),

@@ -6,5 +6,6 @@
 pub mod driver;
 pub mod goal;
 pub mod report;
+pub mod robust;
 pub mod search;
 pub mod space;

@@ -28,12 +28,21 @@ pub struct Row {
     pub depth_ratio: f64,
     pub active_constraints: Vec<String>,
     pub on_front: bool,
+    /// Period-mean friction force and power per unit circumferential length (N/m, W/m).
+    pub friction_n_per_m: f64,
+    pub power_w_per_m: f64,
+    /// Why the design is outside the hydrodynamic model (docs/model.md §9), if it is.
+    pub outside_model: Option<String>,
 }
 
 /// The result of `optimise`.
 #[derive(Clone, Debug, Serialize)]
 pub struct Report {
     pub r: f64,
+    /// The operating point: its Stribeck number (eq. 19) and the composite roughness of the
+    /// clearance limit (µm).
+    pub stribeck: f64,
+    pub roughness_um: f64,
     pub space: Space,
     pub search_fidelity: String,
     pub report_fidelity: String,
@@ -67,14 +76,23 @@ pub struct Evaluated {
 
 /// The row of a design (None: the plain liner) against the plain liner's outcome.
 pub(super) fn row(
-    space: &Space,
+    s: &Settings,
     label: &str,
     t: Option<&Texture>,
     o: &Outcome,
     plain: &Outcome,
 ) -> Row {
     let (w1, w2) = t.map_or((f64::NAN, f64::NAN), wall);
+    let space = &s.space;
+    let case = CaseSpec {
+        texture: t.cloned(),
+        ..s.base.clone()
+    };
+    let physical = s.scales.physical(&case, o.f_mean, o.c_min);
     Row {
+        friction_n_per_m: physical.friction_n_per_m,
+        power_w_per_m: physical.power_w_per_m,
+        outside_model: s.validity.outside(&case, o.c_min),
         label: label.into(),
         texture: t.cloned(),
         f_mean: o.f_mean,
@@ -138,6 +156,10 @@ pub fn table(r: &Report) -> String {
         } else {
             x.label.as_str()
         };
+        let label = match x.outside_model {
+            Some(_) => format!("{label} ‡"),
+            None => label.to_string(),
+        };
         let _ = writeln!(
             s,
             "{:15} {:>8} {:>8} {:>6} {:>6} {:>8.5} {:>+8.2} {:>8.4} {:>+7.2} {:>7.3} {:>11}  {}",
@@ -160,6 +182,24 @@ pub fn table(r: &Report) -> String {
         );
     }
     let _ = writeln!(s, "{}", r.verdict);
+    let flagged: Vec<&Row> = r
+        .front
+        .iter()
+        .chain([&r.best_friction, &r.best_clearance, &r.plain])
+        .filter(|x| x.outside_model.is_some())
+        .collect();
+    if let Some(x) = flagged.first() {
+        let _ = writeln!(
+            s,
+            "‡ outside the hydrodynamic model, not a prediction: {}",
+            x.outside_model.as_deref().unwrap_or_default()
+        );
+    }
+    let _ = writeln!(
+        s,
+        "operating point: Stribeck number {:.3e}; plain liner {:.4} N/m, {:.3} W/m of friction; best friction {:.4} N/m, {:.3} W/m",
+        r.stribeck, r.plain.friction_n_per_m, r.plain.power_w_per_m, r.best_friction.friction_n_per_m, r.best_friction.power_w_per_m
+    );
     let _ = writeln!(
         s,
         "{} evaluations at {} + {} confirmed at {}; {} simulations (the rest from the cache); {:.1} s",
@@ -236,6 +276,9 @@ pub(super) fn write(dir: &Path, r: &Report, s: &Settings) -> Result<(), String> 
         "wall_x2_cm",
         "active",
         "fidelity",
+        "friction_n_per_m",
+        "power_w_per_m",
+        "outside_model",
     ]);
     let mut rows = vec![&r.best_friction, &r.best_clearance];
     rows.extend(r.front.iter());
@@ -264,6 +307,9 @@ pub(super) fn write(dir: &Path, r: &Report, s: &Settings) -> Result<(), String> 
             f(t.map(|t| t.width - 2.0 * t.l2)),
             x.active_constraints.join(" "),
             r.report_fidelity.clone(),
+            x.friction_n_per_m.to_string(),
+            x.power_w_per_m.to_string(),
+            x.outside_model.clone().unwrap_or_default(),
         ]);
     }
     let bytes = w
@@ -290,7 +336,14 @@ fn front_plot(stem: &Path, r: &Report) -> Result<(), String> {
     let front: Vec<(f64, f64)> = r.front.iter().map(|x| (x.f_mean, x.c_min)).collect();
     let plain = vec![(r.plain.f_mean, r.plain.c_min)];
     let best = vec![(r.best_friction.f_mean, r.best_friction.c_min)];
-    let series = vec![
+    let outside: Vec<(f64, f64)> = r
+        .front
+        .iter()
+        .chain([&r.plain])
+        .filter(|x| x.outside_model.is_some())
+        .map(|x| (x.f_mean, x.c_min))
+        .collect();
+    let mut series = vec![
         Series {
             name: format!("evaluated at {} (no constraint active)", r.search_fidelity),
             points: &sa,
@@ -324,6 +377,17 @@ fn front_plot(stem: &Path, r: &Report) -> Result<(), String> {
             colour: 1,
         },
     ];
+    if !outside.is_empty() {
+        series.push(Series {
+            name: format!(
+                "outside the hydrodynamic model (C_min < {:.2} µm)",
+                crate::model::operating::FULL_FILM_LAMBDA * r.roughness_um
+            ),
+            points: &outside,
+            style: Style::Rings,
+            colour: 3,
+        });
+    }
     let title = format!("Friction against minimum clearance, R = {} cm", r.r);
     plot::xy(
         &PathBuf::from(format!("{}_front.png", stem.display())),

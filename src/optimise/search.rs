@@ -15,6 +15,7 @@ use std::sync::Mutex;
 use super::goal::{Goal, FAILED_COST};
 use super::space::Space;
 use crate::model::case::{CaseSpec, Texture};
+use crate::model::operating::Scales;
 use crate::study::cache::Cache;
 use crate::study::{numerics_for, sweep, Job, NumericsOverride};
 use crate::time::{Fidelity, Outcome};
@@ -30,6 +31,8 @@ pub struct Evaluation {
 /// The evaluation service shared by every search: designs → jobs → cache/simulation.
 pub struct Evaluator<'a> {
     pub base: CaseSpec,
+    /// The scales of the base's operating point (for the reports in physical units).
+    pub scales: Scales,
     pub fidelity: Fidelity,
     pub overrides: NumericsOverride,
     pub cache: &'a Mutex<Cache>,
@@ -50,7 +53,11 @@ impl Evaluator<'_> {
             ..self.base.clone()
         };
         let numerics = numerics_for(&case, self.fidelity, &self.overrides);
-        Job { case, numerics }
+        Job {
+            case,
+            numerics,
+            scales: self.scales,
+        }
     }
 
     /// Evaluates the designs (None: the plain liner) in parallel through the cache.
@@ -148,10 +155,17 @@ pub struct SwarmSettings {
 
 /// Runs one particle-swarm search; returns the best unit-cube point and its cost.
 pub fn search(s: &Search, settings: SwarmSettings) -> Result<(Vec<f64>, f64), String> {
-    let n = s.space.dim();
+    swarm(s, s.space.dim(), settings)
+}
+
+/// A particle swarm over the unit cube of dimension `n` minimising `problem`.
+pub fn swarm<C>(problem: C, n: usize, settings: SwarmSettings) -> Result<(Vec<f64>, f64), String>
+where
+    C: CostFunction<Param = Vec<f64>, Output = f64> + argmin::core::SyncAlias,
+{
     let solver = ParticleSwarm::new((vec![0.0; n], vec![1.0; n]), settings.particles)
         .with_rng_generator(rand::rngs::StdRng::seed_from_u64(settings.seed));
-    let res = Executor::new(s, solver)
+    let res = Executor::new(problem, solver)
         .configure(|st| st.max_iters(settings.iterations))
         .run()
         .map_err(|e| e.to_string())?;
@@ -241,14 +255,17 @@ where
 }
 
 /// Refines a point by compass search; returns the best point and its cost.
-pub fn refine(
-    s: &Search,
+pub fn refine<C>(
+    problem: C,
     start: Vec<f64>,
     step: f64,
     min_step: f64,
     max_iters: u64,
-) -> Result<(Vec<f64>, f64), String> {
-    let res = Executor::new(s, CompassSearch { step, min_step })
+) -> Result<(Vec<f64>, f64), String>
+where
+    C: CostFunction<Param = Vec<f64>, Output = f64> + argmin::core::SyncAlias,
+{
+    let res = Executor::new(problem, CompassSearch { step, min_step })
         .configure(|st| st.param(start).max_iters(max_iters))
         .run()
         .map_err(|e| e.to_string())?;

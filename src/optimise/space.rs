@@ -97,6 +97,28 @@ impl Space {
     /// The design at u ∈ [0, 1]^dim. Each variable's interval depends on those before it, so
     /// that every u gives a feasible design (when `validate` passed).
     pub fn decode(&self, u: &[f64]) -> Texture {
+        self.walk(&mut |k, iv| lerp(iv, u[k]))
+    }
+
+    /// The unit-cube point of a feasible design: `decode(encode(t)) ≈ t` (a design outside
+    /// the space lands on its nearest face).
+    pub fn encode(&self, t: &Texture) -> Vec<f64> {
+        let mut u = vec![0.0; self.dim()];
+        let value = [t.per, t.l1, t.l2, t.depth, t.width];
+        self.walk(&mut |k, (lo, hi)| {
+            u[k] = if hi > lo {
+                ((value[k] - lo) / (hi - lo)).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            lerp((lo, hi), u[k])
+        });
+        u
+    }
+
+    /// Chooses the variables in order (per, [width], l1, l2, depth), each by `pick(k, interval)`
+    /// with k its index in u, within the interval the earlier choices leave.
+    fn walk(&self, pick: &mut dyn FnMut(usize, (f64, f64)) -> f64) -> Texture {
         let b = &self.bounds;
         let c = &self.cons;
         let floor = self.l_floor();
@@ -110,13 +132,13 @@ impl Space {
         let (per, width) = match b.width {
             None => {
                 let lo = per_lo.max(2.0 * l2_min + c.w_min).max(min_cell.sqrt());
-                let p = lerp((lo, b.per.1), u[0]);
+                let p = pick(0, (lo, b.per.1));
                 (p, p)
             }
             Some(w) => {
-                let p = lerp((per_lo.max(min_cell / w.1), b.per.1), u[0]);
+                let p = pick(0, (per_lo.max(min_cell / w.1), b.per.1));
                 let wlo = w.0.max(2.0 * l2_min + c.w_min).max(min_cell / p);
-                (p, lerp((wlo, w.1), u[4]))
+                (p, pick(4, (wlo, w.1)))
             }
         };
         let area_cap = |other: f64| {
@@ -125,9 +147,9 @@ impl Space {
             })
         };
         let l1_hi = b.l1.1.min(0.5 * (per - c.w_min)).min(area_cap(l2_min));
-        let l1 = lerp((l1_min, l1_hi.max(l1_min)), u[1]);
+        let l1 = pick(1, (l1_min, l1_hi.max(l1_min)));
         let l2_hi = b.l2.1.min(0.5 * (width - c.w_min)).min(area_cap(l1));
-        let l2 = lerp((l2_min, l2_hi.max(l2_min)), u[2]);
+        let l2 = pick(2, (l2_min, l2_hi.max(l2_min)));
         let lmin = l1.min(l2);
         let mut d_hi = b.depth.1;
         if !c.allow_thick {
@@ -136,7 +158,7 @@ impl Space {
         if let Some(r) = c.max_depth_ratio {
             d_hi = d_hi.min(r * 2.0 * lmin * 1e4);
         }
-        let depth = lerp((b.depth.0, d_hi.max(b.depth.0)), u[3]);
+        let depth = pick(3, (b.depth.0, d_hi.max(b.depth.0)));
         Texture {
             l1,
             l2,
@@ -346,6 +368,17 @@ mod tests {
                     "{u:?} → {t:?}: {:?}",
                     s.violations(&t)
                 );
+                // encode inverts decode: D(E(D(u))) = D(u).
+                let back = s.decode(&s.encode(&t));
+                for (a, b) in [
+                    (back.per, t.per),
+                    (back.width, t.width),
+                    (back.l1, t.l1),
+                    (back.l2, t.l2),
+                    (back.depth, t.depth),
+                ] {
+                    assert!((a - b).abs() <= 1e-12 * b.abs(), "{t:?} → {back:?}");
+                }
             }
         }
     }

@@ -15,19 +15,29 @@
 //! l2 = "l1"
 //! depth = [2, 5, 10]
 //! ```
+//!
+//! Instead of a grid of textures, `texture` lists chosen ones
+//! (`texture = [{ l1 = 0.03, per = 0.06, depth = 10 }, …]`, l2 and width defaulting to l1 and
+//! per). The operating point is either the scaled parameters (u, w_ps, mass) or the physical
+//! ones (speed, load, viscosity, ring_width, ring_mass: docs/model.md §1), not both.
 
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::model::case::{CaseSpec, InputError, Texture, Waiver};
+use crate::model::operating::{Operating, Scales, Validity, RANGES};
 use crate::solve::Method;
 use crate::time::{Fidelity, Numerics};
 
 /// The parameters a study may vary, with their units (docs/model.md §1). Texture parameters
 /// first-class; the rest default to the paper's operating point (CaseSpec::paper).
-pub const PARAMETERS: [(&str, &str); 15] = [
+pub const PARAMETERS: [(&str, &str); 21] = [
     ("R", "ring face radius, cm (\"inf\" for a flat ring)"),
+    (
+        "texture",
+        "chosen textures: a list of { l1, per, depth [, l2, width, phase] }",
+    ),
     ("l1", "pocket semiaxis along sliding, cm"),
     ("l2", "pocket semiaxis across sliding, cm"),
     ("per", "texture period along sliding, cm"),
@@ -42,7 +52,19 @@ pub const PARAMETERS: [(&str, &str); 15] = [
     ("e", "gap outside the ring, µm"),
     ("z0", "initial ring position, µm"),
     ("v0", "initial ring velocity"),
+    ("speed", "sliding speed, m/s"),
+    ("load", "ring load per unit circumferential length, N/m"),
+    ("viscosity", "oil viscosity, Pa·s"),
+    ("ring_width", "axial width of the ring face, mm"),
+    (
+        "ring_mass",
+        "ring mass per unit circumferential length, kg/m",
+    ),
 ];
+
+/// The physical operating parameters (docs/model.md §1), exclusive of the scaled ones.
+const PHYSICAL: [&str; 5] = ["speed", "load", "viscosity", "ring_width", "ring_mass"];
+const SCALED: [&str; 3] = ["u", "w_ps", "mass"];
 
 const TEXTURE: [&str; 6] = ["l1", "l2", "per", "width", "depth", "phase"];
 
@@ -81,6 +103,9 @@ struct Header {
     /// raised here.
     #[serde(default = "max_cases")]
     max_cases: u64,
+    /// Composite RMS roughness of ring and liner (µm): cases whose minimum clearance falls
+    /// below 3 times it are flagged as outside the hydrodynamic model.
+    roughness: Option<f64>,
 }
 
 /// Most combinations a study expands by default: 100,000 (the paper's study has 1,760; at
@@ -144,11 +169,13 @@ impl Default for ReportToml {
     }
 }
 
-/// One evaluation of a study.
+/// One evaluation of a study: the scaled case, its numerics, and the scales that turn its
+/// outcomes into physical units (not part of what is computed: similar rings share a case).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Job {
     pub case: CaseSpec,
     pub numerics: Numerics,
+    pub scales: Scales,
 }
 
 /// An expanded study.
@@ -161,6 +188,8 @@ pub struct Study {
     /// Invalid combinations skipped, counted by the rule they break.
     pub skipped: BTreeMap<String, usize>,
     pub report: ReportToml,
+    /// Where the film model stops (the `[study]` roughness).
+    pub validity: Validity,
 }
 
 impl Study {
@@ -196,8 +225,9 @@ pub fn parse(text: &str, file: &str) -> Result<Study, StudyError> {
             .join(" "))
     })?;
     check_header(&raw).map_err(&err)?;
-    let values = parameter_values(&raw.parameters).map_err(&err)?;
-    let (jobs, skipped) = expand_cases(&raw, &values).map_err(&err)?;
+    let validity = validity(&raw).map_err(&err)?;
+    let (values, textures) = parameter_values(&raw.parameters).map_err(&err)?;
+    let (jobs, skipped) = expand_cases(&raw, &values, &textures).map_err(&err)?;
     if jobs.is_empty() {
         return Err(err(format!(
             "no valid case: all {} combinations break a rule ({}); widen the ranges",
@@ -216,7 +246,22 @@ pub fn parse(text: &str, file: &str) -> Result<Study, StudyError> {
         jobs,
         skipped,
         report: ReportToml { dir, ..raw.report },
+        validity,
     })
+}
+
+/// The `[study]` roughness, checked.
+fn validity(raw: &FileToml) -> Result<Validity, String> {
+    let mut v = Validity::default();
+    if let Some(r) = raw.study.roughness {
+        if !(r.is_finite() && r > 0.0 && r <= 10.0) {
+            return Err(format!(
+                "[study] roughness = {r}: give the composite RMS roughness in (0, 10] µm"
+            ));
+        }
+        v.roughness_um = r;
+    }
+    Ok(v)
 }
 
 /// The `[study]` name and the `[report]` classes.
@@ -255,9 +300,13 @@ fn check_header(raw: &FileToml) -> Result<(), String> {
 }
 
 /// The `[parameters]`: known names, values expanded, the texture's defaults tied (l2 to l1,
-/// width to per), every tie to a parameter that has values.
-fn parameter_values(parameters: &toml::Table) -> Result<BTreeMap<String, Values>, String> {
+/// width to per), every tie to a parameter that has values; and the chosen textures (the
+/// `texture` axis holds their indices).
+type Parameters = (BTreeMap<String, Values>, Vec<Texture>);
+
+fn parameter_values(parameters: &toml::Table) -> Result<Parameters, String> {
     let mut values: BTreeMap<String, Values> = BTreeMap::new();
+    let mut textures = Vec::new();
     for (key, v) in parameters {
         if !PARAMETERS.iter().any(|(n, _)| n == key) {
             let names: Vec<_> = PARAMETERS.iter().map(|(n, _)| *n).collect();
@@ -266,14 +315,21 @@ fn parameter_values(parameters: &toml::Table) -> Result<BTreeMap<String, Values>
                 names.join(", ")
             ));
         }
+        if key == "texture" {
+            textures = texture_list(v)?;
+            let index = (0..textures.len()).map(|i| i as f64).collect();
+            values.insert(key.clone(), Values::List(index));
+            continue;
+        }
         values.insert(key.clone(), expand(key, v)?);
     }
+    exclusive(&values)?;
     if !values.contains_key("R") {
         return Err(
             "[parameters] R is missing: give the ring radius (cm) or a list of radii".into(),
         );
     }
-    if TEXTURE.iter().any(|k| values.contains_key(*k)) {
+    if TEXTURE.iter().any(|k| values.contains_key(*k)) && !values.contains_key("texture") {
         for k in ["l1", "per", "depth"] {
             if !values.contains_key(k) {
                 return Err(format!(
@@ -305,7 +361,72 @@ fn parameter_values(parameters: &toml::Table) -> Result<BTreeMap<String, Values>
             }
         }
     }
-    Ok(values)
+    Ok((values, textures))
+}
+
+/// Keys that cannot go together: chosen textures and a texture grid; scaled and physical
+/// operating parameters. Physical values outside their ranges are refused (a unit slip).
+fn exclusive(values: &BTreeMap<String, Values>) -> Result<(), String> {
+    let has = |k: &&&str| values.contains_key(**k);
+    if values.contains_key("texture") {
+        if let Some(k) = TEXTURE.iter().find(has) {
+            return Err(format!(
+                "[parameters] texture and {k}: give the textures either as a list (texture) or as a grid (l1, per, depth, …), not both"
+            ));
+        }
+    }
+    if let (Some(a), Some(b)) = (SCALED.iter().find(has), PHYSICAL.iter().find(has)) {
+        return Err(format!(
+            "[parameters] {a} and {b}: give the operating point either in scaled units (u, w_ps, mass) or in physical units (speed, load, viscosity, ring_width, ring_mass), not both"
+        ));
+    }
+    for (name, unit, lo, hi) in RANGES {
+        if let Some(Values::List(v)) = values.get(name) {
+            if let Some(x) = v.iter().find(|x| !(**x > 0.0 && (lo..=hi).contains(*x))) {
+                return Err(format!(
+                    "[parameters] {name} = {x}: must lie in [{lo}, {hi}] {unit}; check the unit"
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `texture = [{ l1, per, depth [, l2, width, phase] }, …]`.
+fn texture_list(v: &toml::Value) -> Result<Vec<Texture>, String> {
+    let err = |m: String| format!("[parameters] texture: {m}");
+    let Some(list) = v.as_array().filter(|a| !a.is_empty()) else {
+        return Err(err(
+            "give a non-empty list of { l1, per, depth } tables".into()
+        ));
+    };
+    let mut out = Vec::new();
+    for (i, item) in list.iter().enumerate() {
+        let Some(t) = item.as_table() else {
+            return Err(err(format!(
+                "item {} is not a table {{ l1, per, depth }}",
+                i + 1
+            )));
+        };
+        if let Some(k) = t.keys().find(|k| !TEXTURE.contains(&k.as_str())) {
+            return Err(err(format!(
+                "item {}: unknown key {k:?}; a texture has l1, l2, per, width, depth, phase",
+                i + 1
+            )));
+        }
+        let get = |k: &str| t.get(k).map(|x| number(k, x)).transpose();
+        let need = |k: &str| get(k)?.ok_or_else(|| err(format!("item {} needs {k}", i + 1)));
+        let (l1, per) = (need("l1")?, need("per")?);
+        out.push(Texture {
+            l1,
+            l2: get("l2")?.unwrap_or(l1),
+            per,
+            width: get("width")?.unwrap_or(per),
+            depth: need("depth")?,
+            phase: get("phase")?.unwrap_or(0.0),
+        });
+    }
+    Ok(out)
 }
 
 /// The cases of the Cartesian product over the free parameters (in [`PARAMETERS`] order, R
@@ -314,8 +435,9 @@ fn parameter_values(parameters: &toml::Table) -> Result<BTreeMap<String, Values>
 fn expand_cases(
     raw: &FileToml,
     values: &BTreeMap<String, Values>,
+    textures: &[Texture],
 ) -> Result<(Vec<Job>, BTreeMap<String, usize>), String> {
-    let textured = TEXTURE.iter().any(|k| values.contains_key(*k));
+    let textured = TEXTURE.iter().any(|k| values.contains_key(*k)) || !textures.is_empty();
     let free: Vec<(&str, &Vec<f64>)> = PARAMETERS
         .iter()
         .filter_map(|(n, _)| match values.get(*n) {
@@ -354,13 +476,13 @@ fn expand_cases(
         }
         let mut cases = Vec::new();
         if textured {
-            cases.push(case_at(&point, true));
+            cases.push(case_at(&point, textures, true));
         }
         if raw.study.untextured || !textured {
-            cases.push(case_at(&point, false));
+            cases.push(case_at(&point, textures, false));
         }
-        for case in cases {
-            let key = serde_json::to_string(&case).unwrap_or_default();
+        for (case, scales) in cases {
+            let key = serde_json::to_string(&(&case, &scales)).unwrap_or_default();
             if !seen.insert(key) {
                 continue; // the plain liner repeats across texture combinations
             }
@@ -371,7 +493,11 @@ fn expand_cases(
                     if let Err(e) = numerics.validate(&case) {
                         return Err(format!("[numerics] for case {}: {}", case.label(), e.rule));
                     }
-                    jobs.push(Job { case, numerics });
+                    jobs.push(Job {
+                        case,
+                        numerics,
+                        scales,
+                    });
                 }
             }
         }
@@ -391,6 +517,7 @@ fn expand_cases(
 /// pocket would span fewer cells across than the tier asks (`Fidelity::pocket_cells`).
 pub fn numerics_for(case: &CaseSpec, fidelity: Fidelity, o: &NumericsOverride) -> Numerics {
     let mut n = fidelity.numerics();
+    n.fit_mesh_to_ring(case);
     n.fit_step_to_period(case);
     if let Some(v) = o.n1 {
         n.n1 = v;
@@ -430,9 +557,25 @@ fn check(case: &CaseSpec, allow_thick: bool) -> Result<(), String> {
     })
 }
 
-fn case_at(p: &BTreeMap<&str, f64>, textured: bool) -> CaseSpec {
+/// The case at one point of the parameters, with its scales: physical parameters, where
+/// the study gives any, set the operating point (the paper's for those it leaves out).
+fn case_at(p: &BTreeMap<&str, f64>, textures: &[Texture], textured: bool) -> (CaseSpec, Scales) {
     let mut c = CaseSpec::paper(p["R"]);
     let get = |k: &str, d: f64| p.get(k).copied().unwrap_or(d);
+    let mut scales = Scales::PAPER;
+    if PHYSICAL.iter().any(|k| p.contains_key(k)) {
+        let d = Operating::paper();
+        let op = Operating {
+            speed_ms: get("speed", d.speed_ms),
+            load_n_per_m: get("load", d.load_n_per_m),
+            viscosity_pas: get("viscosity", d.viscosity_pas),
+            ring_width_mm: get("ring_width", d.ring_width_mm),
+            ring_mass_kg_per_m: get("ring_mass", d.ring_mass_kg_per_m),
+            d_oil_um: get("d_oil", d.d_oil_um),
+        };
+        op.apply(&mut c);
+        scales = op.scales();
+    }
     c.u = get("u", c.u);
     c.w_ps = get("w_ps", c.w_ps);
     c.mass = get("mass", c.mass);
@@ -441,7 +584,9 @@ fn case_at(p: &BTreeMap<&str, f64>, textured: bool) -> CaseSpec {
     c.e = get("e", c.e);
     c.z0 = get("z0", c.z0);
     c.v0 = get("v0", c.v0);
-    if textured {
+    if let (true, Some(i)) = (textured, p.get("texture")) {
+        c.texture = textures.get(*i as usize).cloned();
+    } else if textured {
         c.texture = Some(Texture {
             l1: p["l1"],
             l2: p["l2"],
@@ -451,7 +596,7 @@ fn case_at(p: &BTreeMap<&str, f64>, textured: bool) -> CaseSpec {
             phase: get("phase", 0.0),
         });
     }
-    c
+    (c, scales)
 }
 
 enum Values {
@@ -630,6 +775,67 @@ fn range(key: &str, t: &toml::Table) -> Result<Vec<f64>, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn physical_axes_and_chosen_textures_expand() {
+        let s = parse(
+            r#"
+            [study]
+            name = "op"
+            untextured = true
+            [parameters]
+            R = 5
+            texture = [{ l1 = 0.03, per = 0.06, depth = 10 }, { l1 = 0.0025, per = 0.06, depth = 2 }]
+            load = { from = 4, to = 400, count = 3, spacing = "log" }
+            viscosity = 0.008
+            "#,
+            "op.toml",
+        )
+        .unwrap();
+        // 2 textures × 3 loads, and the plain liner once per load.
+        assert_eq!(s.jobs.len(), 9);
+        let loads: Vec<f64> = s
+            .jobs
+            .iter()
+            .map(|j| j.case.w_ps * j.scales.load_n_per_m())
+            .collect();
+        for (got, want) in loads
+            .iter()
+            .zip([4.0, 4.0, 40.0, 40.0, 400.0, 400.0, 4.0, 40.0, 400.0])
+        {
+            assert!((got / want - 1.0).abs() < 1e-9, "{got} vs {want}");
+        }
+        assert!(s
+            .jobs
+            .iter()
+            .all(|j| j.case.u == 1.0 && j.scales.viscosity_pas == 0.008));
+        assert!(s.jobs[1].case.texture.is_none());
+        let t = s.jobs[6].case.texture.as_ref().unwrap();
+        assert_eq!((t.l1, t.l2, t.width, t.depth), (0.0025, 0.0025, 0.06, 2.0));
+    }
+
+    #[test]
+    fn scaled_and_physical_keys_or_list_and_grid_do_not_mix() {
+        let head = "[study]\nname = \"x\"\n[parameters]\nR = 5\n";
+        for (body, says) in [
+            ("w_ps = 1e-6\nload = 40", "not both"),
+            (
+                "texture = [{ l1 = 0.03, per = 0.06, depth = 10 }]\ndepth = 5",
+                "not both",
+            ),
+            ("load = [40, 4e7]", "check the unit"),
+            ("viscosity = -1", "check the unit"),
+            ("texture = [{ l1 = 0.03, depth = 10 }]", "needs per"),
+            (
+                "texture = [{ l1 = 0.03, per = 0.06, depth = 10, pitch = 1 }]",
+                "unknown key",
+            ),
+            ("texture = []", "non-empty"),
+        ] {
+            let e = parse(&format!("{head}{body}"), "x.toml").unwrap_err();
+            assert!(e.message.contains(says), "{body}: {}", e.message);
+        }
+    }
 
     #[test]
     fn ranges_and_ties_expand() {

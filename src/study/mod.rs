@@ -4,6 +4,7 @@
 pub mod bench;
 pub mod cache;
 pub mod file;
+mod operating;
 pub mod report;
 pub mod sweep;
 

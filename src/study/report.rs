@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::model::case::{CaseSpec, Texture};
 use crate::plot::{self, Chart, Scale, Series, Style};
 use crate::study::file::{Job, Study};
+use crate::study::operating::{figures, Point};
 use crate::study::sweep::CaseResult;
 use crate::time::Outcome;
 
@@ -20,6 +21,10 @@ struct Row<'a> {
     out: Option<&'a Outcome>,
     reason: Option<&'a str>,
     plain: Option<&'a Outcome>,
+    /// Why the outcome is outside the hydrodynamic model (docs/model.md §9), if it is; and
+    /// whether the plain liner's is (then the ratios are not predictions either).
+    outside: Option<String>,
+    plain_outside: bool,
 }
 
 impl Row<'_> {
@@ -90,6 +95,17 @@ pub fn write(study: &Study, results: &[CaseResult], wall_note: &str) -> Result<W
                 .and_then(|r| r.as_ref().err())
                 .map(String::as_str),
             plain: plain.get(&plain_key(&job.case)).copied(),
+            outside: r
+                .as_ref()
+                .and_then(|r| r.as_ref().ok())
+                .and_then(|o| study.validity.outside(&job.case, o.c_min)),
+            plain_outside: plain.get(&plain_key(&job.case)).is_some_and(|p| {
+                let c = CaseSpec {
+                    texture: None,
+                    ..job.case.clone()
+                };
+                study.validity.outside(&c, p.c_min).is_some()
+            }),
         })
         .collect();
     let mut files = Vec::new();
@@ -118,6 +134,20 @@ pub fn write(study: &Study, results: &[CaseResult], wall_note: &str) -> Result<W
         v.dedup();
         v
     };
+    // The paper's form (Fig. 6, 11, Table 1) is for one operating point: a study that varies
+    // it is read through its operating figures instead.
+    let one_point = {
+        let op = |c: &CaseSpec| {
+            plain_key(&CaseSpec {
+                r: 0.0,
+                theta_s: 0.0,
+                ..c.clone()
+            })
+        };
+        rows.iter()
+            .all(|r| op(&r.job.case) == op(&rows[0].job.case))
+    };
+    let textured = textured && one_point;
     if textured && radii.len() >= 2 {
         for (what, file) in [
             ("friction", "fig6_friction"),
@@ -133,6 +163,16 @@ pub fn write(study: &Study, results: &[CaseResult], wall_note: &str) -> Result<W
         fig11(&p, &rows, &thetas)?;
         files.push(p);
     }
+    let points: Vec<Point> = main
+        .iter()
+        .map(|r| Point {
+            case: &r.job.case,
+            f_ratio: r.f_ratio(),
+            // A ratio is outside the model where either of its runs is.
+            outside: r.outside.is_some() || r.plain_outside,
+        })
+        .collect();
+    files.extend(figures(dir, name, &points, &study.validity)?);
     let mut md = String::new();
     let headline = headline(&main, main_theta, study.fidelity);
     let _ = writeln!(md, "# Study `{name}`: summary\n");
@@ -228,6 +268,13 @@ fn csv_rows(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {
         "steps",
         "wall_time_s",
         "reason",
+        "ring_width",
+        "stribeck",
+        "speed_m_s",
+        "load_n_m",
+        "friction_n_m",
+        "power_w_m",
+        "outside_model",
     ])
     .map_err(|e| err(&e))?;
     let num = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v}"));
@@ -236,6 +283,11 @@ fn csv_rows(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {
         let t = c.texture.as_ref();
         let o = r.out;
         let n = &r.job.numerics;
+        let p = r.job.scales.physical(
+            c,
+            o.map_or(f64::NAN, |o| o.f_mean),
+            o.map_or(f64::NAN, |o| o.c_min),
+        );
         w.write_record([
             format!("{}", c.r),
             format!("{}", t.is_some()),
@@ -274,6 +326,13 @@ fn csv_rows(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {
             num(o.map(|o| o.steps as f64)),
             num(o.map(|o| o.wall_time_s)),
             r.reason.unwrap_or_default().to_string(),
+            format!("{}", c.ring_width),
+            format!("{}", p.stribeck),
+            format!("{}", p.speed_ms),
+            format!("{}", p.load_n_per_m),
+            num(o.map(|_| p.friction_n_per_m)),
+            num(o.map(|_| p.power_w_per_m)),
+            r.outside.clone().unwrap_or_default(),
         ])
         .map_err(|e| err(&e))?;
     }
@@ -374,6 +433,22 @@ fn fig6(path: &Path, rows: &[&Row], friction: bool, theta_s: f64) -> Result<(), 
         style: Style::Thick,
         colour: 1,
     });
+    let outside: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.outside.is_some())
+        .filter_map(|r| {
+            let o = r.out?;
+            Some((r.job.case.r, if friction { o.f_mean } else { o.c_min }))
+        })
+        .collect();
+    if !outside.is_empty() {
+        series.push(Series {
+            name: format!("outside the hydrodynamic model ({} cases)", outside.len()),
+            points: &outside,
+            style: Style::Rings,
+            colour: 3,
+        });
+    }
     let title = if friction {
         format!("Mean friction coefficient against ring radius (θs = {theta_s})")
     } else {
@@ -434,9 +509,10 @@ fn fig11(path: &Path, rows: &[Row], thetas: &[f64]) -> Result<(), String> {
 /// below which no texture beats it.
 fn headline(rows: &[&Row], theta_s: f64, fidelity: crate::time::Fidelity) -> Vec<String> {
     let mut out = Vec::new();
+    // The best within the hydrodynamic model: a flagged case is not a prediction.
     let best = |ratio: &dyn Fn(&Row) -> Option<f64>, lower: bool| {
         rows.iter()
-            .filter(|r| r.job.case.texture.is_some())
+            .filter(|r| r.job.case.texture.is_some() && r.outside.is_none() && !r.plain_outside)
             .filter_map(|r| Some((ratio(r)?, *r)))
             .filter(|(x, _)| x.is_finite())
             .min_by(|a, b| {
@@ -451,7 +527,7 @@ fn headline(rows: &[&Row], theta_s: f64, fidelity: crate::time::Fidelity) -> Vec
         out.push(format!(
             "{}: {:.1} % ({}, f = {:.5} vs {:.5})",
             if x < 1.0 {
-                "largest friction reduction against the untextured liner"
+                "largest friction reduction against the untextured liner (within the hydrodynamic model)"
             } else {
                 "no texture lowers friction; the least increase"
             },
@@ -465,7 +541,7 @@ fn headline(rows: &[&Row], theta_s: f64, fidelity: crate::time::Fidelity) -> Vec
         out.push(format!(
             "{}: {:.1} % ({}, C_min = {:.4} vs {:.4} µm)",
             if x > 1.0 {
-                "largest minimum-clearance increase against the untextured liner"
+                "largest minimum-clearance increase against the untextured liner (within the hydrodynamic model)"
             } else {
                 "no texture raises the minimum clearance; the least decrease"
             },
@@ -530,8 +606,8 @@ fn headline(rows: &[&Row], theta_s: f64, fidelity: crate::time::Fidelity) -> Vec
     out
 }
 
-/// (f̄/f̄_plain, C_min/C_min,plain) of one texture by R (as f64 bits).
-type RatiosByR = BTreeMap<u64, (f64, f64)>;
+/// (f̄/f̄_plain, C_min/C_min,plain, outside the model) of one texture by R (as f64 bits).
+type RatiosByR = BTreeMap<u64, (f64, f64, bool)>;
 
 /// Table 1: the best textures for small and large R, ranked by the class mean of the ratio
 /// to the plain liner; and the best texture at each R.
@@ -569,7 +645,7 @@ fn table1(study: &Study, rows: &[&Row], radii: &[f64]) -> String {
             .entry(curve_key(&r.job.case))
             .or_insert_with(|| (t.clone(), BTreeMap::new()))
             .1
-            .insert(r.job.case.r.to_bits(), (fr, cr));
+            .insert(r.job.case.r.to_bits(), (fr, cr, r.outside.is_some()));
     }
     for (title, which) in [
         ("(a) Best textures in terms of friction", 0),
@@ -580,18 +656,15 @@ fn table1(study: &Study, rows: &[&Row], radii: &[f64]) -> String {
             if rs.is_empty() {
                 continue;
             }
-            let mut ranked: Vec<(f64, &Texture)> = by_tex
+            let mut ranked: Vec<(f64, &Texture, bool)> = by_tex
                 .values()
                 .filter_map(|(t, m)| {
-                    let v: Option<Vec<f64>> = rs
-                        .iter()
-                        .map(|r| {
-                            m.get(&r.to_bits())
-                                .map(|p| if which == 0 { p.0 } else { p.1 })
-                        })
-                        .collect();
+                    let v: Option<Vec<&(f64, f64, bool)>> =
+                        rs.iter().map(|r| m.get(&r.to_bits())).collect();
                     let v = v?;
-                    Some((v.iter().sum::<f64>() / v.len() as f64, t))
+                    let x = v.iter().map(|p| if which == 0 { p.0 } else { p.1 });
+                    let flagged = v.iter().any(|p| p.2);
+                    Some((x.sum::<f64>() / v.len() as f64, t, flagged))
                 })
                 .collect();
             if which == 0 {
@@ -606,15 +679,16 @@ fn table1(study: &Study, rows: &[&Row], radii: &[f64]) -> String {
                 rlist.join(", "),
                 ranked.len()
             );
-            for (i, (m, t)) in ranked.iter().take(5).enumerate() {
+            for (i, (m, t, flagged)) in ranked.iter().take(5).enumerate() {
                 let _ = writeln!(
                     md,
-                    "| {} | {} | {} | {} | {:.4} |",
+                    "| {} | {} | {} | {} | {:.4}{} |",
                     i + 1,
                     t.l1,
                     t.per,
                     t.depth,
-                    m
+                    m,
+                    if *flagged { " ‡" } else { "" }
                 );
             }
             let _ = writeln!(md);
@@ -625,22 +699,35 @@ fn table1(study: &Study, rows: &[&Row], radii: &[f64]) -> String {
         "## Best texture at each R\n\n| R | least friction | f̄/f̄_plain | largest clearance | C_min/C_min,plain |\n|---|---|---|---|---|"
     );
     for &rr in radii {
-        let at: Vec<(&Texture, f64, f64)> = by_tex
+        let at: Vec<(&Texture, &(f64, f64, bool))> = by_tex
             .values()
-            .filter_map(|(t, m)| m.get(&rr.to_bits()).map(|p| (t, p.0, p.1)))
+            .filter_map(|(t, m)| m.get(&rr.to_bits()).map(|p| (t, p)))
             .collect();
-        let bf = at.iter().min_by(|a, b| a.1.total_cmp(&b.1));
-        let bc = at.iter().max_by(|a, b| a.2.total_cmp(&b.2));
+        let bf = at.iter().min_by(|a, b| a.1 .0.total_cmp(&b.1 .0));
+        let bc = at.iter().max_by(|a, b| a.1 .1.total_cmp(&b.1 .1));
+        let mark = |p: &(f64, f64, bool)| if p.2 { " ‡" } else { "" };
         if let (Some(bf), Some(bc)) = (bf, bc) {
             let _ = writeln!(
                 md,
-                "| {rr} | {} | {:.4} | {} | {:.4} |",
+                "| {rr} | {} | {:.4}{} | {} | {:.4}{} |",
                 texture_label(bf.0),
-                bf.1,
+                bf.1 .0,
+                mark(bf.1),
                 texture_label(bc.0),
-                bc.2
+                bc.1 .1,
+                mark(bc.1)
             );
         }
     }
+    if !md.contains(" ‡") {
+        return md;
+    }
+    let _ = writeln!(
+        md,
+        "\n‡ at least one case behind the value is outside the hydrodynamic model: its minimum clearance is below {:.2} µm ({} × a composite roughness of {} µm, docs/model.md §9), where the surfaces touch; such values are not predictions. The CSV says which case and why (column outside_model).",
+        study.validity.clearance_limit_um(),
+        crate::model::operating::FULL_FILM_LAMBDA,
+        study.validity.roughness_um
+    );
     md
 }

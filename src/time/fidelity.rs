@@ -105,6 +105,7 @@ impl Fidelity {
     /// l2 = 0.0025 in width 0.06 needs N2 = 24), so every texture is resolved alike.
     pub fn numerics_for(self, case: &CaseSpec) -> Numerics {
         let mut num = self.numerics();
+        num.fit_mesh_to_ring(case);
         num.resolve_pockets(case, self.pocket_cells());
         num.fit_step_to_period(case);
         num

@@ -3,13 +3,13 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::model::case::{bad, positive, CaseSpec, InputError};
+use crate::model::case::{bad, positive, CaseSpec, InputError, PAPER_RING_WIDTH};
 use crate::solve::{Method, Tolerance};
 
 /// Numerical fidelity and run control.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Numerics {
-    /// Cells along x1 over the domain [0, 0.2].
+    /// Cells along x1 over the domain (0.2 cm for the paper's ring; 2.5 ring widths).
     pub n1: usize,
     /// Cells along x2 over the simulated half texture cell.
     pub n2: usize,
@@ -167,6 +167,21 @@ impl Numerics {
         }
     }
 
+    /// Scales N1 (and the coarse approach's) with the domain, which is 2.5 ring widths long,
+    /// so that a wider ring keeps the tier's cell size: the tiers' N1 are stated for the
+    /// paper's 0.08 cm ring (docs/model.md §2). The paper's width leaves them as they are.
+    pub fn fit_mesh_to_ring(&mut self, case: &CaseSpec) {
+        let scale = case.ring_width / PAPER_RING_WIDTH;
+        if scale == 1.0 {
+            return;
+        }
+        let fit = |n: usize| ((n as f64 * scale - 1e-9).ceil() as usize).max(16);
+        self.n1 = fit(self.n1);
+        if let Some(a) = self.approach.as_mut() {
+            a.n1 = fit(a.n1);
+        }
+    }
+
     /// The numerics of the coarse approach to the periodic regime ([`Numerics::approach`]),
     /// if it applies to this case (textured, and a cheaper mesh or step than this one): its
     /// mesh and step, N2 raised where a pocket would span fewer than 2 cells (as for
@@ -234,9 +249,10 @@ impl Numerics {
                     ),
                 ));
             }
+            let length = case.contact().length_cm;
             // (axis, semiaxis, cell size, extent the cells divide, name of the count)
             let axes = [
-                ("l1", t.l1, 0.2 / self.n1 as f64, 0.2, "N1"),
+                ("l1", t.l1, length / self.n1 as f64, length, "N1"),
                 (
                     "l2",
                     t.l2,

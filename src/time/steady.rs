@@ -48,7 +48,8 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
     let mut c = case.clone();
     c.texture = None;
     let contact = c.contact();
-    let scene = Scene::with_grid(contact, Grid::new(n1, 1, 0.2, 1.0), case.u);
+    let length = contact.length_cm;
+    let scene = Scene::with_grid(contact, Grid::new(n1, 1, length, 1.0), case.u);
     let g = &scene.grid;
     let phi_old = vec![0.0; g.nodes()];
     let step = Step {

@@ -1,0 +1,327 @@
+//! The operating point in physical units (docs/model.md §1, §9): what an engineer gives
+//! (speed, load, viscosity, ring width and mass, oil supply), the scales that make it
+//! nondimensional, the outcomes back in N/m and W/m, and where the film model stops.
+//!
+//! The scales follow the run: U is the sliding speed and μ the oil's viscosity, L = 1 cm and
+//! H = 1 µm always. Then the scaled speed is u = 1 and only two groups reach the equations,
+//! W_ps = W·H²/(6μUL²) and m = M·H³U/(6L⁴μ) (with the ring width): two rings with the same
+//! groups are the same scaled problem, to the bit.
+
+use serde::{Deserialize, Serialize};
+
+use super::case::{bad, short, CaseSpec, InputError};
+use super::units::{stribeck, H_M, L_M, MU_PAS, U_MS};
+
+/// The scales of a run (docs/model.md §1): sliding speed U (m/s) and viscosity μ (Pa·s).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Scales {
+    pub speed_ms: f64,
+    pub viscosity_pas: f64,
+}
+
+impl Scales {
+    /// The paper's scales: U = 10 m/s, μ = 0.004 Pa·s (the scales of a run given in
+    /// nondimensional units).
+    pub const PAPER: Scales = Scales {
+        speed_ms: U_MS,
+        viscosity_pas: MU_PAS,
+    };
+
+    /// Force per unit circumferential length, 6μUL²/H² (N/m): the unit of W_ps and W_h.
+    pub fn load_n_per_m(&self) -> f64 {
+        6.0 * self.viscosity_pas * self.speed_ms * L_M * L_M / (H_M * H_M)
+    }
+
+    /// Mass per unit circumferential length, 6L⁴μ/(H³U) (kg/m): the unit of m.
+    pub fn mass_kg_per_m(&self) -> f64 {
+        6.0 * L_M.powi(4) * self.viscosity_pas / (H_M.powi(3) * self.speed_ms)
+    }
+
+    /// Time L/U in ms: the unit of t.
+    pub fn time_ms(&self) -> f64 {
+        1e3 * L_M / self.speed_ms
+    }
+
+    /// The outcomes of `case` in physical units, from its mean friction coefficient and
+    /// minimum clearance.
+    pub fn physical(&self, case: &CaseSpec, f_mean: f64, c_min_um: f64) -> Physical {
+        // f = (H/6L)·F/W_ps (eq. 11) and F is in units of μUL/H, so F·μUL/H = f·W_ps·6μUL²/H²:
+        // the friction force is f times the load.
+        let force = f_mean * case.w_ps * self.load_n_per_m();
+        Physical {
+            stribeck: stribeck(case.u, case.w_ps),
+            load_n_per_m: case.w_ps * self.load_n_per_m(),
+            speed_ms: case.u * self.speed_ms,
+            friction_n_per_m: force,
+            power_w_per_m: force * case.u * self.speed_ms,
+            c_min_um,
+        }
+    }
+}
+
+/// A run's outcomes in physical units.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Physical {
+    /// Stribeck number S = μU/W (eq. 19).
+    pub stribeck: f64,
+    /// Ring load per unit circumferential length (N/m) and sliding speed (m/s).
+    pub load_n_per_m: f64,
+    pub speed_ms: f64,
+    /// Period-mean friction force per unit circumferential length (N/m).
+    pub friction_n_per_m: f64,
+    /// Friction power per unit circumferential length (W/m): force × speed.
+    pub power_w_per_m: f64,
+    /// Minimum clearance (µm).
+    pub c_min_um: f64,
+}
+
+/// An operating point in physical units. Defaults: the paper's (docs/model.md §1, §4).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Operating {
+    /// Sliding speed of the liner under the ring (m/s).
+    pub speed_ms: f64,
+    /// Ring load per unit circumferential length (N/m).
+    pub load_n_per_m: f64,
+    /// Dynamic viscosity of the oil (Pa·s).
+    pub viscosity_pas: f64,
+    /// Axial width of the ring face (mm).
+    pub ring_width_mm: f64,
+    /// Ring mass per unit circumferential length (kg/m).
+    pub ring_mass_kg_per_m: f64,
+    /// Inlet oil film (µm).
+    pub d_oil_um: f64,
+}
+
+/// One physical input: its name (as `Operating`'s fields are checked), its unit and the
+/// range accepted. The ranges hold every engine ring with room to spare; a value beyond them
+/// is a slip of unit or of digits (a load of 40 kN/m, a viscosity of 4 Pa·s), not a ring.
+pub const RANGES: [(&str, &str, f64, f64); 6] = [
+    ("speed", "m/s", 1e-3, 100.0),
+    ("load", "N/m", 1e-2, 1e6),
+    ("viscosity", "Pa·s", 1e-4, 10.0),
+    ("ring_width", "mm", 0.1, 10.0),
+    ("ring_mass", "kg/m", 1e-5, 10.0),
+    ("d_oil", "µm", 0.01, 1000.0),
+];
+
+impl Default for Operating {
+    fn default() -> Self {
+        Self::paper()
+    }
+}
+
+impl Operating {
+    /// The paper's operating point: 10 m/s, W_ps = 1.66e-6 (39.84 N/m) at 0.004 Pa·s, a ring
+    /// 0.8 mm wide of m = 2e-9 (0.048 kg/m), fully flooded (20 µm). Stribeck number 1.0e-3.
+    pub fn paper() -> Self {
+        Operating {
+            speed_ms: 10.0,
+            load_n_per_m: 39.84,
+            viscosity_pas: 0.004,
+            ring_width_mm: 0.8,
+            ring_mass_kg_per_m: 0.048,
+            d_oil_um: 20.0,
+        }
+    }
+
+    fn values(&self) -> [f64; 6] {
+        [
+            self.speed_ms,
+            self.load_n_per_m,
+            self.viscosity_pas,
+            self.ring_width_mm,
+            self.ring_mass_kg_per_m,
+            self.d_oil_um,
+        ]
+    }
+
+    /// Every input finite, positive and within [`RANGES`]; the error names the input.
+    pub fn check(&self) -> Result<(), InputError> {
+        for ((name, unit, lo, hi), v) in RANGES.iter().zip(self.values()) {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(bad(
+                    name,
+                    v,
+                    format!("must be a finite number > 0 ({unit})"),
+                ));
+            }
+            if !(*lo..=*hi).contains(&v) {
+                return Err(bad(
+                    name,
+                    v,
+                    format!(
+                        "must lie in [{}, {}] {unit}; check the unit",
+                        short(*lo),
+                        short(*hi)
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The scales of this point: its speed and viscosity.
+    pub fn scales(&self) -> Scales {
+        Scales {
+            speed_ms: self.speed_ms,
+            viscosity_pas: self.viscosity_pas,
+        }
+    }
+
+    /// Stribeck number μU/W (eq. 19).
+    pub fn stribeck(&self) -> f64 {
+        self.viscosity_pas * self.speed_ms / self.load_n_per_m
+    }
+
+    /// Sets the case's operating point to this one, scaled (docs/model.md §1): u = 1,
+    /// W_ps, m, the ring width in cm and d_oil. Scaled values are rounded to 12 significant
+    /// digits, far below any input's precision, so that the paper's point in SI is the
+    /// paper's scaled case exactly and equal physical groups give one scaled case.
+    pub fn apply(&self, case: &mut CaseSpec) {
+        let s = self.scales();
+        case.u = 1.0;
+        case.w_ps = canonical(self.load_n_per_m / s.load_n_per_m());
+        case.mass = canonical(self.ring_mass_kg_per_m / s.mass_kg_per_m());
+        case.ring_width = canonical(self.ring_width_mm / 10.0);
+        case.d_oil = self.d_oil_um;
+    }
+}
+
+/// `x` rounded to 12 significant digits.
+fn canonical(x: f64) -> f64 {
+    format!("{x:.11e}").parse().unwrap_or(x)
+}
+
+/// Where the film model stops (docs/model.md §9): it has no asperity contact, so a film
+/// thinner than a few composite roughnesses is mixed lubrication, outside it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Validity {
+    /// Composite RMS roughness of ring and liner σ (µm).
+    pub roughness_um: f64,
+}
+
+/// Composite RMS roughness of a plateau-honed liner against a lapped ring face (µm):
+/// σ = √(σ_liner² + σ_ring²) with plateau σ_liner ≈ 0.25 µm and σ_ring ≈ 0.15 µm
+/// (docs/model.md §9).
+pub const COMPOSITE_ROUGHNESS_UM: f64 = 0.3;
+
+/// Film parameter Λ = h/σ above which the surfaces run on a full film (Hamrock, Schmid &
+/// Jacobson, *Fundamentals of Fluid Film Lubrication*, 2004: Λ > 3 full film, 1 < Λ < 3
+/// mixed).
+pub const FULL_FILM_LAMBDA: f64 = 3.0;
+
+/// Stribeck numbers over which the tiers' accuracy was checked (docs/validation.md).
+pub const VALIDATED_STRIBECK: (f64, f64) = (1e-4, 1e-2);
+
+impl Default for Validity {
+    fn default() -> Self {
+        Validity {
+            roughness_um: COMPOSITE_ROUGHNESS_UM,
+        }
+    }
+}
+
+impl Validity {
+    /// The least clearance of a full film (µm): Λ·σ.
+    pub fn clearance_limit_um(&self) -> f64 {
+        FULL_FILM_LAMBDA * self.roughness_um
+    }
+
+    /// Why an outcome is outside the hydrodynamic model, if it is: a minimum clearance below
+    /// [`Self::clearance_limit_um`], or a Stribeck number outside [`VALIDATED_STRIBECK`].
+    pub fn outside(&self, case: &CaseSpec, c_min_um: f64) -> Option<String> {
+        let limit = self.clearance_limit_um();
+        if c_min_um.is_nan() || c_min_um < limit {
+            return Some(format!(
+                "C_min {c_min_um:.3} µm < {limit:.2} µm ({FULL_FILM_LAMBDA} × composite roughness {} µm): mixed lubrication, asperity contact not modelled",
+                short(self.roughness_um)
+            ));
+        }
+        let s = stribeck(case.u, case.w_ps);
+        let (lo, hi) = VALIDATED_STRIBECK;
+        if !(lo * (1.0 - 1e-9)..=hi * (1.0 + 1e-9)).contains(&s) {
+            return Some(format!(
+                "Stribeck number {} outside the validated {}..{}",
+                short(s),
+                short(lo),
+                short(hi)
+            ));
+        }
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_papers_point_in_si_is_the_papers_scaled_case() {
+        let mut c = CaseSpec::paper(0.8);
+        Operating::paper().apply(&mut c);
+        assert_eq!(c, CaseSpec::paper(0.8));
+        assert!((Operating::paper().stribeck() - 1.004e-3).abs() < 1e-6);
+    }
+
+    #[test]
+    fn similar_points_share_one_scaled_case() {
+        // p ∝ μU and Z'' ∝ U²: twice the viscosity at half the speed with four times the mass
+        // is the same scaled problem.
+        let a = Operating::paper();
+        let b = Operating {
+            viscosity_pas: 2.0 * a.viscosity_pas,
+            speed_ms: 0.5 * a.speed_ms,
+            ring_mass_kg_per_m: 4.0 * a.ring_mass_kg_per_m,
+            ..a
+        };
+        let (mut ca, mut cb) = (CaseSpec::paper(5.0), CaseSpec::paper(5.0));
+        a.apply(&mut ca);
+        b.apply(&mut cb);
+        assert_eq!(ca, cb);
+        // and its friction power halves with the speed.
+        let (pa, pb) = (
+            a.scales().physical(&ca, 0.1, 1.0),
+            b.scales().physical(&cb, 0.1, 1.0),
+        );
+        assert!((pa.friction_n_per_m - pb.friction_n_per_m).abs() < 1e-9 * pa.friction_n_per_m);
+        assert!((pb.power_w_per_m - 0.5 * pa.power_w_per_m).abs() < 1e-9 * pa.power_w_per_m);
+    }
+
+    #[test]
+    fn friction_force_is_f_times_the_load() {
+        let c = CaseSpec::paper(3.2);
+        let p = Scales::PAPER.physical(&c, 0.0754, 2.0);
+        assert!((p.friction_n_per_m - 0.0754 * 39.84).abs() < 1e-9);
+        assert!((p.power_w_per_m - 10.0 * 0.0754 * 39.84).abs() < 1e-8);
+    }
+
+    #[test]
+    fn bad_inputs_name_themselves() {
+        for (field, v) in [
+            ("speed", -1.0),
+            ("load", 0.0),
+            ("viscosity", f64::NAN),
+            ("load", 4e7),
+        ] {
+            let mut o = Operating::paper();
+            match field {
+                "speed" => o.speed_ms = v,
+                "load" => o.load_n_per_m = v,
+                _ => o.viscosity_pas = v,
+            }
+            assert_eq!(o.check().unwrap_err().param, field);
+        }
+        assert!(Operating::paper().check().is_ok());
+    }
+
+    #[test]
+    fn thin_films_are_outside_the_model() {
+        let v = Validity::default();
+        let c = CaseSpec::paper(5.0);
+        assert!(v.outside(&c, 0.5).is_some());
+        assert!(v.outside(&c, 2.0).is_none());
+        assert!(v.outside(&c, f64::NAN).is_some());
+        let light = CaseSpec { w_ps: 1e-8, ..c };
+        assert!(v.outside(&light, 20.0).unwrap().contains("Stribeck"));
+    }
+}
