@@ -346,17 +346,31 @@ fn f_direct(s: &Settings, r: f64, t: Option<&texopt::model::case::Texture>) -> f
 fn the_robust_design_is_no_worse_over_the_range_than_any_radius_optimum() {
     let c = cache("robust");
     let radii = [3.2, 12.8];
+    let dir = common::scratch("robust");
     let per_r: Vec<Settings> = radii
         .iter()
         .map(|&r| {
             let mut s = settings(r, 10.0);
             s.swarm.particles = 4;
             s.swarm.iterations = 2;
+            s.out_dir = Some(dir.clone());
             s
         })
         .collect();
     let rep = texopt::optimise::robust::robust(&per_r, &c, &AtomicBool::new(false)).unwrap();
     assert_eq!(rep.radii, radii);
+    // Each radius's report and the robust one, named with the whole radius.
+    for f in [
+        "optimise_R3.2.json",
+        "optimise_R12.8.json",
+        "optimise_R12.8_front.png",
+        "robust_R3.2-12.8.json",
+        "robust_R3.2-12.8.csv",
+        "robust_R3.2-12.8.png",
+    ] {
+        assert!(dir.join(f).exists(), "{f} missing");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
     // Every ratio recomputed from direct simulations, outside the optimiser.
     let plain: Vec<f64> = radii
         .iter()

@@ -255,7 +255,8 @@ fn stem(dir: &Path, r: f64) -> PathBuf {
 pub(super) fn write(dir: &Path, r: &Report, s: &Settings) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let stem = stem(dir, r.r);
-    let p = stem.with_extension("json");
+    // Not `with_extension`: R = 6.84 would lose its ".84".
+    let p = PathBuf::from(format!("{}.json", stem.display()));
     let json = serde_json::to_string_pretty(r).map_err(|e| format!("{}: {e}", p.display()))?;
     crate::output::write(&p, json)?;
     let p = PathBuf::from(format!("{}.csv", stem.display()));
