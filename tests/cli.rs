@@ -360,7 +360,7 @@ fn json_and_series_deliver_the_promised_fields() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "t,Z,W_h,f,f_couette,f_poiseuille,f_pressure"
+        "t,t_ms,Z,W_h,f,f_couette,f_poiseuille,f_pressure"
     );
     assert_eq!(lines.count() as u64, v["steps"].as_u64().unwrap());
     assert!(

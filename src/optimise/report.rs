@@ -444,7 +444,12 @@ fn period_plots(stem: &Path, r: &Report, s: &Settings) -> Result<(), String> {
                 },
                 &[
                     Series {
-                        name: "best-friction texture".into(),
+                        name: match r.best_friction.outside_model {
+                            None => "best-friction texture".into(),
+                            Some(_) => {
+                                "best-friction texture (outside the hydrodynamic model)".into()
+                            }
+                        },
                         points: best,
                         style: Style::Line,
                         colour: 0,

@@ -173,8 +173,34 @@ pub fn write(study: &Study, results: &[CaseResult], wall_note: &str) -> Result<W
         })
         .collect();
     files.extend(figures(dir, name, &points, &study.validity)?);
-    let mut md = String::new();
     let headline = headline(&main, main_theta, study.fidelity);
+    let md = summary(study, &rows, main_theta, &headline, wall_note);
+    let summary_path = dir.join(format!("{name}_summary.md"));
+    crate::output::write(&summary_path, md)?;
+    files.push(summary_path);
+    if textured && !radii.is_empty() {
+        let table = study
+            .report
+            .table
+            .clone()
+            .unwrap_or_else(|| format!("{name}_table1.md"));
+        let p = dir.join(table);
+        crate::output::write(&p, table1(study, &main, &radii))?;
+        files.push(p);
+    }
+    Ok(Written { files, headline })
+}
+
+/// The summary file: the run, the compute behind it, the cases, the headline, the failures.
+fn summary(
+    study: &Study,
+    rows: &[Row],
+    main_theta: f64,
+    headline: &[String],
+    wall_note: &str,
+) -> String {
+    let mut md = String::new();
+    let name = &study.name;
     let _ = writeln!(md, "# Study `{name}`: summary\n");
     if !study.description.is_empty() {
         let _ = writeln!(md, "{}\n", study.description);
@@ -201,7 +227,7 @@ pub fn write(study: &Study, results: &[CaseResult], wall_note: &str) -> Result<W
         let _ = writeln!(md, "- {n} × {rule}");
     }
     let _ = writeln!(md, "\n## Headline (θ_s = {main_theta})\n");
-    for l in &headline {
+    for l in headline {
         let _ = writeln!(md, "- {l}");
     }
     let failures: Vec<&Row> = rows.iter().filter(|r| r.reason.is_some()).collect();
@@ -211,20 +237,7 @@ pub fn write(study: &Study, results: &[CaseResult], wall_note: &str) -> Result<W
             let _ = writeln!(md, "- {}", r.reason.unwrap_or_default());
         }
     }
-    let summary_path = dir.join(format!("{name}_summary.md"));
-    crate::output::write(&summary_path, md)?;
-    files.push(summary_path);
-    if textured && !radii.is_empty() {
-        let table = study
-            .report
-            .table
-            .clone()
-            .unwrap_or_else(|| format!("{name}_table1.md"));
-        let p = dir.join(table);
-        crate::output::write(&p, table1(study, &main, &radii))?;
-        files.push(p);
-    }
-    Ok(Written { files, headline })
+    md
 }
 
 fn write_csv(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {

@@ -287,6 +287,33 @@ mod tests {
     use crate::time::Fidelity;
 
     #[test]
+    fn a_wider_ring_keeps_the_tiers_cell_size() {
+        let paper = CaseSpec::paper(5.0).with_texture(Texture::circular(0.03, 0.06, 10.0));
+        let wide = CaseSpec {
+            ring_width: 0.12,
+            ..paper.clone()
+        };
+        for f in [Fidelity::Draft, Fidelity::Fast, Fidelity::Fine] {
+            let (a, b) = (f.numerics_for(&paper), f.numerics_for(&wide));
+            let (la, lb) = (paper.contact().length_cm, wide.contact().length_cm);
+            assert_eq!(la, 0.2);
+            assert!((lb - 0.3).abs() < 1e-12);
+            let (dxa, dxb) = (la / a.n1 as f64, lb / b.n1 as f64);
+            assert!(
+                dxb <= dxa * (1.0 + 1e-12) && dxb > 0.99 * dxa,
+                "{f:?}: {dxa} vs {dxb}"
+            );
+            let (ca, cb) = (a.approach.unwrap(), b.approach.unwrap());
+            assert!(lb / cb.n1 as f64 <= la / ca.n1 as f64 * (1.0 + 1e-12));
+        }
+        let (a, b) = wide.contact().ring_edges();
+        assert!(
+            (a - 0.09).abs() < 1e-12 && (b - 0.21).abs() < 1e-12,
+            "{a} {b}"
+        );
+    }
+
+    #[test]
     fn the_coarse_approach_runs_on_the_direct_solver_on_its_own_mesh() {
         let case = CaseSpec::paper(3.2).with_texture(Texture::circular(0.03, 0.06, 10.0));
         for solver in [Method::Direct, Method::Reference] {
