@@ -255,6 +255,55 @@ pub struct StudyArgs {
     /// elsewhere); missing cases appear as "not run".
     #[arg(long)]
     pub cached_only: bool,
+    /// Run only share I of N of the cases (1 ≤ I ≤ N): a split balanced by expected cost that
+    /// depends on the study file alone, so every machine agrees on it; into --cache, a file
+    /// of this share's own; no report (merge the shares with `texopt cache merge`, then
+    /// report with --cached-only).
+    #[arg(long, value_name = "I/N", value_parser = parse_shard, conflicts_with = "slurm")]
+    pub shard: Option<(usize, usize)>,
+    /// Write Slurm scripts into DIR instead of running: an sbatch array of --tasks shares,
+    /// each into its own cache and log, and a merge-and-report job that runs after them.
+    #[arg(long, value_name = "DIR")]
+    pub slurm: Option<PathBuf>,
+    /// Array tasks (shares) of --slurm [default: 4].
+    #[arg(long, value_name = "N", requires = "slurm", value_parser = parse_tasks)]
+    pub tasks: Option<usize>,
+    /// Slurm partition of the jobs [default: the cluster's default].
+    #[arg(long, value_name = "P", requires = "slurm")]
+    pub partition: Option<String>,
+    /// Time limit of each task and of the merge ([D-]HH:MM:SS) [default: the partition's].
+    #[arg(long, value_name = "HH:MM:SS", requires = "slurm")]
+    pub time: Option<String>,
+    /// CPUs per task, its worker threads [default: 1].
+    #[arg(long, value_name = "C", requires = "slurm", value_parser = parse_jobs)]
+    pub cpus: Option<usize>,
+    /// Submit the scripts with sbatch and print the job ids (else: print how to).
+    #[arg(long, requires = "slurm")]
+    pub submit: bool,
+}
+
+/// Most shares of a study (a typo guard: each is a job with its own cache file).
+pub(super) const MAX_SHARDS: usize = 10_000;
+
+fn parse_tasks(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(n) if (1..=MAX_SHARDS).contains(&n) => Ok(n),
+        _ => Err(format!("must be a whole number from 1 to {MAX_SHARDS}")),
+    }
+}
+
+fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let bad = || format!("expected I/N with 1 ≤ I ≤ N ≤ {MAX_SHARDS}, e.g. 2/8, got {s:?}");
+    let (i, n) = s.split_once('/').ok_or_else(bad)?;
+    let (i, n) = (
+        i.trim().parse::<usize>().map_err(|_| bad())?,
+        n.trim().parse::<usize>().map_err(|_| bad())?,
+    );
+    if 1 <= i && i <= n && n <= MAX_SHARDS {
+        Ok((i, n))
+    } else {
+        Err(bad())
+    }
 }
 
 #[derive(Args, Debug)]
@@ -275,6 +324,17 @@ pub enum CacheAction {
         /// Write to this file instead of stdout.
         #[arg(long, value_name = "FILE")]
         out: Option<PathBuf>,
+    },
+    /// Copy every evaluation of other caches into one (e.g. the shares of a study run on a
+    /// cluster): checks each file, refuses two different outcomes under one key (nothing is
+    /// written then), and merging twice changes nothing.
+    Merge {
+        /// The caches to copy from.
+        #[arg(required = true)]
+        sources: Vec<PathBuf>,
+        /// The cache to copy into (created if missing).
+        #[arg(long, value_name = "FILE")]
+        into: PathBuf,
     },
     /// Delete stored evaluations.
     Clear {

@@ -4,6 +4,9 @@ use super::{cache_error, CacheAction, CacheArgs, CmdError};
 use crate::study::cache::{path_from, Cache, CacheError};
 
 pub(super) fn run(a: &CacheArgs) -> Result<i32, CmdError> {
+    if let CacheAction::Merge { sources, into } = &a.action {
+        return merge(sources, into);
+    }
     // Inspecting or clearing must not create, initialise or convert a file: a mistyped path
     // would otherwise show an empty cache as if it were the one meant.
     let path = path_from(a.cache.as_deref()).map_err(CmdError::Input)?;
@@ -42,6 +45,7 @@ pub(super) fn run(a: &CacheArgs) -> Result<i32, CmdError> {
             };
             eprintln!("exported {n} evaluations");
         }
+        CacheAction::Merge { .. } => unreachable!("handled above"),
         CacheAction::Clear { failed } => {
             let n = cache.clear(*failed).map_err(other)?;
             println!(
@@ -51,5 +55,35 @@ pub(super) fn run(a: &CacheArgs) -> Result<i32, CmdError> {
             );
         }
     }
+    Ok(0)
+}
+
+/// `texopt cache merge A B … --into C`.
+fn merge(sources: &[std::path::PathBuf], into: &std::path::Path) -> Result<i32, CmdError> {
+    let into =
+        path_from(Some(into)).map_err(|e| CmdError::Input(e.replace("--cache", "--into")))?;
+    for s in sources {
+        if !s.is_file() {
+            return Err(CmdError::Input(format!(
+                "cache merge: {} is not a file; give the cache files to merge",
+                s.display()
+            )));
+        }
+    }
+    let cache = Cache::open(&into).map_err(cache_error)?;
+    let m = cache.merge(sources).map_err(|e| match e {
+        CacheError::Sqlite { .. } => CmdError::Other(e.to_string()),
+        _ => CmdError::Input(format!("cache merge: {e}")),
+    })?;
+    println!(
+        "merged {} caches into {}: {} entries added, {} already there, {} failures replaced by results, {} failures not copied over results, {} of another model version skipped",
+        sources.len(),
+        into.display(),
+        m.added,
+        m.same,
+        m.replaced_failures,
+        m.kept_done,
+        m.other_model
+    );
     Ok(0)
 }

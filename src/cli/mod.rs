@@ -6,6 +6,7 @@ mod bench;
 mod cache;
 mod optimise;
 mod simulate;
+mod slurm;
 mod study;
 
 pub use args::{

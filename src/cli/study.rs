@@ -3,7 +3,20 @@
 use super::{directory_can_be_made, install_ctrl_c, open_cache, CmdError, StudyArgs, STOP};
 
 pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
-    let study = crate::study::load(&a.file).map_err(|e| CmdError::Input(e.to_string()))?;
+    let mut study = crate::study::load(&a.file).map_err(|e| CmdError::Input(e.to_string()))?;
+    if let Some(dir) = &a.slurm {
+        return super::slurm::run(a, &study, dir);
+    }
+    let all = study.jobs.len();
+    if let Some((i, n)) = a.shard {
+        let mine = crate::study::shard::shard(&study.jobs, i, n);
+        study.jobs = mine.into_iter().map(|k| study.jobs[k].clone()).collect();
+        eprintln!(
+            "share {i}/{n}: {} of the study's {all} cases",
+            study.jobs.len()
+        );
+    }
+    let report = !a.no_report && a.shard.is_none();
     let limits = a.limits.limits()?;
     let jobs = a
         .jobs
@@ -31,7 +44,7 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
         return Ok(0);
     }
     // A report directory that cannot be made stops the study now, not after its simulations.
-    if !a.no_report {
+    if report {
         let dir = std::path::Path::new(&study.report.dir);
         directory_can_be_made(dir).map_err(|why| {
             CmdError::Input(format!(
@@ -43,6 +56,13 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
     }
     let cache = open_cache(a.cache.as_deref())?;
     eprintln!("cache {}", cache.path().display());
+    if a.shard.is_some() {
+        // A share's cache is its task's alone: a lease left by a cancelled run of this task
+        // (on whatever host) would only hold its own case back.
+        cache
+            .clear_leases()
+            .map_err(|e| CmdError::Other(e.to_string()))?;
+    }
     install_ctrl_c();
     let cache = std::sync::Mutex::new(cache);
     let opt = crate::study::sweep::Options {
@@ -79,7 +99,16 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
         println!("stopped before the end: run the same command again to compute the rest");
         return Ok(130);
     }
-    if !a.no_report {
+    if let Some((i, n)) = a.shard {
+        // A share has no report of its own; its failed cases are results (stored), so the
+        // task succeeds and the merge that waits for every task runs.
+        eprintln!(
+            "share {i}/{n} done; merge the shares' caches with `texopt cache merge … --into FILE`, then report with `texopt study {} --cache FILE --cached-only`",
+            a.file.display()
+        );
+        return Ok(0);
+    }
+    if report {
         let w = crate::study::report::write(&study, &results, &note).map_err(CmdError::Other)?;
         for l in &w.headline {
             println!("  {l}");

@@ -24,7 +24,7 @@ use crate::time::{Approach, Numerics, Outcome, Start, TimeScheme};
 pub const MODEL_VERSION: &str = "texopt-model-4";
 
 /// SQLite `application_id` of a texopt cache ("TXOP").
-const APPLICATION_ID: i32 = 0x5458_4f50;
+pub(super) const APPLICATION_ID: i32 = 0x5458_4f50;
 /// Schema version (`user_version`).
 const SCHEMA: i32 = 1;
 
@@ -181,7 +181,7 @@ pub struct Stats {
 }
 
 pub struct Cache {
-    conn: Connection,
+    pub(super) conn: Connection,
     path: PathBuf,
 }
 
@@ -396,6 +396,16 @@ impl Cache {
         }
     }
 
+    /// Drops every lease: for a cache that one process owns alone (a cluster task's share),
+    /// where a lease left by a killed run on another host would otherwise hold its case for
+    /// [`LEASE_STALE_S`].
+    pub fn clear_leases(&self) -> Result<(), CacheError> {
+        self.conn
+            .execute("DELETE FROM leases", [])
+            .map(|_| ())
+            .map_err(|e| self.sql(e))
+    }
+
     /// Gives up this process's lease `lease` (its results are stored).
     pub fn release(&self, lease: &str) -> Result<(), CacheError> {
         let me = Owner::this();
@@ -491,7 +501,7 @@ impl Cache {
 }
 
 /// An existing file must begin as an SQLite database does; a missing one gets its directory.
-fn check_file(path: &Path, shown: &str) -> Result<(), CacheError> {
+pub(super) fn check_file(path: &Path, shown: &str) -> Result<(), CacheError> {
     if path.exists() {
         let mut head = [0u8; 16];
         use std::io::Read;
@@ -518,7 +528,7 @@ fn check_file(path: &Path, shown: &str) -> Result<(), CacheError> {
 
 /// The first read: a file that is not a database, or a damaged one, fails here and is
 /// reported before anything is written to it.
-fn check_integrity(conn: &Connection, shown: &str) -> Result<(), CacheError> {
+pub(super) fn check_integrity(conn: &Connection, shown: &str) -> Result<(), CacheError> {
     let damaged = |e: rusqlite::Error| match e.sqlite_error_code() {
         Some(rusqlite::ErrorCode::DatabaseCorrupt | rusqlite::ErrorCode::NotADatabase) => {
             CacheError::Foreign {
@@ -550,7 +560,7 @@ fn check_integrity(conn: &Connection, shown: &str) -> Result<(), CacheError> {
 }
 
 /// The file's application id and its number of tables.
-fn identity(conn: &Connection) -> rusqlite::Result<(i32, i64)> {
+pub(super) fn identity(conn: &Connection) -> rusqlite::Result<(i32, i64)> {
     let app: i32 = conn.query_row("PRAGMA application_id", [], |r| r.get(0))?;
     let tables: i64 = conn.query_row("SELECT count(*) FROM sqlite_master", [], |r| r.get(0))?;
     Ok((app, tables))

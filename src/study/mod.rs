@@ -4,8 +4,10 @@
 pub mod bench;
 pub mod cache;
 pub mod file;
+pub mod merge;
 mod operating;
 pub mod report;
+pub mod shard;
 pub mod sweep;
 
 pub use file::{load, numerics_for, parse, Job, NumericsOverride, Study, StudyError};
