@@ -3,6 +3,7 @@
 //! Nothing here knows a mesh beyond the stencil's column of nodes, nor how anything is solved.
 
 pub mod case;
+pub mod engine;
 pub mod film;
 pub mod friction;
 pub mod geometry;

@@ -1,0 +1,508 @@
+//! An engine's cycle as the ring sees it (docs/model.md §10): the slider-crank kinematics,
+//! the ring's load (elastic tension and the gas pressure behind it) and the oil supply over
+//! the four strokes, and the zones of the liner. Each crank angle is one operating point of a
+//! quasi-steady evaluation: its speed, load and oil supply, on the zone the ring is over.
+
+use serde::Deserialize;
+
+use super::case::short;
+use super::operating::Operating;
+
+/// An engine file (TOML), as read.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EngineFile {
+    pub engine: Crank,
+    pub ring: Ring,
+    pub gas: Gas,
+    pub oil: Oil,
+    pub zones: Zones,
+}
+
+/// The crank train.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Crank {
+    pub name: String,
+    pub bore_mm: f64,
+    pub stroke_mm: f64,
+    pub rod_mm: f64,
+    pub rpm: f64,
+}
+
+/// The ring.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Ring {
+    /// Face radius R (cm).
+    #[serde(rename = "R_cm")]
+    pub r_cm: f64,
+    pub width_mm: f64,
+    pub mass_kg_per_m: f64,
+    /// Elastic (tension) load per unit circumferential length (N/m).
+    pub elastic_load_n_per_m: f64,
+}
+
+/// The gas pressure behind the ring (gauge, bar) against crank angle from firing top dead
+/// centre (degrees, 0–720, increasing): linear between the points, periodic over 720°.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Gas {
+    pub crank_deg: Vec<f64>,
+    pub pressure_bar: Vec<f64>,
+}
+
+/// The oil: viscosity, and the film on the liner ahead of the ring (one value: everywhere;
+/// a table: against the distance from top dead centre).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Oil {
+    pub viscosity_pa_s: f64,
+    pub d_oil_um: OilSupply,
+    #[serde(default)]
+    pub position_mm: Vec<f64>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+pub enum OilSupply {
+    Everywhere(f64),
+    Table(Vec<f64>),
+}
+
+/// The zones of the liner along the stroke: `count` equal ones, or their boundaries (mm from
+/// top dead centre, from 0 to the stroke, increasing).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Zones {
+    pub count: Option<usize>,
+    pub boundaries_mm: Option<Vec<f64>>,
+}
+
+/// An input that breaks a rule: the key (`[section] name`), its value and the rule.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{key} = {value}: {rule}")]
+pub struct EngineError {
+    pub key: String,
+    pub value: String,
+    pub rule: String,
+}
+
+fn err(key: &str, value: impl std::fmt::Display, rule: impl Into<String>) -> EngineError {
+    EngineError {
+        key: key.into(),
+        value: value.to_string(),
+        rule: rule.into(),
+    }
+}
+
+/// A checked engine: the file's data and the zone boundaries.
+#[derive(Clone, Debug)]
+pub struct Engine {
+    pub file: EngineFile,
+    /// Zone boundaries (mm from top dead centre), from 0 to the stroke.
+    pub bounds_mm: Vec<f64>,
+}
+
+/// One crank angle of the cycle as the ring meets it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// Crank angle from firing top dead centre (degrees).
+    pub crank_deg: f64,
+    /// Ring's distance from its top-dead-centre position (mm) and sliding speed (m/s, ≥ 0).
+    pub position_mm: f64,
+    pub speed_ms: f64,
+    /// Load per unit circumferential length: elastic + gas pressure × ring width (N/m).
+    pub load_n_per_m: f64,
+    pub d_oil_um: f64,
+    /// The zone the ring is over (0 at top dead centre).
+    pub zone: usize,
+}
+
+fn positive(key: &str, v: f64) -> Result<(), EngineError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(err(key, short(v), "must be a finite number > 0"))
+    }
+}
+
+/// `xs` finite and strictly increasing.
+fn increasing(key: &str, xs: &[f64]) -> Result<(), EngineError> {
+    if let Some(x) = xs.iter().find(|x| !x.is_finite()) {
+        return Err(err(key, short(*x), "must be finite"));
+    }
+    if let Some(w) = xs.windows(2).find(|w| w[1] <= w[0]) {
+        return Err(err(
+            key,
+            format!("[… {}, {} …]", short(w[0]), short(w[1])),
+            "must increase strictly",
+        ));
+    }
+    Ok(())
+}
+
+impl Engine {
+    /// Reads and checks an engine file's text; errors name the key (`file` names the file in
+    /// a syntax error).
+    pub fn parse(text: &str) -> Result<Engine, EngineError> {
+        let file: EngineFile = toml::from_str(text).map_err(|e| {
+            let text = e.to_string();
+            let msg: Vec<&str> = text
+                .lines()
+                .map(str::trim)
+                .filter(|l| !l.is_empty())
+                .collect();
+            err("file", "", msg.join(" "))
+        })?;
+        let e = &file.engine;
+        for (k, v) in [
+            ("[engine] bore_mm", e.bore_mm),
+            ("[engine] stroke_mm", e.stroke_mm),
+            ("[engine] rod_mm", e.rod_mm),
+            ("[engine] rpm", e.rpm),
+            ("[ring] R_cm", file.ring.r_cm),
+            ("[oil] viscosity_pa_s", file.oil.viscosity_pa_s),
+        ] {
+            positive(k, v)?;
+        }
+        if e.rod_mm <= 0.5 * e.stroke_mm {
+            return Err(err(
+                "[engine] rod_mm",
+                short(e.rod_mm),
+                format!(
+                    "must exceed half the stroke ({} mm)",
+                    short(0.5 * e.stroke_mm)
+                ),
+            ));
+        }
+        Self::check_gas(&file.gas)?;
+        let bounds_mm = Self::zone_bounds(&file.zones, e.stroke_mm)?;
+        Self::check_oil(&file.oil, e.stroke_mm)?;
+        let engine = Engine { file, bounds_mm };
+        // The ring's inputs, checked as the operating point checks them (a typical load).
+        let ring = &engine.file.ring;
+        let op = Operating {
+            speed_ms: 1.0,
+            load_n_per_m: ring.elastic_load_n_per_m.max(1.0),
+            viscosity_pas: engine.file.oil.viscosity_pa_s,
+            ring_width_mm: ring.width_mm,
+            ring_mass_kg_per_m: ring.mass_kg_per_m,
+            d_oil_um: 20.0,
+        };
+        positive("[ring] elastic_load_n_per_m", ring.elastic_load_n_per_m)?;
+        op.check().map_err(|e| {
+            let key = match e.param.as_str() {
+                "ring_width" => "[ring] width_mm",
+                "ring_mass" => "[ring] mass_kg_per_m",
+                "viscosity" => "[oil] viscosity_pa_s",
+                _ => "[ring] elastic_load_n_per_m",
+            };
+            err(key, e.value, e.rule)
+        })?;
+        Ok(engine)
+    }
+
+    fn check_gas(g: &Gas) -> Result<(), EngineError> {
+        if g.crank_deg.len() < 2 || g.crank_deg.len() != g.pressure_bar.len() {
+            return Err(err(
+                "[gas] crank_deg",
+                format!("{} values", g.crank_deg.len()),
+                format!(
+                    "needs at least 2 values, as many as pressure_bar ({})",
+                    g.pressure_bar.len()
+                ),
+            ));
+        }
+        increasing("[gas] crank_deg", &g.crank_deg)?;
+        let (lo, hi) = (g.crank_deg[0], g.crank_deg[g.crank_deg.len() - 1]);
+        if lo < 0.0 || hi > 720.0 {
+            return Err(err(
+                "[gas] crank_deg",
+                format!("{}..{}", short(lo), short(hi)),
+                "must lie within 0–720° (a four-stroke cycle from firing top dead centre)",
+            ));
+        }
+        if let Some(p) = g
+            .pressure_bar
+            .iter()
+            .find(|p| !(p.is_finite() && **p >= 0.0 && **p <= 500.0))
+        {
+            return Err(err(
+                "[gas] pressure_bar",
+                short(*p),
+                "must be a gauge pressure in [0, 500] bar",
+            ));
+        }
+        Ok(())
+    }
+
+    fn check_oil(o: &Oil, stroke: f64) -> Result<(), EngineError> {
+        let ok = |v: f64| v.is_finite() && v > 0.0 && v <= 1000.0;
+        match &o.d_oil_um {
+            OilSupply::Everywhere(v) if ok(*v) => Ok(()),
+            OilSupply::Everywhere(v) => {
+                Err(err("[oil] d_oil_um", short(*v), "must lie in (0, 1000] µm"))
+            }
+            OilSupply::Table(t) => {
+                if t.len() != o.position_mm.len() || t.len() < 2 {
+                    return Err(err(
+                        "[oil] position_mm",
+                        format!("{} values", o.position_mm.len()),
+                        format!(
+                            "a table of d_oil_um needs as many positions ({}), at least 2",
+                            t.len()
+                        ),
+                    ));
+                }
+                increasing("[oil] position_mm", &o.position_mm)?;
+                if o.position_mm[0] < 0.0 || o.position_mm[t.len() - 1] > stroke {
+                    return Err(err(
+                        "[oil] position_mm",
+                        short(o.position_mm[0]),
+                        "must lie within the stroke",
+                    ));
+                }
+                match t.iter().find(|v| !ok(**v)) {
+                    Some(v) => Err(err("[oil] d_oil_um", short(*v), "must lie in (0, 1000] µm")),
+                    None => Ok(()),
+                }
+            }
+        }
+    }
+
+    fn zone_bounds(z: &Zones, stroke: f64) -> Result<Vec<f64>, EngineError> {
+        match (z.count, &z.boundaries_mm) {
+            (Some(n), None) if (1..=50).contains(&n) => {
+                Ok((0..=n).map(|i| stroke * i as f64 / n as f64).collect())
+            }
+            (Some(n), None) => Err(err("[zones] count", n, "must be 1 to 50")),
+            (None, Some(b)) => {
+                increasing("[zones] boundaries_mm", b)?;
+                let ends = b.len() >= 2 && b[0] == 0.0 && (b[b.len() - 1] - stroke).abs() < 1e-9;
+                if !ends {
+                    return Err(err(
+                        "[zones] boundaries_mm",
+                        format!("{b:?}"),
+                        format!("must run from 0 to the stroke ({} mm)", short(stroke)),
+                    ));
+                }
+                Ok(b.clone())
+            }
+            _ => Err(err("[zones]", "", "give either count or boundaries_mm")),
+        }
+    }
+
+    /// Crank radius and rod length (mm), and the crank's angular speed (rad/s).
+    fn crank(&self) -> (f64, f64, f64) {
+        let e = &self.file.engine;
+        (
+            0.5 * e.stroke_mm,
+            e.rod_mm,
+            e.rpm * std::f64::consts::PI / 30.0,
+        )
+    }
+
+    /// The piston's (and ring's) distance from top dead centre (mm) at crank angle θ:
+    /// x = r(1 − cos θ) + l − √(l² − r² sin² θ) (docs/model.md §10).
+    pub fn position_mm(&self, crank_deg: f64) -> f64 {
+        let (r, l, _) = self.crank();
+        let t = crank_deg.to_radians();
+        r * (1.0 - t.cos()) + l - (l * l - (r * t.sin()).powi(2)).sqrt()
+    }
+
+    /// Its velocity (m/s, positive away from top dead centre): dx/dt = ω·r·sin θ·(1 +
+    /// r·cos θ / √(l² − r² sin² θ)).
+    pub fn velocity_ms(&self, crank_deg: f64) -> f64 {
+        let (r, l, w) = self.crank();
+        let t = crank_deg.to_radians();
+        let root = (l * l - (r * t.sin()).powi(2)).sqrt();
+        1e-3 * w * r * t.sin() * (1.0 + r * t.cos() / root)
+    }
+
+    /// The gas pressure behind the ring (bar), linear in the table, periodic over 720°.
+    pub fn gas_bar(&self, crank_deg: f64) -> f64 {
+        let g = &self.file.gas;
+        let n = g.crank_deg.len();
+        let x = crank_deg.rem_euclid(720.0);
+        // Periodic: the last point joins the first one 720° later.
+        let xs: Vec<f64> = g
+            .crank_deg
+            .iter()
+            .copied()
+            .chain([g.crank_deg[0] + 720.0])
+            .collect();
+        let ys: Vec<f64> = g
+            .pressure_bar
+            .iter()
+            .copied()
+            .chain([g.pressure_bar[0]])
+            .collect();
+        let x = if x < xs[0] { x + 720.0 } else { x };
+        let k = (0..n).find(|&k| x <= xs[k + 1]).unwrap_or(n - 1);
+        let s = (x - xs[k]) / (xs[k + 1] - xs[k]);
+        ys[k] + s * (ys[k + 1] - ys[k])
+    }
+
+    /// The oil film ahead of the ring at `position_mm` (µm).
+    pub fn d_oil_um(&self, position_mm: f64) -> f64 {
+        match &self.file.oil.d_oil_um {
+            OilSupply::Everywhere(v) => *v,
+            OilSupply::Table(t) => {
+                let xs = &self.file.oil.position_mm;
+                let x = position_mm.clamp(xs[0], xs[xs.len() - 1]);
+                let k = (0..xs.len() - 1)
+                    .find(|&k| x <= xs[k + 1])
+                    .unwrap_or(xs.len() - 2);
+                let s = (x - xs[k]) / (xs[k + 1] - xs[k]);
+                t[k] + s * (t[k + 1] - t[k])
+            }
+        }
+    }
+
+    /// The zone over `position_mm` (the last one owns the stroke's end).
+    pub fn zone(&self, position_mm: f64) -> usize {
+        let b = &self.bounds_mm;
+        (1..b.len())
+            .find(|&k| position_mm < b[k])
+            .unwrap_or(b.len() - 1)
+            - 1
+    }
+
+    /// The cycle sampled every `step_deg` degrees, at the middles of the steps (so that no
+    /// sample sits exactly on a dead centre).
+    pub fn samples(&self, step_deg: f64) -> Vec<Sample> {
+        let n = (720.0 / step_deg).round().max(1.0) as usize;
+        let step = 720.0 / n as f64;
+        let ring = &self.file.ring;
+        (0..n)
+            .map(|k| {
+                let crank_deg = (k as f64 + 0.5) * step;
+                let position_mm = self.position_mm(crank_deg);
+                // 1 bar on the ring's back, over its width: 1e5 Pa × width (m) per metre.
+                let gas = self.gas_bar(crank_deg) * 1e5 * ring.width_mm * 1e-3;
+                Sample {
+                    crank_deg,
+                    position_mm,
+                    speed_ms: self.velocity_ms(crank_deg).abs(),
+                    load_n_per_m: ring.elastic_load_n_per_m + gas,
+                    d_oil_um: self.d_oil_um(position_mm),
+                    zone: self.zone(position_mm),
+                }
+            })
+            .collect()
+    }
+
+    /// The operating point of a sample (its speed may be outside the accepted range near a
+    /// dead centre: such samples are excluded before they are evaluated).
+    pub fn operating(&self, s: &Sample) -> Operating {
+        Operating {
+            speed_ms: s.speed_ms,
+            load_n_per_m: s.load_n_per_m,
+            viscosity_pas: self.file.oil.viscosity_pa_s,
+            ring_width_mm: self.file.ring.width_mm,
+            ring_mass_kg_per_m: self.file.ring.mass_kg_per_m,
+            d_oil_um: s.d_oil_um,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) const EXAMPLE: &str = r#"
+        [engine]
+        name = "test"
+        bore_mm = 80
+        stroke_mm = 86
+        rod_mm = 140
+        rpm = 2000
+        [ring]
+        R_cm = 5
+        width_mm = 1.2
+        mass_kg_per_m = 0.02
+        elastic_load_n_per_m = 100
+        [gas]
+        crank_deg = [0, 30, 180, 360, 690]
+        pressure_bar = [30, 50, 2, 0, 10]
+        [oil]
+        viscosity_pa_s = 0.006
+        d_oil_um = 20
+        [zones]
+        count = 4
+    "#;
+
+    #[test]
+    fn slider_crank_against_the_closed_form_and_a_finite_difference() {
+        let e = Engine::parse(EXAMPLE).unwrap();
+        let (r, l) = (43.0, 140.0);
+        for deg in [0.0, 30.0, 90.0, 135.0, 180.0, 270.0, 359.0, 400.0, 700.0] {
+            let t: f64 = f64::to_radians(deg);
+            // x = l + r − (r cos θ + √(l² − r² sin² θ)): the pin's distance from TDC.
+            let closed = l + r - (r * t.cos() + (l * l - r * r * t.sin() * t.sin()).sqrt());
+            assert!((e.position_mm(deg) - closed).abs() < 1e-12, "{deg}°");
+            // dx/dt from a central difference in time (θ = ωt).
+            let h = 1e-4;
+            let w = 2000.0 * std::f64::consts::PI / 30.0;
+            let fd = (e.position_mm(deg + h) - e.position_mm(deg - h)) / (2.0 * h.to_radians() / w);
+            assert!(
+                (e.velocity_ms(deg) - 1e-3 * fd).abs() < 1e-6,
+                "{deg}°: {} vs {}",
+                e.velocity_ms(deg),
+                1e-3 * fd
+            );
+        }
+        assert_eq!(e.position_mm(0.0), 0.0);
+        assert!((e.position_mm(180.0) - 86.0).abs() < 1e-12);
+        assert!(e.velocity_ms(0.0).abs() < 1e-12 && e.velocity_ms(180.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn gas_table_is_linear_and_periodic_and_zones_cover_the_stroke() {
+        let e = Engine::parse(EXAMPLE).unwrap();
+        assert!((e.gas_bar(15.0) - 40.0).abs() < 1e-12);
+        // Between 690° and 720° + 0°: 10 → 30 bar.
+        assert!((e.gas_bar(705.0) - 20.0).abs() < 1e-12);
+        assert!((e.gas_bar(705.0 - 720.0) - 20.0).abs() < 1e-12);
+        assert_eq!(e.bounds_mm, vec![0.0, 21.5, 43.0, 64.5, 86.0]);
+        assert_eq!((e.zone(0.0), e.zone(21.5), e.zone(86.0)), (0, 1, 3));
+        let s = e.samples(10.0);
+        assert_eq!(s.len(), 72);
+        assert!(s.iter().all(|x| x.crank_deg > 0.0 && x.crank_deg < 720.0));
+        // Elastic + 40 bar × 1.2 mm = 100 + 4800 N/m at 15°... at the sample 5°: 30 + 5/30·20 bar.
+        let p = 30.0 + 5.0 / 30.0 * 20.0;
+        assert!((s[0].load_n_per_m - (100.0 + p * 1e5 * 1.2e-3)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn bad_engine_files_name_the_key() {
+        for (from, to, key) in [
+            ("rod_mm = 140", "rod_mm = 40", "[engine] rod_mm"),
+            ("rpm = 2000", "rpm = -5", "[engine] rpm"),
+            (
+                "crank_deg = [0, 30, 180, 360, 690]",
+                "crank_deg = [0, 30, 20, 360, 690]",
+                "[gas] crank_deg",
+            ),
+            (
+                "pressure_bar = [30, 50, 2, 0, 10]",
+                "pressure_bar = [30, 50, 2]",
+                "[gas] crank_deg",
+            ),
+            (
+                "count = 4",
+                "boundaries_mm = [0, 40, 100]",
+                "[zones] boundaries_mm",
+            ),
+            ("count = 4", "count = 0", "[zones] count"),
+            ("width_mm = 1.2", "width_mm = 120", "[ring] width_mm"),
+            ("d_oil_um = 20", "d_oil_um = -1", "[oil] d_oil_um"),
+            ("R_cm = 5", "", "file"),
+        ] {
+            let text = EXAMPLE.replace(from, to);
+            let e = Engine::parse(&text).unwrap_err();
+            assert_eq!(e.key, key, "{to}: {e}");
+        }
+    }
+}
