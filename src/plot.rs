@@ -81,7 +81,12 @@ fn range(v: impl Iterator<Item = f64>, scale: Scale) -> (f64, f64) {
             (lo, hi * 1.5)
         }
         Scale::Linear => {
-            let pad = 0.05 * (hi - lo).max(1e-12 * hi.abs().max(1.0));
+            // A single value (every zone plain: depth 0) gets a unit around it, not ±1e-13.
+            if hi - lo <= 1e-9 * hi.abs().max(lo.abs()) {
+                let half = 0.5 * hi.abs().max(1.0);
+                return (lo - half, hi + half);
+            }
+            let pad = 0.05 * (hi - lo);
             (lo - pad, hi + pad)
         }
     }

@@ -30,6 +30,88 @@ pub enum Command {
     /// Find the pocket textures that lower friction and keep the film thick for one ring:
     /// particle-swarm searches through the cache, friction/clearance Pareto front, report.
     Optimise(OptimiseArgs),
+    /// A texture for each zone of the liner over an engine cycle (an engine file: see
+    /// studies/engine_gasoline.toml): each zone's design, the uniform best and the plain liner.
+    Cycle(CycleArgs),
+}
+
+/// `texopt cycle ENGINE.toml`: the design's bounds, constraints and search settings come from
+/// the file's `[design]` section (keys as `optimise --config`'s), flags win.
+#[derive(Args, Debug)]
+pub struct CycleArgs {
+    /// The engine file (TOML).
+    pub file: PathBuf,
+    /// Fidelity of the reported liners [default: fast].
+    #[arg(long, value_enum)]
+    pub fidelity: Option<Fidelity>,
+    /// Fidelity of the zones' searches [default: draft].
+    #[arg(long, value_enum)]
+    pub search_fidelity: Option<Fidelity>,
+    /// Crank-angle step of the report (degrees) [default: 5].
+    #[arg(long, value_name = "DEG")]
+    pub step: Option<f64>,
+    /// Crank-angle step of the design (degrees) [default: 20].
+    #[arg(long = "design-step", value_name = "DEG")]
+    pub design_step: Option<f64>,
+    /// Override the mesh of both fidelities.
+    #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
+    pub mesh: Option<(usize, usize)>,
+    /// Override the time step of both fidelities (units of L/U).
+    #[arg(long, value_name = "DT")]
+    pub dt: Option<f64>,
+    /// Particles per swarm [default: 8].
+    #[arg(long)]
+    pub particles: Option<usize>,
+    /// Swarm iterations per search [default: 3].
+    #[arg(long)]
+    pub iterations: Option<u64>,
+    /// Random seed of the swarms [default: 1].
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Worker threads, 1 to 256 [default: all cores].
+    #[arg(long, value_name = "N", value_parser = parse_jobs)]
+    pub jobs: Option<usize>,
+    #[command(flatten)]
+    pub limits: LimitArgs,
+    /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
+    #[arg(long, value_name = "FILE")]
+    pub cache: Option<PathBuf>,
+    /// Directory of the report \[default: results/cycle_NAME, NAME the engine's\].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print the report as JSON on stdout instead of the tables.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The `[design]` section of an engine file.
+#[derive(serde::Deserialize, Default, Debug)]
+#[serde(deny_unknown_fields)]
+pub(super) struct CycleDesign {
+    #[serde(default, deserialize_with = "bounds")]
+    pub(super) l1: Option<(f64, f64)>,
+    #[serde(default, deserialize_with = "bounds")]
+    pub(super) l2: Option<(f64, f64)>,
+    #[serde(default, deserialize_with = "bounds")]
+    pub(super) per: Option<(f64, f64)>,
+    #[serde(default, deserialize_with = "bounds")]
+    pub(super) free_width: Option<(f64, f64)>,
+    #[serde(default, deserialize_with = "bounds")]
+    pub(super) depth: Option<(f64, f64)>,
+    pub(super) w_min: Option<f64>,
+    pub(super) max_area: Option<f64>,
+    pub(super) max_depth_ratio: Option<f64>,
+    pub(super) allow_thick_pockets: Option<bool>,
+    /// Least clearance every design keeps (µm) [default: the model's limit, 3 × roughness].
+    pub(super) min_clearance_um: Option<f64>,
+    pub(super) roughness_um: Option<f64>,
+    pub(super) step_deg: Option<f64>,
+    pub(super) design_step_deg: Option<f64>,
+    pub(super) particles: Option<usize>,
+    pub(super) iterations: Option<u64>,
+    pub(super) seed: Option<u64>,
+    pub(super) fidelity: Option<Fidelity>,
+    pub(super) search_fidelity: Option<Fidelity>,
 }
 
 /// Units as in `simulate`: lengths in cm, depth in µm; ranges are LO..HI. Settings come from

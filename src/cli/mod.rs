@@ -4,14 +4,15 @@
 mod args;
 mod bench;
 mod cache;
+mod cycle;
 mod optimise;
 mod simulate;
 mod slurm;
 mod study;
 
 pub use args::{
-    ApproachArg, BenchArgs, CacheAction, CacheArgs, Cli, Command, LimitArgs, OperatingArgs,
-    OptimiseArgs, SimulateArgs, StudyArgs,
+    ApproachArg, BenchArgs, CacheAction, CacheArgs, Cli, Command, CycleArgs, LimitArgs,
+    OperatingArgs, OptimiseArgs, SimulateArgs, StudyArgs,
 };
 pub use simulate::case_from_args;
 
@@ -25,6 +26,7 @@ pub fn main_with(cli: Cli) -> i32 {
     let json = match &cli.command {
         Command::Simulate(a) => a.json,
         Command::Optimise(a) => a.json,
+        Command::Cycle(a) => a.json,
         _ => false,
     };
     let result = match cli.command {
@@ -33,6 +35,7 @@ pub fn main_with(cli: Cli) -> i32 {
         Command::Study(a) => study::run(&a),
         Command::Cache(a) => cache::run(&a),
         Command::Optimise(a) => optimise::run(&a),
+        Command::Cycle(a) => cycle::run(&a),
     };
     let (code, message) = match result {
         Ok(code) => return code,

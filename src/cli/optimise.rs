@@ -272,7 +272,7 @@ fn space(a: &OptimiseArgs, file: &OptimiseFile) -> Space {
 }
 
 /// A design-space error in flag names (the free width across sliding is `--free-width`).
-fn space_error(e: &InputError) -> CmdError {
+pub(super) fn space_error(e: &InputError) -> CmdError {
     CmdError::Input(input_message(e, |p| match p {
         "width" => "--free-width".into(),
         "constraints" => "constraints".into(),

@@ -17,6 +17,10 @@ pub struct EngineFile {
     pub gas: Gas,
     pub oil: Oil,
     pub zones: Zones,
+    /// The design's settings (bounds and constraints as `optimise` takes them), read by the
+    /// design's own layer.
+    #[serde(default)]
+    pub design: toml::Table,
 }
 
 /// The crank train.
@@ -156,6 +160,14 @@ impl Engine {
             err("file", "", msg.join(" "))
         })?;
         let e = &file.engine;
+        let plain_name = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
+        if e.name.is_empty() || !e.name.chars().all(plain_name) {
+            return Err(err(
+                "[engine] name",
+                format!("{:?}", e.name),
+                "use letters, digits, '-' or '_' (it names the report's files)",
+            ));
+        }
         for (k, v) in [
             ("[engine] bore_mm", e.bore_mm),
             ("[engine] stroke_mm", e.stroke_mm),

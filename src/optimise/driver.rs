@@ -43,9 +43,9 @@ pub struct Settings {
 }
 
 /// Compass refinement after each swarm: first step, last step and most polls (cube units).
-pub(super) const REFINE_STEP: f64 = 0.25;
-pub(super) const REFINE_MIN_STEP: f64 = 1.0 / 16.0;
-pub(super) const REFINE_ITERS: u64 = 8;
+pub const REFINE_STEP: f64 = 0.25;
+pub const REFINE_MIN_STEP: f64 = 1.0 / 16.0;
+pub const REFINE_ITERS: u64 = 8;
 
 /// Most front points confirmed at the reported fidelity.
 const MAX_CONFIRM: usize = 10;

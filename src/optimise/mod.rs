@@ -3,6 +3,8 @@
 //! driver (`driver`) and its report (`report`). The simulator knows nothing of this module:
 //! every evaluation is a study job run through the cache.
 
+pub mod cycle;
+pub mod cycle_report;
 pub mod driver;
 pub mod goal;
 pub mod report;

@@ -1,0 +1,171 @@
+//! `texopt cycle ENGINE.toml`: the engine file checked, the design settings from its
+//! `[design]` section and the flags, then the zones' designs, the three liners over the cycle
+//! and the report.
+
+use std::path::{Path, PathBuf};
+
+use super::args::{CycleArgs, CycleDesign};
+use super::optimise::space_error;
+use super::{directory_can_be_made, install_ctrl_c, open_cache, CmdError, STOP};
+use crate::model::engine::Engine;
+use crate::model::operating::Validity;
+use crate::optimise::cycle::{design_all, evaluate_liners, CycleSettings};
+use crate::optimise::cycle_report::{assemble, table, write};
+use crate::optimise::search::SwarmSettings;
+use crate::optimise::space::{Bounds, Constraints, Space};
+use crate::study::NumericsOverride;
+use crate::time::{steps_per_period, Fidelity, MIN_STEPS_PER_PERIOD};
+
+pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
+    let s = settings(a)?;
+    let cache = open_cache(a.cache.as_deref())?;
+    install_ctrl_c();
+    let cache = std::sync::Mutex::new(cache);
+    let t0 = std::time::Instant::now();
+    let searched = design_all(&s, &cache, &STOP).map_err(CmdError::Other)?;
+    let (d, ev) = evaluate_liners(&s, &searched, &cache, &STOP).map_err(CmdError::Other)?;
+    let r = assemble(&s, &d, &ev, t0.elapsed().as_secs_f64());
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
+    } else {
+        print!("{}", table(&r));
+    }
+    if let Some(dir) = &s.out_dir {
+        for f in write(dir, &r).map_err(CmdError::Other)? {
+            eprintln!("wrote {}", f.display());
+        }
+    }
+    Ok(0)
+}
+
+fn input(file: &Path, m: impl std::fmt::Display) -> CmdError {
+    CmdError::Input(format!("{}: {m}", file.display()))
+}
+
+/// The engine and the design's settings: each from its flag, else the file's `[design]`,
+/// else its default; all checked before anything runs.
+fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
+    let text = std::fs::read_to_string(&a.file)
+        .map_err(|e| input(&a.file, format!("cannot read the engine file: {e}")))?;
+    let engine = Engine::parse(&text).map_err(|e| input(&a.file, e))?;
+    let d: CycleDesign = toml::Value::Table(engine.file.design.clone())
+        .try_into()
+        .map_err(|e: toml::de::Error| {
+            let text = e.to_string();
+            let lines: Vec<&str> = text
+                .lines()
+                .map(str::trim)
+                .filter(|l| !l.is_empty())
+                .collect();
+            input(&a.file, format!("[design] {}", lines.join(" ")))
+        })?;
+    let roughness = d.roughness_um.unwrap_or(Validity::default().roughness_um);
+    if !(roughness > 0.0 && roughness <= 10.0) {
+        return Err(input(
+            &a.file,
+            format!("[design] roughness_um = {roughness}: must lie in (0, 10] µm"),
+        ));
+    }
+    let validity = Validity {
+        roughness_um: roughness,
+    };
+    let min_clearance_um = d.min_clearance_um.unwrap_or(validity.clearance_limit_um());
+    if !(min_clearance_um.is_finite() && min_clearance_um > 0.0) {
+        return Err(input(
+            &a.file,
+            format!("[design] min_clearance_um = {min_clearance_um}: must be > 0 µm"),
+        ));
+    }
+    let step = |flag: &str, v: Option<f64>, def: f64| -> Result<f64, CmdError> {
+        let x = v.unwrap_or(def);
+        if x.is_finite() && (0.5..=90.0).contains(&x) {
+            Ok(x)
+        } else {
+            Err(CmdError::Input(format!(
+                "{flag} = {x}: a crank-angle step from 0.5 to 90 degrees"
+            )))
+        }
+    };
+    let space = space(&d);
+    space.validate().map_err(|e| space_error(&e))?;
+    if let Some(dt) = a.dt {
+        // u = 1 in every scaled case of the cycle: the shortest period is the least `per`.
+        let period = space.bounds.per.0;
+        if !(dt.is_finite()
+            && dt > 0.0
+            && steps_per_period(period, dt) >= MIN_STEPS_PER_PERIOD as f64)
+        {
+            return Err(CmdError::Input(format!(
+                "--dt {dt}: must be > 0 and leave at least {MIN_STEPS_PER_PERIOD} steps in the shortest texture period (per from {period} cm): --dt ≤ {}",
+                period / MIN_STEPS_PER_PERIOD as f64
+            )));
+        }
+    }
+    let particles = a.particles.or(d.particles).unwrap_or(8);
+    let iterations = a.iterations.or(d.iterations).unwrap_or(3);
+    if particles < 2 || iterations == 0 {
+        return Err(CmdError::Input(
+            "--particles must be ≥ 2 and --iterations ≥ 1".into(),
+        ));
+    }
+    let out_dir = a
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("results/cycle_{}", engine.file.engine.name)));
+    directory_can_be_made(&out_dir).map_err(|why| {
+        CmdError::Input(format!(
+            "--out {}: cannot create it: {why}; choose another directory",
+            out_dir.display()
+        ))
+    })?;
+    Ok(CycleSettings {
+        space,
+        validity,
+        min_clearance_um,
+        search_fidelity: a
+            .search_fidelity
+            .or(d.search_fidelity)
+            .unwrap_or(Fidelity::Draft),
+        report_fidelity: a.fidelity.or(d.fidelity).unwrap_or(Fidelity::Fast),
+        overrides: NumericsOverride {
+            n1: a.mesh.map(|m| m.0),
+            n2: a.mesh.map(|m| m.1),
+            dt: a.dt,
+            ..Default::default()
+        },
+        swarm: SwarmSettings {
+            particles,
+            iterations,
+            seed: a.seed.or(d.seed).unwrap_or(1),
+        },
+        step_deg: step("--step", a.step.or(d.step_deg), 5.0)?,
+        design_step_deg: step("--design-step", a.design_step.or(d.design_step_deg), 20.0)?,
+        jobs: a
+            .jobs
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
+        limits: a.limits.limits()?,
+        progress: !a.json,
+        out_dir: Some(out_dir),
+        engine,
+    })
+}
+
+/// The design space of the `[design]` section (`optimise`'s defaults where absent).
+fn space(d: &CycleDesign) -> Space {
+    let (b, c) = (Bounds::default(), Constraints::default());
+    Space {
+        bounds: Bounds {
+            l1: d.l1.unwrap_or(b.l1),
+            l2: d.l2.unwrap_or(b.l2),
+            per: d.per.unwrap_or(b.per),
+            width: d.free_width,
+            depth: d.depth.unwrap_or(b.depth),
+        },
+        cons: Constraints {
+            w_min: d.w_min.map_or(c.w_min, |um| um * 1e-4),
+            max_area: d.max_area,
+            max_depth_ratio: d.max_depth_ratio,
+            allow_thick: d.allow_thick_pockets.unwrap_or(false),
+        },
+    }
+}

@@ -1,0 +1,520 @@
+//! A texture for each zone of the liner over an engine cycle (docs/model.md §10). The cycle is
+//! sampled in crank angle; each sample is a quasi-steady operating point (speed, load, oil
+//! supply) on the zone the ring is over. Angles outside the hydrodynamic model (near the dead
+//! centres, where the speed and the film vanish) are excluded and carry no number. Each zone's
+//! texture minimises the zone's friction work over the cycle under a least clearance; the single
+//! best texture for the whole liner and the plain liner are the references.
+
+use argmin::core::{CostFunction, Error as ArgminError};
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::Mutex;
+use std::time::Instant;
+
+use super::driver::{REFINE_ITERS, REFINE_MIN_STEP, REFINE_STEP};
+use super::goal::FAILED_COST;
+use super::search::{refine, swarm, SwarmSettings};
+use super::space::Space;
+use crate::model::case::{CaseSpec, Texture};
+use crate::model::engine::{Engine, Sample};
+use crate::model::operating::{Scales, Validity, VALIDATED_STRIBECK};
+use crate::study::cache::Cache;
+use crate::study::{numerics_for, sweep, Job, NumericsOverride};
+use crate::time::{Fidelity, Limits, Outcome};
+
+/// Everything `cycle` needs.
+pub struct CycleSettings {
+    pub engine: Engine,
+    pub space: Space,
+    /// Where the film model stops, and the least clearance a design must keep (µm).
+    pub validity: Validity,
+    pub min_clearance_um: f64,
+    pub search_fidelity: Fidelity,
+    pub report_fidelity: Fidelity,
+    pub overrides: NumericsOverride,
+    pub swarm: SwarmSettings,
+    /// Crank-angle steps of the report and of the design (degrees).
+    pub step_deg: f64,
+    pub design_step_deg: f64,
+    pub jobs: usize,
+    pub limits: Limits,
+    pub progress: bool,
+    pub out_dir: Option<PathBuf>,
+}
+
+/// One sample of the cycle, ready to evaluate: its plain case and scales, and its sliding
+/// distance v·Δt (m), the weight of its friction force in the work.
+#[derive(Clone, Debug)]
+pub struct Point {
+    pub sample: Sample,
+    pub base: CaseSpec,
+    pub scales: Scales,
+    pub distance_m: f64,
+    /// Why the angle is outside the hydrodynamic model, if it is.
+    pub excluded: Option<String>,
+}
+
+/// The evaluation of one liner at the points: per point, the outcome and its friction force
+/// (N/m), or why there is none.
+pub type Forces = Vec<Result<(Outcome, f64), String>>;
+
+/// The samples of the cycle every `step` degrees as points, those outside the model's range
+/// of operating conditions excluded before anything is run.
+pub fn points(s: &CycleSettings, step: f64) -> Vec<Point> {
+    let e = &s.engine;
+    let omega = e.file.engine.rpm * std::f64::consts::PI / 30.0;
+    let dt = (720.0 / (720.0 / step).round()).to_radians() / omega;
+    e.samples(step)
+        .into_iter()
+        .map(|sample| {
+            let op = e.operating(&sample);
+            let mut base = CaseSpec::paper(e.file.ring.r_cm);
+            let excluded = excluded_before(&op, &sample, s);
+            if excluded.is_none() {
+                op.apply(&mut base);
+            }
+            Point {
+                sample,
+                base,
+                scales: op.scales(),
+                distance_m: sample.speed_ms * dt,
+                excluded,
+            }
+        })
+        .collect()
+}
+
+/// Slowest sliding the quasi-steady model takes, as a share of the mean piston speed: closer
+/// to a dead centre the film is squeezed rather than dragged through the contact.
+pub const SPEED_FLOOR: f64 = 0.1;
+
+/// Largest change of speed or load, relative, over the time the oil takes to cross the ring
+/// face (2·width/U) that a quasi-steady evaluation stands (docs/model.md §10).
+pub const QUASI_STEADY: f64 = 0.2;
+
+/// Why an operating point is outside the model before it is run: slower than
+/// [`SPEED_FLOOR`] × the mean piston speed, speed or load changing too fast for a
+/// quasi-steady film ([`QUASI_STEADY`]), a Stribeck number outside the validated range, or
+/// inputs out of range.
+fn excluded_before(
+    op: &crate::model::operating::Operating,
+    sample: &Sample,
+    s: &CycleSettings,
+) -> Option<String> {
+    let e = &s.engine;
+    let crank = &e.file.engine;
+    let floor = SPEED_FLOOR * 2.0 * crank.stroke_mm * 1e-3 * crank.rpm / 60.0;
+    if op.speed_ms < floor {
+        return Some(format!(
+            "speed {:.2} m/s below {SPEED_FLOOR} × the mean piston speed ({floor:.2} m/s): near a dead centre",
+            op.speed_ms
+        ));
+    }
+    // Relative rates of change per second, by central differences over ±0.05° of crank.
+    let (h, omega) = (0.05f64, crank.rpm * std::f64::consts::PI / 30.0);
+    let dt = 2.0 * h.to_radians() / omega;
+    let at = |d: f64| {
+        let a = sample.crank_deg + d;
+        let load =
+            e.file.ring.elastic_load_n_per_m + e.gas_bar(a) * 1e5 * e.file.ring.width_mm * 1e-3;
+        (e.velocity_ms(a).abs(), load)
+    };
+    let ((u0, w0), (u1, w1)) = (at(-h), at(h));
+    let rate = ((u1 - u0) / dt / op.speed_ms)
+        .abs()
+        .max(((w1 - w0) / dt / op.load_n_per_m).abs());
+    let crossing = 2.0 * e.file.ring.width_mm * 1e-3 / op.speed_ms;
+    if rate * crossing > QUASI_STEADY {
+        return Some(format!(
+            "not quasi-steady: speed or load change by {:.0} % while the oil crosses the ring (limit {:.0} %)",
+            100.0 * rate * crossing,
+            100.0 * QUASI_STEADY
+        ));
+    }
+    let st = op.stribeck();
+    let (lo, hi) = VALIDATED_STRIBECK;
+    if !(lo..=hi).contains(&st) {
+        return Some(format!(
+            "Stribeck number {st:.2e} outside {lo:e}..{hi:e} (speed {:.2} m/s, load {:.0} N/m)",
+            op.speed_ms, op.load_n_per_m
+        ));
+    }
+    op.check().err().map(|e| format!("{e}"))
+}
+
+/// Evaluates a liner (`texture` per point: None is the plain liner) at the points that are
+/// not excluded, in parallel through the cache, at `fidelity`.
+pub fn evaluate(
+    s: &CycleSettings,
+    pts: &[&Point],
+    textures: &[Option<Texture>],
+    fidelity: Fidelity,
+    cache: &Mutex<Cache>,
+    stop: &AtomicBool,
+) -> Result<Forces, String> {
+    let jobs: Vec<Job> = pts
+        .iter()
+        .zip(textures)
+        .map(|(p, t)| {
+            let case = CaseSpec {
+                texture: t.clone(),
+                ..p.base.clone()
+            };
+            let numerics = numerics_for(&case, fidelity, &s.overrides);
+            Job {
+                case,
+                numerics,
+                scales: p.scales,
+            }
+        })
+        .collect();
+    let options = sweep::Options {
+        jobs: s.jobs,
+        retry_failed: false,
+        progress: false,
+        limits: s.limits,
+    };
+    let (sum, results) = sweep::run(&jobs, cache, &options, stop).map_err(|e| e.to_string())?;
+    if sum.stopped {
+        return Err("stopped (Ctrl-C); finished evaluations are in the cache".into());
+    }
+    Ok(results
+        .into_iter()
+        .zip(&jobs)
+        .map(|(r, j)| {
+            let o = r.unwrap_or_else(|| Err("not run".into()))?;
+            let force = j
+                .scales
+                .physical(&j.case, o.f_mean, o.c_min)
+                .friction_n_per_m;
+            Ok((o, force))
+        })
+        .collect())
+}
+
+/// The plain liner at every point; points where it fails or runs below the model's clearance
+/// limit are excluded from then on (every liner is weighed on the same angles).
+fn plain_and_exclude(
+    s: &CycleSettings,
+    pts: &mut [Point],
+    fidelity: Fidelity,
+    cache: &Mutex<Cache>,
+    stop: &AtomicBool,
+) -> Result<Vec<Option<f64>>, String> {
+    let idx: Vec<usize> = (0..pts.len())
+        .filter(|&k| pts[k].excluded.is_none())
+        .collect();
+    let sel: Vec<&Point> = idx.iter().map(|&k| &pts[k]).collect();
+    let plain = evaluate(s, &sel, &vec![None; sel.len()], fidelity, cache, stop)?;
+    let mut force = vec![None; pts.len()];
+    for (&k, r) in idx.iter().zip(plain) {
+        match r {
+            Ok((o, f)) => match s.validity.outside(&pts[k].base, o.c_min) {
+                Some(why) => pts[k].excluded = Some(format!("plain liner: {why}")),
+                None => force[k] = Some(f),
+            },
+            Err(why) => pts[k].excluded = Some(format!("plain liner failed: {why}")),
+        }
+    }
+    Ok(force)
+}
+
+/// What a zone's design minimises: its friction work over the plain liner's, Σ F·v·Δt over
+/// the zone's points; a design that fails or leaves less than the least clearance at one of
+/// them is infeasible.
+struct ZoneWork<'a> {
+    s: &'a CycleSettings,
+    pts: Vec<&'a Point>,
+    plain_work: f64,
+    cache: &'a Mutex<Cache>,
+    stop: &'a AtomicBool,
+}
+
+impl ZoneWork<'_> {
+    fn cost_of(&self, designs: &[Texture]) -> Result<Vec<f64>, String> {
+        let n = self.pts.len();
+        let mut pts = Vec::with_capacity(n * designs.len());
+        let mut tex = Vec::with_capacity(n * designs.len());
+        for t in designs {
+            pts.extend(self.pts.iter().copied());
+            tex.extend(std::iter::repeat_n(Some(t.clone()), n));
+        }
+        let r = evaluate(
+            self.s,
+            &pts,
+            &tex,
+            self.s.search_fidelity,
+            self.cache,
+            self.stop,
+        )?;
+        Ok(r.chunks(n)
+            .map(|runs| {
+                let mut work = 0.0;
+                for (p, run) in self.pts.iter().zip(runs) {
+                    match run {
+                        Ok((o, f)) if o.c_min >= self.s.min_clearance_um => {
+                            work += f * p.distance_m
+                        }
+                        _ => return FAILED_COST,
+                    }
+                }
+                work / self.plain_work
+            })
+            .collect())
+    }
+}
+
+impl CostFunction for &ZoneWork<'_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+
+    fn cost(&self, u: &Vec<f64>) -> Result<f64, ArgminError> {
+        Ok(self.bulk_cost(std::slice::from_ref(u))?[0])
+    }
+
+    fn bulk_cost<P>(&self, params: &[P]) -> Result<Vec<f64>, ArgminError>
+    where
+        P: std::borrow::Borrow<Vec<f64>> + argmin::core::SyncAlias,
+    {
+        let designs: Vec<Texture> = params
+            .iter()
+            .map(|u| self.s.space.decode(u.borrow()))
+            .collect();
+        self.cost_of(&designs).map_err(ArgminError::msg)
+    }
+}
+
+/// The texture that minimises the friction work at `pts` relative to the plain liner's
+/// (`plain`: its forces there), or None when none beats the plain liner or there is no point:
+/// a particle swarm polished by a compass search, as `optimise`'s friction search.
+pub fn design(
+    s: &CycleSettings,
+    pts: Vec<&Point>,
+    plain: &[f64],
+    cache: &Mutex<Cache>,
+    stop: &AtomicBool,
+) -> Result<Option<(Texture, f64)>, String> {
+    let plain_work: f64 = pts.iter().zip(plain).map(|(p, f)| f * p.distance_m).sum();
+    if pts.is_empty() || plain_work <= 0.0 {
+        return Ok(None);
+    }
+    let problem = ZoneWork {
+        s,
+        pts,
+        plain_work,
+        cache,
+        stop,
+    };
+    let (u, _) = swarm(&problem, s.space.dim(), s.swarm)?;
+    let (u, c) = refine(&problem, u, REFINE_STEP, REFINE_MIN_STEP, REFINE_ITERS)?;
+    Ok((c < 1.0).then(|| (s.space.decode(&u), c)))
+}
+
+/// The designs of a cycle: the plain liner's forces, each zone's texture and the uniform one,
+/// at the design's points.
+pub struct Designs {
+    pub zones: Vec<Option<Texture>>,
+    pub uniform: Option<Texture>,
+}
+
+/// Designs every zone and the uniform liner at the design step.
+pub fn design_all(
+    s: &CycleSettings,
+    cache: &Mutex<Cache>,
+    stop: &AtomicBool,
+) -> Result<Designs, String> {
+    let t0 = Instant::now();
+    let say = |m: String| {
+        if s.progress {
+            eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
+        }
+    };
+    let mut pts = points(s, s.design_step_deg);
+    let plain = plain_and_exclude(s, &mut pts, s.search_fidelity, cache, stop)?;
+    let inside: Vec<usize> = (0..pts.len()).filter(|&k| plain[k].is_some()).collect();
+    say(format!(
+        "{} of {} design angles inside the model",
+        inside.len(),
+        pts.len()
+    ));
+    let zone_count = s.engine.bounds_mm.len() - 1;
+    let mut zones = Vec::new();
+    for z in 0..zone_count {
+        let at: Vec<usize> = inside
+            .iter()
+            .copied()
+            .filter(|&k| pts[k].sample.zone == z)
+            .collect();
+        let f: Vec<f64> = at.iter().filter_map(|&k| plain[k]).collect();
+        let d = design(s, at.iter().map(|&k| &pts[k]).collect(), &f, cache, stop)?;
+        say(format!(
+            "zone {}: {} angles; {}",
+            z + 1,
+            at.len(),
+            d.as_ref()
+                .map_or("the plain liner".into(), |(t, c)| format!(
+                    "{t:?}, work ratio {c:.4}"
+                ))
+        ));
+        zones.push(d.map(|x| x.0));
+    }
+    let f: Vec<f64> = inside.iter().filter_map(|&k| plain[k]).collect();
+    let uniform = design(
+        s,
+        inside.iter().map(|&k| &pts[k]).collect(),
+        &f,
+        cache,
+        stop,
+    )?;
+    say(format!(
+        "uniform: {}",
+        uniform
+            .as_ref()
+            .map_or("the plain liner".into(), |(t, c)| format!(
+                "{t:?}, work ratio {c:.4}"
+            ))
+    ));
+    Ok(Designs {
+        zones,
+        uniform: uniform.map(|x| x.0),
+    })
+}
+
+/// The three liners at the report's points: plain, uniform best and zoned, with the points
+/// (their exclusions settled by the plain liner).
+pub struct Evaluated {
+    pub points: Vec<Point>,
+    /// Per liner (plain, uniform, zoned), per point: the outcome and force, or none.
+    pub liners: [Vec<Option<(Outcome, f64)>>; 3],
+    /// Each zone's searched design, then the uniform one, as the report's fidelity and step
+    /// found them.
+    pub confirmed: Vec<Confirmation>,
+}
+
+/// A searched design at the report's fidelity and step: its change of friction work against
+/// the plain liner there, or None where a run failed or left less than the least clearance.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Confirmation {
+    pub searched: Option<Texture>,
+    pub change_pct: Option<f64>,
+    pub kept: bool,
+}
+
+type Runs = Vec<Option<(Outcome, f64)>>;
+
+/// The work of `runs` over the points of `zone` (all zones: None) if every point inside the
+/// model has a run that keeps the least clearance; None otherwise.
+fn feasible_work(
+    s: &CycleSettings,
+    pts: &[Point],
+    runs: &Runs,
+    zone: Option<usize>,
+) -> Option<f64> {
+    let mut w = 0.0;
+    for (p, r) in pts.iter().zip(runs) {
+        if p.excluded.is_some() || zone.is_some_and(|z| p.sample.zone != z) {
+            continue;
+        }
+        let (o, f) = r.as_ref()?;
+        if o.c_min < s.min_clearance_um {
+            return None;
+        }
+        w += f * p.distance_m;
+    }
+    Some(w)
+}
+
+/// The searched designs confirmed at the report's fidelity and step: each zone keeps the best
+/// of its own design, the uniform one and the plain liner there (a design found at the search
+/// fidelity that does not beat them at the report's is not kept), and the uniform texture is
+/// kept only if it beats the plain liner over the cycle. Returns the final designs and the
+/// three liners' runs.
+pub fn evaluate_liners(
+    s: &CycleSettings,
+    d: &Designs,
+    cache: &Mutex<Cache>,
+    stop: &AtomicBool,
+) -> Result<(Designs, Evaluated), String> {
+    let mut pts = points(s, s.step_deg);
+    plain_and_exclude(s, &mut pts, s.report_fidelity, cache, stop)?;
+    let run = |pick: &dyn Fn(usize) -> Option<Texture>| -> Result<Runs, String> {
+        let inside: Vec<&Point> = pts.iter().filter(|p| p.excluded.is_none()).collect();
+        let tex: Vec<Option<Texture>> = inside.iter().map(|p| pick(p.sample.zone)).collect();
+        let mut it = evaluate(s, &inside, &tex, s.report_fidelity, cache, stop)?.into_iter();
+        Ok(pts
+            .iter()
+            .map(|p| match p.excluded {
+                Some(_) => None,
+                None => it.next().and_then(Result::ok),
+            })
+            .collect())
+    };
+    let plain = run(&|_| None)?;
+    let uniform = run(&|_| d.uniform.clone())?;
+    let own = run(&|z| d.zones[z].clone())?;
+    let zones = d.zones.len();
+    // Per zone: (texture, runs) of the least feasible work.
+    let choice: Vec<(Option<Texture>, &Runs)> = (0..zones)
+        .map(|z| {
+            [
+                (d.zones[z].clone(), &own),
+                (d.uniform.clone(), &uniform),
+                (None, &plain),
+            ]
+            .into_iter()
+            .filter_map(|(t, r)| Some((feasible_work(s, &pts, r, Some(z))?, t, r)))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map_or((None, &plain), |(_, t, r)| (t, r))
+        })
+        .collect();
+    let zoned: Runs = pts
+        .iter()
+        .enumerate()
+        .map(|(k, p)| choice[p.sample.zone].1[k].clone())
+        .collect();
+    let zone_textures: Vec<Option<Texture>> = choice.into_iter().map(|(t, _)| t).collect();
+    let confirm =
+        |t: &Option<Texture>, runs: &Runs, zone: Option<usize>, kept: bool| Confirmation {
+            searched: t.clone(),
+            change_pct: t.as_ref().and_then(|_| {
+                let w = feasible_work(s, &pts, runs, zone)?;
+                Some(100.0 * (w / feasible_work(s, &pts, &plain, zone)? - 1.0))
+            }),
+            kept,
+        };
+    let mut confirmed: Vec<Confirmation> = (0..zones)
+        .map(|z| {
+            confirm(
+                &d.zones[z],
+                &own,
+                Some(z),
+                d.zones[z].is_some() && zone_textures[z] == d.zones[z],
+            )
+        })
+        .collect();
+    let uniform_kept = match (
+        feasible_work(s, &pts, &uniform, None),
+        feasible_work(s, &pts, &plain, None),
+    ) {
+        (Some(u), Some(p)) if u < p => d.uniform.clone(),
+        _ => None,
+    };
+    confirmed.push(confirm(&d.uniform, &uniform, None, uniform_kept.is_some()));
+    let uniform = if uniform_kept.is_some() {
+        uniform
+    } else {
+        plain.clone()
+    };
+    let designs = Designs {
+        zones: zone_textures,
+        uniform: uniform_kept,
+    };
+    Ok((
+        designs,
+        Evaluated {
+            points: pts,
+            liners: [plain, uniform, zoned],
+            confirmed,
+        },
+    ))
+}

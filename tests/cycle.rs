@@ -1,0 +1,264 @@
+//! `texopt cycle`: bad engine files are refused; the dead centres are excluded and carry no
+//! number; a zone met at one operating point only is designed as `optimise` designs for it.
+//! (The slider-crank kinematics against its closed form and a finite difference: the unit
+//! tests of model::engine.)
+
+mod common;
+
+use common::{scratch, texopt};
+use std::sync::atomic::AtomicBool;
+use std::sync::Mutex;
+
+use texopt::model::case::CaseSpec;
+use texopt::model::engine::Engine;
+use texopt::model::operating::{Scales, Validity};
+use texopt::optimise::cycle::{design, evaluate, CycleSettings, Point};
+use texopt::optimise::driver::{REFINE_ITERS, REFINE_MIN_STEP, REFINE_STEP};
+use texopt::optimise::goal::Goal;
+use texopt::optimise::search::{refine, search, Evaluator, Search, SwarmSettings};
+use texopt::optimise::space::{Bounds, Constraints, Space};
+use texopt::study::cache::Cache;
+use texopt::study::sweep;
+use texopt::study::NumericsOverride;
+use texopt::time::{Fidelity, Limits};
+
+const ENGINE: &str = r#"
+[engine]
+name = "t"
+bore_mm = 79
+stroke_mm = 81
+rod_mm = 130
+rpm = 3000
+[ring]
+R_cm = 5
+width_mm = 1.2
+mass_kg_per_m = 0.03
+elastic_load_n_per_m = 150
+[gas]
+crank_deg = [0, 15, 60, 180, 360, 540, 690]
+pressure_bar = [15, 35, 12, 2, 0.2, 0, 8]
+[oil]
+viscosity_pa_s = 0.007
+d_oil_um = 20
+[zones]
+count = 2
+[design]
+per = [0.0128, 0.06]
+l1 = [0.005, 0.03]
+l2 = [0.005, 0.03]
+"#;
+
+/// The quick look's numerics: 64×4 at dt 1.6e-3 (8 steps in the shortest period).
+const QUICK: [&str; 4] = ["--mesh", "64x4", "--dt", "1.6e-3"];
+
+#[test]
+fn bad_engine_files_are_refused_with_exit_2_one_line_and_nothing_written() {
+    let dir = scratch("cycle-bad");
+    for (from, to, says) in [
+        ("rpm = 3000\n", "", "missing field `rpm`"),
+        (
+            "[0, 15, 60, 180, 360, 540, 690]",
+            "[0, 15, 60, 50, 360, 540, 690]",
+            "[gas] crank_deg",
+        ),
+        (
+            "count = 2",
+            "boundaries_mm = [0, 40, 90]",
+            "[zones] boundaries_mm",
+        ),
+        ("bore_mm = 79", "bore_mm = -79", "[engine] bore_mm"),
+        (
+            "elastic_load_n_per_m = 150",
+            "elastic_load_n_per_m = -1",
+            "[ring] elastic_load_n_per_m",
+        ),
+        (
+            "viscosity_pa_s = 0.007",
+            "viscosity_pa_s = 70",
+            "[oil] viscosity_pa_s",
+        ),
+        ("per = [0.0128, 0.06]", "per = [0.0128]", "[design]"),
+        ("l1 = [0.005, 0.03]", "pitch = 3", "[design]"),
+    ] {
+        assert!(ENGINE.contains(from), "{from}");
+        let file = dir.join("e.toml");
+        std::fs::write(&file, ENGINE.replace(from, to)).unwrap();
+        let out = dir.join("out");
+        let cache = dir.join("c.sqlite");
+        let (code, _, err) = texopt(&[
+            "cycle",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--cache",
+            cache.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{to}: {err}");
+        assert_eq!(err.lines().count(), 1, "{to}: {err}");
+        assert!(err.contains(says), "{to}: expected {says:?} in {err}");
+        assert!(
+            !out.exists() && !cache.exists(),
+            "{to}: something was written"
+        );
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn the_dead_centres_are_excluded_and_carry_no_number() {
+    let dir = scratch("cycle-dc");
+    let file = dir.join("e.toml");
+    std::fs::write(&file, ENGINE).unwrap();
+    let out = dir.join("out");
+    let cache = dir.join("c.sqlite");
+    let mut args = vec![
+        "cycle",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+        "--step",
+        "10",
+        "--design-step",
+        "90",
+        "--particles",
+        "2",
+        "--iterations",
+        "1",
+        "--json",
+    ];
+    args.extend(QUICK);
+    let (code, stdout, err) = texopt(&args);
+    assert_eq!(code, 0, "{err}");
+    let r: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let samples = r["samples"].as_array().unwrap();
+    assert_eq!(samples.len(), 72);
+    // The angles on either side of each dead centre: 0/720 and 360 (top), 180 and 540 (bottom).
+    for dc in [0.0, 180.0, 360.0, 540.0, 720.0] {
+        for s in samples {
+            let a = s["crank_deg"].as_f64().unwrap();
+            if (a - dc).abs() < 6.0 {
+                assert!(s["excluded"].is_string(), "{a}° is not excluded: {s}");
+                for k in 0..3 {
+                    assert!(
+                        s["force_n_per_m"][k].is_null() && s["c_min_um"][k].is_null(),
+                        "{a}°: {s}"
+                    );
+                }
+            }
+        }
+    }
+    let excluded = r["excluded_cycle_fraction"].as_f64().unwrap();
+    assert!(excluded > 0.0 && excluded < 1.0, "{excluded}");
+    // The CSV leaves the excluded angles' numbers empty, and the report says how much is out.
+    let csv = std::fs::read_to_string(out.join("cycle_t.csv")).unwrap();
+    let row = csv
+        .lines()
+        .find(|l| l.starts_with("5,"))
+        .expect("the 5° row");
+    assert!(row.ends_with(",,,,,,"), "{row}");
+    let md = std::fs::read_to_string(out.join("cycle_t.md")).unwrap();
+    assert!(md.contains("% of the cycle's time"), "{md}");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn a_zone_met_at_one_operating_point_gets_the_design_of_optimise_there() {
+    // The paper's operating point at R = 5, met three times in the zone.
+    let engine = Engine::parse(ENGINE).unwrap();
+    let space = Space {
+        bounds: Bounds {
+            l1: (0.005, 0.03),
+            l2: (0.005, 0.03),
+            per: (0.0128, 0.06),
+            ..Bounds::default()
+        },
+        cons: Constraints::default(),
+    };
+    let overrides = NumericsOverride {
+        n1: Some(64),
+        n2: Some(4),
+        dt: Some(1.6e-3),
+        ..NumericsOverride::default()
+    };
+    let swarm = SwarmSettings {
+        particles: 4,
+        iterations: 2,
+        seed: 3,
+    };
+    let sample = engine.samples(90.0)[1];
+    let s = CycleSettings {
+        engine,
+        space: space.clone(),
+        validity: Validity::default(),
+        min_clearance_um: 0.9,
+        search_fidelity: Fidelity::Draft,
+        report_fidelity: Fidelity::Draft,
+        overrides: overrides.clone(),
+        swarm,
+        step_deg: 90.0,
+        design_step_deg: 90.0,
+        jobs: 2,
+        limits: Limits::default(),
+        progress: false,
+        out_dir: None,
+    };
+    let path = std::env::temp_dir().join(format!("texopt-cycle-{}.sqlite", std::process::id()));
+    let _ = std::fs::remove_file(&path);
+    let cache = Mutex::new(Cache::open(&path).unwrap());
+    let stop = AtomicBool::new(false);
+    let point = Point {
+        sample,
+        base: CaseSpec::paper(5.0),
+        scales: Scales::PAPER,
+        distance_m: 0.01,
+        excluded: None,
+    };
+    let pts = vec![&point, &point, &point];
+    let plain: Vec<f64> = evaluate(
+        &s,
+        &pts,
+        &[None, None, None],
+        Fidelity::Draft,
+        &cache,
+        &stop,
+    )
+    .unwrap()
+    .into_iter()
+    .map(|r| r.unwrap().1)
+    .collect();
+    let (zoned, _) = design(&s, pts, &plain, &cache, &stop)
+        .unwrap()
+        .expect("a texture pays at R = 5");
+
+    // optimise's friction search at the same operating point, settings and seed.
+    let ev = Evaluator {
+        base: CaseSpec::paper(5.0),
+        scales: Scales::PAPER,
+        fidelity: Fidelity::Draft,
+        overrides,
+        cache: &cache,
+        options: sweep::Options {
+            jobs: 2,
+            retry_failed: false,
+            progress: false,
+            limits: Limits::default(),
+        },
+        stop: &stop,
+        log: Mutex::new(Vec::new()),
+        simulations: Mutex::new(0),
+        progress: false,
+    };
+    let plain = ev.evaluate(&[None]).unwrap().remove(0).unwrap();
+    let pb = Search {
+        space: &space,
+        eval: &ev,
+        goal: Goal::Friction,
+        plain,
+    };
+    let (u, _) = search(&pb, swarm).unwrap();
+    let (u, _) = refine(&pb, u, REFINE_STEP, REFINE_MIN_STEP, REFINE_ITERS).unwrap();
+    assert_eq!(zoned, space.decode(&u));
+    let _ = std::fs::remove_file(&path);
+}
