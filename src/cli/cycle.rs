@@ -23,6 +23,14 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     let cache = std::sync::Mutex::new(cache);
     let t0 = std::time::Instant::now();
     let searched = design_all(&s, &cache, &STOP).map_err(CmdError::Other)?;
+    if s.progress {
+        eprintln!(
+            "[{:6.1} s] the three liners at {} every {}°",
+            t0.elapsed().as_secs_f64(),
+            s.report_fidelity.name(),
+            s.step_deg
+        );
+    }
     let (d, ev) = evaluate_liners(&s, &searched, &cache, &STOP).map_err(CmdError::Other)?;
     let r = assemble(&s, &d, &ev, t0.elapsed().as_secs_f64());
     if a.json {
