@@ -5,14 +5,14 @@
 use std::path::{Path, PathBuf};
 
 use super::args::{CycleArgs, CycleDesign};
-use super::optimise::space_error;
+use super::optimise::{space_error, SpaceKeys};
 use super::{directory_can_be_made, install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::engine::Engine;
 use crate::model::operating::Validity;
 use crate::optimise::cycle::{design_all, evaluate_liners, CycleSettings};
 use crate::optimise::cycle_report::{assemble, table, write};
 use crate::optimise::search::SwarmSettings;
-use crate::optimise::space::{Bounds, Constraints, Space};
+use crate::optimise::space::Space;
 use crate::study::NumericsOverride;
 use crate::time::{steps_per_period, Fidelity, MIN_STEPS_PER_PERIOD};
 
@@ -160,20 +160,16 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
 
 /// The design space of the `[design]` section (`optimise`'s defaults where absent).
 fn space(d: &CycleDesign) -> Space {
-    let (b, c) = (Bounds::default(), Constraints::default());
-    Space {
-        bounds: Bounds {
-            l1: d.l1.unwrap_or(b.l1),
-            l2: d.l2.unwrap_or(b.l2),
-            per: d.per.unwrap_or(b.per),
-            width: d.free_width,
-            depth: d.depth.unwrap_or(b.depth),
-        },
-        cons: Constraints {
-            w_min: d.w_min.map_or(c.w_min, |um| um * 1e-4),
-            max_area: d.max_area,
-            max_depth_ratio: d.max_depth_ratio,
-            allow_thick: d.allow_thick_pockets.unwrap_or(false),
-        },
+    SpaceKeys {
+        l1: d.l1,
+        l2: d.l2,
+        per: d.per,
+        free_width: d.free_width,
+        depth: d.depth,
+        w_min_um: d.w_min,
+        max_area: d.max_area,
+        max_depth_ratio: d.max_depth_ratio,
+        allow_thick: d.allow_thick_pockets.unwrap_or(false),
     }
+    .space()
 }

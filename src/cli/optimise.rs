@@ -253,21 +253,53 @@ fn config(a: &OptimiseArgs) -> Result<OptimiseFile, CmdError> {
 
 /// The design space: bounds and constraints from the flags, the file, the defaults.
 fn space(a: &OptimiseArgs, file: &OptimiseFile) -> Space {
-    let (d, c) = (Bounds::default(), Constraints::default());
-    Space {
-        bounds: Bounds {
-            l1: a.l1.or(file.l1).unwrap_or(d.l1),
-            l2: a.l2.or(file.l2).unwrap_or(d.l2),
-            per: a.per.or(file.per).unwrap_or(d.per),
-            width: a.free_width.or(file.free_width),
-            depth: a.depth.or(file.depth).unwrap_or(d.depth),
-        },
-        cons: Constraints {
-            w_min: a.w_min.or(file.w_min).map_or(c.w_min, |um| um * 1e-4),
-            max_area: a.max_area.or(file.max_area),
-            max_depth_ratio: a.max_depth_ratio.or(file.max_depth_ratio),
-            allow_thick: a.allow_thick_pockets || file.allow_thick_pockets.unwrap_or(false),
-        },
+    SpaceKeys {
+        l1: a.l1.or(file.l1),
+        l2: a.l2.or(file.l2),
+        per: a.per.or(file.per),
+        free_width: a.free_width.or(file.free_width),
+        depth: a.depth.or(file.depth),
+        w_min_um: a.w_min.or(file.w_min),
+        max_area: a.max_area.or(file.max_area),
+        max_depth_ratio: a.max_depth_ratio.or(file.max_depth_ratio),
+        allow_thick: a.allow_thick_pockets || file.allow_thick_pockets.unwrap_or(false),
+    }
+    .space()
+}
+
+/// The keys of a design space as flags, `--config` files and engine files give them (ranges
+/// in cm and µm, the least wall in µm); absent ones take `optimise`'s defaults.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct SpaceKeys {
+    pub(super) l1: Option<(f64, f64)>,
+    pub(super) l2: Option<(f64, f64)>,
+    pub(super) per: Option<(f64, f64)>,
+    pub(super) free_width: Option<(f64, f64)>,
+    pub(super) depth: Option<(f64, f64)>,
+    pub(super) w_min_um: Option<f64>,
+    pub(super) max_area: Option<f64>,
+    pub(super) max_depth_ratio: Option<f64>,
+    pub(super) allow_thick: bool,
+}
+
+impl SpaceKeys {
+    pub(super) fn space(self) -> Space {
+        let (d, c) = (Bounds::default(), Constraints::default());
+        Space {
+            bounds: Bounds {
+                l1: self.l1.unwrap_or(d.l1),
+                l2: self.l2.unwrap_or(d.l2),
+                per: self.per.unwrap_or(d.per),
+                width: self.free_width,
+                depth: self.depth.unwrap_or(d.depth),
+            },
+            cons: Constraints {
+                w_min: self.w_min_um.map_or(c.w_min, |um| um * 1e-4),
+                max_area: self.max_area,
+                max_depth_ratio: self.max_depth_ratio,
+                allow_thick: self.allow_thick,
+            },
+        }
     }
 }
 
