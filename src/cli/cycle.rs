@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use super::args::{CycleArgs, CycleDesign};
-use super::optimise::{space_error, SpaceKeys};
+use super::optimise::{overrides, space_error, SpaceKeys};
 use super::{directory_can_be_made, install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::engine::Engine;
 use crate::model::operating::Validity;
@@ -13,8 +13,7 @@ use crate::optimise::cycle::{design_all, evaluate_liners, CycleSettings};
 use crate::optimise::cycle_report::{assemble, table, write};
 use crate::optimise::search::SwarmSettings;
 use crate::optimise::space::Space;
-use crate::study::NumericsOverride;
-use crate::time::{steps_per_period, Fidelity, MIN_STEPS_PER_PERIOD};
+use crate::time::Fidelity;
 
 pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     let s = settings(a)?;
@@ -96,19 +95,7 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
     };
     let space = space(&d);
     space.validate().map_err(|e| space_error(&e))?;
-    if let Some(dt) = a.dt {
-        // u = 1 in every scaled case of the cycle: the shortest period is the least `per`.
-        let period = space.bounds.per.0;
-        if !(dt.is_finite()
-            && dt > 0.0
-            && steps_per_period(period, dt) >= MIN_STEPS_PER_PERIOD as f64)
-        {
-            return Err(CmdError::Input(format!(
-                "--dt {dt}: must be > 0 and leave at least {MIN_STEPS_PER_PERIOD} steps in the shortest texture period (per from {period} cm): --dt ≤ {}",
-                period / MIN_STEPS_PER_PERIOD as f64
-            )));
-        }
-    }
+    let overrides = overrides(a.mesh, a.dt, &space)?;
     let particles = a.particles.or(d.particles).unwrap_or(8);
     let iterations = a.iterations.or(d.iterations).unwrap_or(3);
     if particles < 2 || iterations == 0 {
@@ -135,12 +122,7 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
             .or(d.search_fidelity)
             .unwrap_or(Fidelity::Draft),
         report_fidelity: a.fidelity.or(d.fidelity).unwrap_or(Fidelity::Fast),
-        overrides: NumericsOverride {
-            n1: a.mesh.map(|m| m.0),
-            n2: a.mesh.map(|m| m.1),
-            dt: a.dt,
-            ..Default::default()
-        },
+        overrides,
         swarm: SwarmSettings {
             particles,
             iterations,

@@ -163,7 +163,7 @@ fn settings(a: &OptimiseArgs, file: &OptimiseFile, r: f64) -> Result<Settings, C
             "--balanced {w}: each weight must lie strictly between 0 and 1"
         )));
     }
-    check_numerics(a, &space, &base)?;
+    let overrides = overrides(a.mesh, a.dt, &space)?;
     // A directory that cannot be made stops the search now, not after its simulations.
     directory_can_be_made(&out_dir).map_err(|why| {
         CmdError::Input(format!(
@@ -181,12 +181,7 @@ fn settings(a: &OptimiseArgs, file: &OptimiseFile, r: f64) -> Result<Settings, C
             .or(file.search_fidelity)
             .unwrap_or(Fidelity::Draft),
         report_fidelity: a.fidelity.or(file.fidelity).unwrap_or(Fidelity::Fast),
-        overrides: NumericsOverride {
-            n1: a.mesh.map(|m| m.0),
-            n2: a.mesh.map(|m| m.1),
-            dt: a.dt,
-            ..Default::default()
-        },
+        overrides,
         swarm: SwarmSettings {
             particles,
             iterations,
@@ -312,33 +307,43 @@ pub(super) fn space_error(e: &InputError) -> CmdError {
     }))
 }
 
-/// `--dt` and `--mesh`, checked before the search (`--dt` against the shortest texture
-/// period of the design space).
-fn check_numerics(a: &OptimiseArgs, space: &Space, base: &CaseSpec) -> Result<(), CmdError> {
-    if let Some(dt) = a.dt {
+/// `--mesh` and `--dt` as the numerics' overrides, checked before any search (`--dt` against
+/// the shortest texture period of the design space: u = 1 in every scaled case, the speed
+/// being the velocity scale, docs/model.md §1).
+pub(super) fn overrides(
+    mesh: Option<(usize, usize)>,
+    dt: Option<f64>,
+    space: &Space,
+) -> Result<NumericsOverride, CmdError> {
+    if let Some(dt) = dt {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(CmdError::Input(format!(
                 "--dt {}: must be a finite number > 0",
                 short(dt)
             )));
         }
-        let period = space.bounds.per.0 / base.u;
+        let period = space.bounds.per.0;
         let steps = steps_per_period(period, dt);
         if steps < MIN_STEPS_PER_PERIOD as f64 {
             return Err(CmdError::Input(format!(
-                "--dt {}: gives only {steps} time steps per texture period at the shortest period (--per from {} cm), where at least {MIN_STEPS_PER_PERIOD} are needed: --dt ≤ {}",
+                "--dt {}: gives only {steps} time steps per texture period at the shortest period (per from {} cm), where at least {MIN_STEPS_PER_PERIOD} are needed: --dt ≤ {}",
                 short(dt),
-                short(space.bounds.per.0),
+                short(period),
                 short(period / MIN_STEPS_PER_PERIOD as f64)
             )));
         }
     }
-    if let Some((n1, n2)) = a.mesh {
+    if let Some((n1, n2)) = mesh {
         if n1 < 16 || n2 < 1 {
             return Err(CmdError::Input(format!(
                 "--mesh {n1}x{n2}: needs at least 16 cells along x1 and 1 along x2"
             )));
         }
     }
-    Ok(())
+    Ok(NumericsOverride {
+        n1: mesh.map(|m| m.0),
+        n2: mesh.map(|m| m.1),
+        dt,
+        ..Default::default()
+    })
 }
