@@ -21,6 +21,7 @@ pub mod model;
 pub mod optimise;
 pub mod output;
 pub mod plot;
+pub mod snapshot;
 pub mod solve;
 pub mod study;
 pub mod time;

@@ -600,6 +600,21 @@ pub struct SimulateArgs {
     /// in place at every period.
     #[arg(long = "progress-every", value_name = "S", default_value_t = 10.0, value_parser = parse_seconds)]
     pub progress_every: f64,
+    /// Write the film over the last period into DIR (created if missing): maps of the
+    /// pressure, saturation and gap, centre-line profiles of p and h, Z(t) and f(t) with the
+    /// instants marked (PNG), and each instant's fields as CSV. Runs the 2D transient.
+    #[arg(long, value_name = "DIR")]
+    pub snapshots: Option<PathBuf>,
+    /// Instants of the last period that --snapshots draws (the paper's figures show ten, a–j).
+    #[arg(long, value_name = "N", default_value_t = crate::snapshot::DEFAULT_FRAMES, requires = "snapshots")]
+    pub frames: usize,
+    /// Write an animation of the last period to FILE.gif: the pressure map and the
+    /// centre-line profiles as the pockets pass under the ring. Runs the 2D transient.
+    #[arg(long, value_name = "FILE.gif")]
+    pub animate: Option<PathBuf>,
+    /// Steps of the period between animation frames [default: about 30 frames a period].
+    #[arg(long = "animate-stride", value_name = "K", requires = "animate")]
+    pub animate_stride: Option<usize>,
 }
 
 pub(super) fn parse_seconds(s: &str) -> Result<f64, String> {

@@ -8,6 +8,7 @@ mod cycle;
 mod optimise;
 mod simulate;
 mod slurm;
+mod snapshots;
 mod study;
 
 pub use args::{

@@ -99,7 +99,15 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
             case.r, num.dt
         );
     }
-    let transient = case.texture.is_some() || a.transient;
+    let wanted = super::snapshots::wanted(
+        a.snapshots.as_deref(),
+        a.frames,
+        a.animate.as_deref(),
+        a.animate_stride,
+        &case,
+        &num,
+    )?;
+    let transient = case.texture.is_some() || a.transient || wanted.is_some();
     if let Some(path) = &a.series {
         if !transient {
             return Err(CmdError::Input(format!(
@@ -155,17 +163,29 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
         transient,
         ..RunOptions::default()
     };
-    let mut watch = Watch {
-        on_window: Some(&mut observe),
-        on_step: None,
+    let (result, recording) = match &wanted {
+        Some(w) => {
+            let (r, rec) =
+                crate::snapshot::run_recorded(&case, &num, &opts, w.request, Some(&mut observe))
+                    .map_err(CmdError::Other)?;
+            (r, Some(rec))
+        }
+        None => {
+            let mut watch = Watch {
+                on_window: Some(&mut observe),
+                on_step: None,
+            };
+            let r = simulate_with(&case, &num, &opts, &mut watch)
+                .map_err(|e| CmdError::Other(e.to_string()))?;
+            (r, None)
+        }
     };
-    let result = simulate_with(&case, &num, &opts, &mut watch);
     if show && transient {
         eprintln!();
     }
     let RunResult {
         outcome, series, ..
-    } = result.map_err(|e| CmdError::Other(e.to_string()))?;
+    } = result;
 
     let physical = op.scales().physical(&case, outcome.f_mean, outcome.c_min);
     let outside = validity.outside(&case, outcome.c_min);
@@ -198,6 +218,12 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     if let (Some(path), Some(rows)) = (&a.series, &series) {
         if let Err(e) = write_series(path, rows, op.scales().time_ms()) {
             eprintln!("error: --series: {e}");
+            return Ok(1);
+        }
+    }
+    if let (Some(w), Some(rec)) = (&wanted, &recording) {
+        if let Err(e) = super::snapshots::write(w, &case, op.scales(), rec) {
+            eprintln!("error: --snapshots/--animate: {e}");
             return Ok(1);
         }
     }

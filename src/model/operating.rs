@@ -37,6 +37,11 @@ impl Scales {
         6.0 * L_M.powi(4) * self.viscosity_pas / (H_M.powi(3) * self.speed_ms)
     }
 
+    /// Pressure 6μUL/H² (Pa): the unit of p (docs/model.md §1).
+    pub fn pressure_pa(&self) -> f64 {
+        6.0 * self.viscosity_pas * self.speed_ms * L_M / (H_M * H_M)
+    }
+
     /// Time L/U in ms: the unit of t.
     pub fn time_ms(&self) -> f64 {
         1e3 * L_M / self.speed_ms

@@ -1,0 +1,56 @@
+//! The animation: the pocket passing under the ring over the last period, one GIF frame a
+//! recorded step — the pressure map above, the centre-line p and h below, on scales fixed
+//! over the period.
+
+use std::path::Path;
+
+use plotters::prelude::*;
+
+use super::draw::{case_line, colour_bar, fields, map_panel, profile_axes, profile_panel, Area};
+use super::write::Units;
+use super::{Context, Recording};
+
+/// Time each GIF frame shows (ms).
+const FRAME_DELAY_MS: u32 = 120;
+
+/// Writes the animation of `rec` to `path` (a .gif).
+pub fn animate(path: &Path, rec: &Recording, cx: &Context) -> Result<(), String> {
+    if rec.animation.is_empty() {
+        return Err("no animation frames were recorded".into());
+    }
+    crate::output::atomically(path, |tmp| {
+        let root = BitMapBackend::gif(tmp, (820, 580), FRAME_DELAY_MS)
+            .map_err(|e| e.to_string())?
+            .into_drawing_area();
+        let [pressure, ..] = fields(rec, cx, &rec.animation);
+        let axes = profile_axes(rec, cx, &rec.animation);
+        let u = Units::of(cx);
+        for f in &rec.animation {
+            root.fill(&WHITE).map_err(|e| e.to_string())?;
+            let (title, rest) = root.split_vertically(40);
+            title
+                .titled(&case_line(cx), ("sans-serif", 17))
+                .map_err(|e| e.to_string())?;
+            let (map, profile): (Area, Area) = rest.split_vertically(290);
+            let (map, bar) = map.split_horizontally(730);
+            let caption = format!(
+                "pressure p (MPa) at t = {:.4} ms (Z = {:.3} µm, f = {:.4})",
+                f.t * u.ms,
+                f.z,
+                f.f
+            );
+            map_panel(&map, rec, cx, f, &pressure, &caption)?;
+            colour_bar(&bar.margin(30, 40, 5, 5), &pressure)?;
+            profile_panel(
+                &profile,
+                rec,
+                cx,
+                f,
+                axes,
+                "centre line: p (blue, MPa), h (red, µm)",
+            )?;
+            root.present().map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,315 @@
+//! Fields of one run: the film under the ring at chosen instants of the last texture period
+//! (pressure p, saturation θ, gap h), the ring's history over that period, and the files that
+//! show them (maps, centre-line profiles, the history with the instants marked, an animation).
+//!
+//! The recorder is an observer of the run ([`crate::time::Watch::on_step`]): it keeps, for
+//! each chosen phase of the texture period, the last step taken at that phase on the run's
+//! own mesh. When the run stops at its periodic regime these are the instants of its last
+//! period, so the pictures are of the state the outcomes describe, not of a rerun.
+
+mod animate;
+mod draw;
+mod write;
+
+use std::collections::VecDeque;
+use std::path::Path;
+
+use crate::mesh::Grid;
+use crate::model::case::CaseSpec;
+use crate::model::operating::Scales;
+use crate::time::{
+    simulate_with, steps_per_period, Numerics, Progress, RunOptions, RunResult, SeriesRow,
+    Transient, Watch, UNTEXTURED_PERIOD,
+};
+
+pub use animate::animate;
+pub use write::{write_all, Written};
+
+/// Instants of the period drawn by default: the paper's ten (a–j, its Figs. 8–10).
+pub const DEFAULT_FRAMES: usize = 10;
+
+/// Frames the animation keeps over a period unless a stride is given: enough for the pocket
+/// to move smoothly, few enough for a GIF of a few hundred kB.
+pub const ANIMATION_FRAMES: usize = 30;
+
+/// The film at one step.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    /// Time of the step (units of L/U) and its phase within the texture period: the texture
+    /// is placed at the phase (docs/model.md §2), so pocket centres sit at
+    /// x1 = phase_cm + u·phase + k·per.
+    pub t: f64,
+    pub phase: f64,
+    /// Ring position Z (µm), hydrodynamic load W_h (eq. 16) and friction coefficient f
+    /// (eq. 11) at the step.
+    pub z: f64,
+    pub w_h: f64,
+    pub f: f64,
+    /// Per node (i·n2 + j): pressure (units of 6μUL/H²), saturation θ = φ/h and gap h (µm).
+    pub p: Vec<f64>,
+    pub theta: Vec<f64>,
+    pub h: Vec<f64>,
+}
+
+impl Frame {
+    fn of(t: &Transient) -> Self {
+        let (g, gap, z) = (&t.scene.grid, &t.scene.gap, t.ring_state.z);
+        let h: Vec<f64> = (0..g.nodes()).map(|k| gap.h(g, k, z)).collect();
+        let theta = t.state.phi.iter().zip(&h).map(|(phi, h)| phi / h).collect();
+        Frame {
+            t: t.t,
+            phase: (t.steps % t.steps_per_period) as f64 * t.dt,
+            z,
+            w_h: t.last.w_h,
+            f: t.friction.total(),
+            p: t.state.p.clone(),
+            theta,
+            h,
+        }
+    }
+}
+
+/// What the recorder asks for: `frames` instants of the period, and every `stride`-th step
+/// of it for an animation (None: no animation).
+#[derive(Clone, Copy, Debug)]
+pub struct Request {
+    pub frames: usize,
+    pub animation_stride: Option<usize>,
+}
+
+/// Keeps the last period's frames, animation frames and history of a run (see the module
+/// text). Feed it every step with [`Recorder::observe`]; read it with [`Recorder::finish`].
+pub struct Recorder {
+    request: Request,
+    /// The mesh of the steps kept: a step on another (a coarse approach) starts afresh.
+    grid: Option<Grid>,
+    steps_per_period: usize,
+    frames: Vec<Option<Frame>>,
+    animation: Vec<Option<Frame>>,
+    history: VecDeque<SeriesRow>,
+}
+
+/// The recorded last period of a run, ready to write.
+pub struct Recording {
+    pub grid: Grid,
+    /// The texture period (units of L/U) and the time of the last step.
+    pub period: f64,
+    pub t_end: f64,
+    /// Frames by increasing time, all within (t_end − period, t_end].
+    pub frames: Vec<Frame>,
+    pub animation: Vec<Frame>,
+    /// Every step of the last period.
+    pub history: Vec<SeriesRow>,
+}
+
+impl Recorder {
+    pub fn new(request: Request) -> Self {
+        Recorder {
+            request,
+            grid: None,
+            steps_per_period: 0,
+            frames: Vec::new(),
+            animation: Vec::new(),
+            history: VecDeque::new(),
+        }
+    }
+
+    /// Takes one step of the run.
+    pub fn observe(&mut self, t: &Transient) {
+        if self.grid.as_ref() != Some(&t.scene.grid) || self.steps_per_period != t.steps_per_period
+        {
+            self.restart(t);
+        }
+        let spp = self.steps_per_period;
+        let slot = t.steps % spp;
+        if let Some(k) = frame_index(slot, spp, self.request.frames) {
+            self.frames[k] = Some(Frame::of(t));
+        }
+        if let Some(stride) = self.request.animation_stride {
+            if slot % stride == 0 {
+                self.animation[slot / stride] = Some(Frame::of(t));
+            }
+        }
+        if self.history.len() == spp {
+            self.history.pop_front();
+        }
+        self.history.push_back(t.row());
+    }
+
+    fn restart(&mut self, t: &Transient) {
+        let spp = t.steps_per_period;
+        self.grid = Some(t.scene.grid.clone());
+        self.steps_per_period = spp;
+        self.frames = vec![None; self.request.frames];
+        let slots = self.request.animation_stride.map_or(0, |s| spp.div_ceil(s));
+        self.animation = vec![None; slots];
+        self.history.clear();
+    }
+
+    /// The last period recorded; an error if the run took less than a period on its mesh.
+    pub fn finish(self, dt: f64) -> Result<Recording, String> {
+        let grid = self.grid.ok_or("the run took no step to record")?;
+        let collect = |v: Vec<Option<Frame>>| -> Option<Vec<Frame>> {
+            let mut f: Vec<Frame> = v.into_iter().collect::<Option<_>>()?;
+            f.sort_by(|a, b| a.t.total_cmp(&b.t));
+            Some(f)
+        };
+        let incomplete = "the run took less than a texture period on its own mesh";
+        let frames = collect(self.frames).ok_or(incomplete)?;
+        let animation = collect(self.animation).ok_or(incomplete)?;
+        let history: Vec<SeriesRow> = self.history.into();
+        let t_end = history.last().map_or(0.0, |r| r.t);
+        Ok(Recording {
+            grid,
+            period: self.steps_per_period as f64 * dt,
+            t_end,
+            frames,
+            animation,
+            history,
+        })
+    }
+}
+
+/// The frame a step at phase `slot` of `spp` fills, if any: frame k at the step nearest
+/// to (k + 1)/n of the period, so that the n frames divide the period evenly and the last
+/// is its end.
+fn frame_index(slot: usize, spp: usize, n: usize) -> Option<usize> {
+    (0..n).find(|&k| ((k + 1) * spp).div_ceil(n) % spp == slot)
+}
+
+/// The animation stride for `spp` steps a period: `requested`, or about
+/// [`ANIMATION_FRAMES`] frames.
+pub fn animation_stride(spp: usize, requested: Option<usize>) -> usize {
+    requested.unwrap_or(spp.div_ceil(ANIMATION_FRAMES)).max(1)
+}
+
+/// The frame label of the k-th instant: a, b, c, … as in the paper's figures.
+pub fn label(k: usize) -> String {
+    if k < 26 {
+        char::from(b'a' + k as u8).to_string()
+    } else {
+        format!("#{}", k + 1)
+    }
+}
+
+/// Steps a texture period of `case` takes at `num`'s step: the most frames a period has.
+pub fn steps_in_period(case: &CaseSpec, num: &Numerics) -> usize {
+    let period = case
+        .texture
+        .as_ref()
+        .map_or(UNTEXTURED_PERIOD, |t| t.per / case.u);
+    steps_per_period(period, num.dt) as usize
+}
+
+/// Checks `request` against the run before it starts: at least one frame, no more frames
+/// than the period has steps.
+pub fn check_request(request: &Request, case: &CaseSpec, num: &Numerics) -> Result<(), String> {
+    let spp = steps_in_period(case, num);
+    if request.frames == 0 || request.frames > spp {
+        return Err(format!(
+            "{} frames: a texture period here takes {spp} steps, so ask for 1 to {spp} frames",
+            request.frames
+        ));
+    }
+    if request.animation_stride == Some(0) {
+        return Err("an animation stride of 0 steps: give 1 (every step) or more".into());
+    }
+    Ok(())
+}
+
+/// Runs `case` to its periodic regime as [`simulate_with`] does with `opts` (as a 2D
+/// transient, whatever the liner), recording its last period; `on_window` sees the progress.
+pub fn run_recorded(
+    case: &CaseSpec,
+    num: &Numerics,
+    opts: &RunOptions,
+    request: Request,
+    mut on_window: Option<&mut dyn FnMut(&Progress)>,
+) -> Result<(RunResult, Recording), String> {
+    let mut recorder = Recorder::new(request);
+    let mut on_step = |t: &Transient| recorder.observe(t);
+    let mut progress = |p: &Progress| {
+        if let Some(f) = on_window.as_mut() {
+            f(p)
+        }
+    };
+    let mut watch = Watch {
+        on_window: Some(&mut progress),
+        on_step: Some(&mut on_step),
+    };
+    let opts = RunOptions {
+        transient: true,
+        ..opts.clone()
+    };
+    let result = simulate_with(case, num, &opts, &mut watch).map_err(|e| e.to_string())?;
+    let recording = recorder.finish(result.outcome.dt)?;
+    Ok((result, recording))
+}
+
+/// What the pictures need beyond the fields: the case (ring, texture), the scales to
+/// physical units, and the mesh's ring columns.
+pub struct Context<'a> {
+    pub case: &'a CaseSpec,
+    pub scales: Scales,
+    pub ring: Vec<bool>,
+}
+
+impl<'a> Context<'a> {
+    /// The context of a recording of `case` at `scales`.
+    pub fn new(case: &'a CaseSpec, scales: Scales, rec: &Recording) -> Self {
+        let contact = case.contact();
+        let ring = (0..=rec.grid.n1)
+            .map(|i| contact.under_ring(rec.grid.x(i)))
+            .collect();
+        Context { case, scales, ring }
+    }
+}
+
+/// The directory for the snapshot files: created if missing, and a file must be creatable in
+/// it, checked before any simulation so that a long run does not end unable to write.
+pub fn prepare_dir(dir: &Path) -> Result<(), String> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(format!("{} exists and is not a directory", dir.display()));
+    }
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    crate::output::check_writable(&dir.join("snapshots.json"))
+}
+
+/// Whether `path` can take the animation (its directory exists and is writable, the name
+/// ends in .gif).
+pub fn check_gif_path(path: &Path) -> Result<(), String> {
+    if path.extension().and_then(|e| e.to_str()) != Some("gif") {
+        return Err("the animation is a GIF: give a file name ending in .gif".into());
+    }
+    crate::output::check_writable(path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_divide_the_period_evenly_and_end_at_its_end() {
+        let slots: Vec<usize> = (0..150).filter_map(|s| frame_index(s, 150, 10)).collect();
+        assert_eq!(slots.len(), 10);
+        let at: Vec<usize> = (0..150)
+            .filter(|&s| frame_index(s, 150, 10).is_some())
+            .collect();
+        assert_eq!(at, vec![0, 15, 30, 45, 60, 75, 90, 105, 120, 135]);
+        assert_eq!(
+            frame_index(0, 150, 10),
+            Some(9),
+            "the last frame ends the period"
+        );
+        // Uneven: 7 steps, 3 frames, at phases 3, 5 and 0 (= 7).
+        let at: Vec<usize> = (0..7).filter(|&s| frame_index(s, 7, 3).is_some()).collect();
+        assert_eq!(at, vec![0, 3, 5]);
+    }
+
+    #[test]
+    fn the_animation_stride_keeps_about_thirty_frames() {
+        assert_eq!(animation_stride(150, None), 5);
+        assert_eq!(animation_stride(20, None), 1);
+        assert_eq!(animation_stride(150, Some(1)), 1);
+    }
+}

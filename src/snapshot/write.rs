@@ -1,0 +1,149 @@
+//! The snapshot files: each frame's fields as CSV, the history of the period as CSV, an
+//! index as JSON, and the pictures ([`super::draw`]).
+
+use std::path::{Path, PathBuf};
+
+use super::{draw, label, Context, Recording};
+
+/// Units of the files: x1, x2 in mm, p in MPa, h and Z in µm, t in ms, W_h in N/m.
+pub(super) struct Units {
+    pub mm_per_cm: f64,
+    pub mpa: f64,
+    pub ms: f64,
+    pub n_per_m: f64,
+}
+
+impl Units {
+    pub fn of(cx: &Context) -> Self {
+        Units {
+            mm_per_cm: 10.0,
+            mpa: cx.scales.pressure_pa() * 1e-6,
+            ms: cx.scales.time_ms(),
+            n_per_m: cx.scales.load_n_per_m(),
+        }
+    }
+}
+
+/// The node columns the maps and the CSV cover: the ring and a quarter of its width on each
+/// side (the film beyond carries no load and changes only by transport).
+pub(super) fn shown_columns(rec: &Recording, cx: &Context) -> std::ops::RangeInclusive<usize> {
+    let g = &rec.grid;
+    let (a, b) = cx.case.contact().ring_edges();
+    let m = 0.25 * (b - a);
+    let first = (0..=g.n1).find(|&i| g.x(i) >= a - m).unwrap_or(0);
+    let last = (0..=g.n1).rev().find(|&i| g.x(i) <= b + m).unwrap_or(g.n1);
+    first..=last
+}
+
+/// The files written.
+pub struct Written {
+    pub dir: PathBuf,
+    pub files: Vec<PathBuf>,
+}
+
+/// Writes every snapshot file of `rec` into `dir` (which [`super::prepare_dir`] checked).
+pub fn write_all(dir: &Path, rec: &Recording, cx: &Context) -> Result<Written, String> {
+    let u = Units::of(cx);
+    let mut files = Vec::new();
+    for (k, f) in rec.frames.iter().enumerate() {
+        let path = dir.join(format!("fields_{}.csv", label(k)));
+        frame_csv(&path, rec, cx, &u, f)?;
+        files.push(path);
+    }
+    let path = dir.join("history.csv");
+    history_csv(&path, rec, &u)?;
+    files.push(path);
+    let path = dir.join("snapshots.json");
+    crate::output::write(&path, index_json(rec, cx, &u).to_string() + "\n")?;
+    files.push(path);
+    files.extend(draw::pictures(dir, rec, cx)?);
+    Ok(Written {
+        dir: dir.to_path_buf(),
+        files,
+    })
+}
+
+fn frame_csv(
+    path: &Path,
+    rec: &Recording,
+    cx: &Context,
+    u: &Units,
+    f: &super::Frame,
+) -> Result<(), String> {
+    let g = &rec.grid;
+    crate::output::write_with(path, |w| {
+        writeln!(w, "x1_mm,x2_mm,under_ring,p_mpa,theta,h_um")?;
+        for i in shown_columns(rec, cx) {
+            for j in 0..g.n2 {
+                let k = g.idx(i, j);
+                writeln!(
+                    w,
+                    "{:.8},{:.8},{},{:.6e},{:.6},{:.6}",
+                    g.x(i) * u.mm_per_cm,
+                    g.y(j) * u.mm_per_cm,
+                    u8::from(cx.ring[i]),
+                    f.p[k] * u.mpa,
+                    f.theta[k],
+                    f.h[k]
+                )?;
+            }
+        }
+        Ok(())
+    })
+}
+
+fn history_csv(path: &Path, rec: &Recording, u: &Units) -> Result<(), String> {
+    let frame_at = |t: f64| rec.frames.iter().position(|f| f.t == t);
+    crate::output::write_with(path, |w| {
+        writeln!(w, "t_ms,z_um,f,w_h_n_per_m,frame")?;
+        for r in &rec.history {
+            writeln!(
+                w,
+                "{},{},{},{},{}",
+                r.t * u.ms,
+                r.z,
+                r.f,
+                r.w_h * u.n_per_m,
+                frame_at(r.t).map_or(String::new(), label)
+            )?;
+        }
+        Ok(())
+    })
+}
+
+fn index_json(rec: &Recording, cx: &Context, u: &Units) -> serde_json::Value {
+    let (a, b) = cx.case.contact().ring_edges();
+    let min_sag = cx.case.contact().ring.min_sag_um();
+    let frames: Vec<_> = rec
+        .frames
+        .iter()
+        .enumerate()
+        .map(|(k, f)| {
+            serde_json::json!({
+                "label": label(k),
+                "file": format!("fields_{}.csv", label(k)),
+                "t_ms": f.t * u.ms,
+                "phase_ms": f.phase * u.ms,
+                "z_um": f.z,
+                "clearance_um": f.z + min_sag,
+                "w_h_n_per_m": f.w_h * u.n_per_m,
+                "f": f.f,
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "case": cx.case,
+        "mesh": format!("{}x{}", rec.grid.n1, rec.grid.n2),
+        "simulated_width_mm": rec.grid.width * u.mm_per_cm,
+        "ring_edges_mm": [a * u.mm_per_cm, b * u.mm_per_cm],
+        "period_ms": rec.period * u.ms,
+        "t_end_ms": rec.t_end * u.ms,
+        "units": {
+            "x1, x2": "mm (x2 across the simulated half cell; the pocket's centre line is its upper edge)",
+            "p": "MPa", "h, z, clearance": "µm", "t, phase": "ms", "w_h": "N/m of circumference",
+            "f": "friction coefficient (eq. 11)",
+        },
+        "w_h_quadrature": "W_h = (1/B)·Σ p·dx1·dx2 over the nodes under the ring (eq. 16): the fields' nodal sum",
+        "frames": frames,
+    })
+}
