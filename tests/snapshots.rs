@@ -207,3 +207,50 @@ fn the_animation_has_a_frame_per_stride_of_the_period() {
     // Every 20th step of a period of 112 (0.06 cm at dt = 5.4e-4, shortened to divide it).
     assert_eq!(frames, 112usize.div_ceil(20));
 }
+
+/// `optimise --snapshots`: refused before the search when it cannot write (no cache made);
+/// otherwise the best-friction design's film and the plain liner's, ten instants each.
+#[test]
+fn optimise_draws_the_best_design_and_the_plain_liner() {
+    let base = scratch("optimise");
+    std::fs::create_dir_all(&base).unwrap();
+    let cache = base.join("cache.sqlite");
+    let blocker = base.join("a-file");
+    std::fs::write(&blocker, "").unwrap();
+    let small = |snapshots: &Path| -> (i32, String) {
+        let (code, _, err) = texopt(&[
+            "optimise",
+            "--R",
+            "5",
+            "--particles",
+            "2",
+            "--iterations",
+            "1",
+            "--l1",
+            "0.01..0.03",
+            "--mesh",
+            "64x4",
+            "--out",
+            base.join("report").to_str().unwrap(),
+            "--cache",
+            cache.to_str().unwrap(),
+            "--snapshots",
+            snapshots.to_str().unwrap(),
+        ]);
+        (code, err)
+    };
+    let (code, err) = small(&blocker.join("snaps"));
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--snapshots"), "{err}");
+    assert!(!cache.exists(), "the search ran: its cache was made");
+    let snaps = base.join("snaps");
+    let (code, err) = small(&snaps);
+    assert_eq!(code, 0, "{err}");
+    for sub in ["best_friction", "plain_liner"] {
+        let index = std::fs::read_to_string(snaps.join(sub).join("snapshots.json")).unwrap();
+        let index: serde_json::Value = serde_json::from_str(&index).unwrap();
+        assert_eq!(index["frames"].as_array().unwrap().len(), 10, "{sub}");
+        assert_eq!(index["mesh"], "64x4", "{sub}: the report's numerics");
+        assert!(snaps.join(sub).join("maps_pressure.png").is_file(), "{sub}");
+    }
+}

@@ -203,6 +203,11 @@ pub struct OptimiseArgs {
     /// Print the report as JSON on stdout instead of the table.
     #[arg(long)]
     pub json: bool,
+    /// Also write the film over the last period of the best-friction design and of the plain
+    /// liner, at the reported fidelity, into DIR/best_friction and DIR/plain_liner (as
+    /// `simulate --snapshots`). One radius only.
+    #[arg(long, value_name = "DIR")]
+    pub snapshots: Option<PathBuf>,
 }
 
 /// The settings of `optimise` a `--config` file may hold (same names as the flags).

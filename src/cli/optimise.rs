@@ -1,21 +1,22 @@
 //! `texopt optimise --R R`: the settings from flags, else a `--config` file, else the
 //! defaults; then the optimiser's driver and its report.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use super::args::{OptimiseFile, Radii};
 use super::{
     directory_can_be_made, flag, input_message, install_ctrl_c, open_cache, CmdError,
     OperatingArgs, OptimiseArgs, STOP,
 };
-use crate::model::case::{CaseSpec, InputError};
+use crate::model::case::{CaseSpec, InputError, Texture};
 use crate::optimise::driver::{optimise, Settings};
 use crate::optimise::report::table;
 use crate::optimise::robust::{robust, table as robust_table};
 use crate::optimise::search::SwarmSettings;
 use crate::optimise::space::{Bounds, Constraints, Space};
+use crate::snapshot::{run_recorded, write_all, Context, Request};
 use crate::study::NumericsOverride;
-use crate::time::{short, steps_per_period, Fidelity, MIN_STEPS_PER_PERIOD};
+use crate::time::{short, steps_per_period, Fidelity, RunOptions, MIN_STEPS_PER_PERIOD};
 
 pub(super) fn run(a: &OptimiseArgs) -> Result<i32, CmdError> {
     let file = config(a)?;
@@ -25,6 +26,18 @@ pub(super) fn run(a: &OptimiseArgs) -> Result<i32, CmdError> {
         .map(|&r| settings(a, &file, r))
         .collect::<Result<Vec<_>, _>>()?;
     let out_dir = all[0].out_dir.clone().unwrap_or_default();
+    if let Some(dir) = &a.snapshots {
+        if all.len() > 1 {
+            return Err(CmdError::Input(format!(
+                "--snapshots {}: the fields are drawn for one radius; give --R one value",
+                dir.display()
+            )));
+        }
+        for sub in SNAPSHOT_DIRS {
+            crate::snapshot::prepare_dir(&dir.join(sub))
+                .map_err(|e| CmdError::Input(format!("--snapshots {}: {e}", dir.display())))?;
+        }
+    }
     let cache = open_cache(a.cache.as_deref())?;
     install_ctrl_c();
     let cache = std::sync::Mutex::new(cache);
@@ -60,7 +73,39 @@ pub(super) fn run(a: &OptimiseArgs) -> Result<i32, CmdError> {
             report.r
         );
     }
+    if let Some(dir) = &a.snapshots {
+        let best = report.best_friction.texture.clone();
+        for (sub, texture) in SNAPSHOT_DIRS.iter().zip([best, None]) {
+            snapshots(settings, texture, &dir.join(sub)).map_err(CmdError::Other)?;
+        }
+    }
     Ok(0)
+}
+
+/// Where `--snapshots` puts the best-friction design's film and the plain liner's.
+const SNAPSHOT_DIRS: [&str; 2] = ["best_friction", "plain_liner"];
+
+/// The film of the last period of the ring on `texture` (None: the plain liner, as a 2D
+/// transient) at the reported fidelity, drawn into `dir`.
+fn snapshots(s: &Settings, texture: Option<Texture>, dir: &Path) -> Result<(), String> {
+    let case = CaseSpec {
+        texture,
+        ..s.base.clone()
+    };
+    let num = crate::study::numerics_for(&case, s.report_fidelity, &s.overrides);
+    let request = Request {
+        frames: crate::snapshot::DEFAULT_FRAMES,
+        animation_stride: None,
+    };
+    crate::snapshot::check_request(&request, &case, &num)?;
+    let (_, rec) = run_recorded(&case, &num, &RunOptions::default(), request, None)?;
+    let written = write_all(dir, &rec, &Context::new(&case, s.scales, &rec))?;
+    eprintln!(
+        "snapshots: {} files in {}",
+        written.files.len(),
+        dir.display()
+    );
+    Ok(())
 }
 
 /// Most radii one run designs for (each is a full optimisation).
