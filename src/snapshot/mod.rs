@@ -126,7 +126,7 @@ impl Recorder {
             self.frames[k] = Some(Frame::of(t));
         }
         if let Some(stride) = self.request.animation_stride {
-            if slot % stride == 0 {
+            if slot.is_multiple_of(stride) {
                 self.animation[slot / stride] = Some(Frame::of(t));
             }
         }
