@@ -234,12 +234,29 @@ fn least_covered(
         .unwrap_or(UpperRight)
 }
 
-/// Writes an x–y chart of the series to `path` (PNG, 900×600).
-pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
-    crate::output::atomically(path, |tmp| draw(tmp, chart, series))
+/// A short text at a point of the chart (e.g. what a point of an envelope is).
+pub struct Note {
+    pub at: (f64, f64),
+    pub text: String,
 }
 
-fn draw(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
+/// Writes an x–y chart of the series to `path` (PNG, 900×600).
+pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
+    xy_noted(path, chart, series, &[])
+}
+
+/// As `xy`, with notes written beside their points, in turn above and below them so that
+/// neighbours' notes do not run into each other.
+pub fn xy_noted(
+    path: &Path,
+    chart: &Chart,
+    series: &[Series],
+    notes: &[Note],
+) -> Result<(), String> {
+    crate::output::atomically(path, |tmp| draw(tmp, chart, series, notes))
+}
+
+fn draw(path: &Path, chart: &Chart, series: &[Series], notes: &[Note]) -> Result<(), String> {
     let err = |e: &dyn std::fmt::Display| e.to_string();
     let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
@@ -327,6 +344,15 @@ fn draw(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
                         .map_err(|e| err(&e))?;
                     }
                 }
+            }
+            let font = ("sans-serif", 11).into_font().color(&BLACK);
+            for (i, n) in notes.iter().enumerate() {
+                let (x, y) = ctx.backend_coord(&n.at);
+                // Centred on the point, a line clear of its marker.
+                let half = 3 * n.text.chars().count() as i32;
+                let dy = if i % 2 == 0 { -22 } else { 10 };
+                root.draw(&Text::new(n.text.clone(), (x - half, y + dy), font.clone()))
+                    .map_err(|e| err(&e))?;
             }
             // The legend goes where it hides the least of what was drawn (a fixed corner
             // covered the untextured line in Fig. 6).

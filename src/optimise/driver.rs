@@ -8,6 +8,7 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use super::goal::{pareto, Goal};
+use super::merge::merge;
 use super::report::{row, write, Evaluated, Report, Row};
 use super::search::{refine, search, Evaluation, Evaluator, Search, SwarmSettings};
 use super::space::Space;
@@ -86,6 +87,8 @@ pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result
     let sims = *ev_s.simulations.lock().expect("lock") + *ev_r.simulations.lock().expect("lock");
     let mut report = report(s, rows, &plain_r, [log_s, log_r])?;
     report.evaluations_confirm = cand.len();
+    report.plain_search_f_mean = plain_s.f_mean;
+    report.plain_search_c_min = plain_s.c_min;
     report.simulations = sims;
     report.wall_time_s = t0.elapsed().as_secs_f64();
     if let Some(dir) = &s.out_dir {
@@ -253,6 +256,19 @@ fn report(
                 .fold(f64::INFINITY, f64::min)
         )
     };
+    // Merged after the verdict, which is about the least f̄ found, whichever row carries it.
+    let (front, merged) = merge(front, err, s.report_fidelity.c_error());
+    let carrying = |label: &str, fallback: Row| {
+        front
+            .iter()
+            .find(|r| r.label.split(" + ").any(|l| l == label))
+            .cloned()
+            .unwrap_or(fallback)
+    };
+    let (best_f, best_c) = (
+        carrying("best friction", best_f),
+        carrying("best clearance", best_c),
+    );
     let evaluated = evaluated(s, logs);
     Ok(Report {
         r: s.base.r,
@@ -262,10 +278,15 @@ fn report(
         search_fidelity: s.search_fidelity.name().into(),
         report_fidelity: s.report_fidelity.name().into(),
         fidelity_error: err,
+        fidelity_c_error: s.report_fidelity.c_error(),
         plain: rows[0].clone(),
+        plain_search_f_mean: f64::NAN,
+        plain_search_c_min: f64::NAN,
         best_friction: best_f,
         best_clearance: best_c,
         front,
+        merged_count: merged.len(),
+        merged,
         texture_beats_plain: beats,
         verdict,
         evaluations_search: evaluated

@@ -1,11 +1,13 @@
 //! The optimiser's report: the rows a user reads, the terminal table, and the files (JSON,
-//! CSV, the front and the time histories of the best design against the plain liner).
+//! CSV, the front, the reported designs' texture cells and the time histories of the best
+//! design against the plain liner).
 
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::driver::Settings;
+use super::merge::Merged;
 use super::space::{depth_ratio, wall, Space};
 use crate::model::case::{CaseSpec, Texture};
 use crate::plot::{self, Chart, Scale, Series, Style};
@@ -48,11 +50,20 @@ pub struct Report {
     pub report_fidelity: String,
     /// Relative error of f̄ of the reported fidelity (`Fidelity::f_error`).
     pub fidelity_error: f64,
+    /// Relative error of C_min of the reported fidelity (`Fidelity::c_error`).
+    pub fidelity_c_error: f64,
     pub plain: Row,
+    /// The plain liner's f̄ and C_min at the search fidelity (the searched designs' changes).
+    pub plain_search_f_mean: f64,
+    pub plain_search_c_min: f64,
     pub best_friction: Row,
     pub best_clearance: Row,
     /// The confirmed Pareto front (plain liner included when on it), by increasing f̄.
     pub front: Vec<Row>,
+    /// Front designs left out because a thicker-walled one on the front has the same f̄ and
+    /// C_min within the reported tier's errors ([`super::merge`]), and how many.
+    pub merged_count: usize,
+    pub merged: Vec<Merged>,
     /// Whether a texture beats the plain liner's friction by more than the fidelity error.
     pub texture_beats_plain: bool,
     pub verdict: String,
@@ -114,6 +125,12 @@ pub(super) fn row(
 /// The terminal table.
 pub fn table(r: &Report) -> String {
     let mut s = String::new();
+    // Room for a merged row's joined labels and the ‡ mark.
+    let rows = table_rows(r);
+    let width = rows
+        .iter()
+        .map(|(l, _)| l.chars().count() + 2)
+        .fold(15, usize::max);
     let _ = writeln!(
         s,
         "texopt optimise, R = {} cm: reported at fidelity {} (searched at {}); f̄ per eq. (11)",
@@ -121,7 +138,7 @@ pub fn table(r: &Report) -> String {
     );
     let _ = writeln!(
         s,
-        "{:15} {:>8} {:>8} {:>6} {:>6} {:>8} {:>8} {:>8} {:>7} {:>7} {:>11}  active",
+        "{:width$} {:>8} {:>8} {:>6} {:>6} {:>8} {:>8} {:>8} {:>7} {:>7} {:>11}  active",
         "design",
         "l1 cm",
         "l2 cm",
@@ -134,10 +151,7 @@ pub fn table(r: &Report) -> String {
         "area",
         "walls µm"
     );
-    let mut rows: Vec<&Row> = vec![&r.best_friction, &r.best_clearance];
-    rows.extend(r.front.iter().filter(|x| x.label == "balanced"));
-    rows.push(&r.plain);
-    for x in rows {
+    for (label, x) in rows {
         let (l1, l2, per, depth) =
             x.texture
                 .as_ref()
@@ -149,20 +163,13 @@ pub fn table(r: &Report) -> String {
                         format!("{:.1}", t.depth),
                     )
                 });
-        let label = if std::ptr::eq(x, &r.best_friction) {
-            "best friction"
-        } else if std::ptr::eq(x, &r.best_clearance) {
-            "best clearance"
-        } else {
-            x.label.as_str()
-        };
         let label = match x.outside_model {
             Some(_) => format!("{label} ‡"),
             None => label.to_string(),
         };
         let _ = writeln!(
             s,
-            "{:15} {:>8} {:>8} {:>6} {:>6} {:>8.5} {:>+8.2} {:>8.4} {:>+7.2} {:>7.3} {:>11}  {}",
+            "{:width$} {:>8} {:>8} {:>6} {:>6} {:>8.5} {:>+8.2} {:>8.4} {:>+7.2} {:>7.3} {:>11}  {}",
             label,
             l1,
             l2,
@@ -182,6 +189,7 @@ pub fn table(r: &Report) -> String {
         );
     }
     let _ = writeln!(s, "{}", r.verdict);
+    merged_note(&mut s, r);
     let flagged: Vec<&Row> = r
         .front
         .iter()
@@ -206,6 +214,60 @@ pub fn table(r: &Report) -> String {
         r.evaluations_search, r.search_fidelity, r.evaluations_confirm, r.report_fidelity, r.simulations, r.wall_time_s
     );
     s
+}
+
+/// The table's rows with their labels: the best designs, the other front designs by f̄,
+/// the plain liner.
+pub fn table_rows(r: &Report) -> Vec<(String, &Row)> {
+    let mut rows: Vec<(String, &Row)> = Vec::new();
+    for (x, fallback) in [
+        (&r.best_friction, "best friction"),
+        (&r.best_clearance, "best clearance"),
+    ] {
+        if x.texture.is_some() && !rows.iter().any(|(_, y)| y.texture == x.texture) {
+            let label = if x.label.is_empty() {
+                fallback
+            } else {
+                &x.label
+            };
+            rows.push((label.to_string(), x));
+        }
+    }
+    for x in &r.front {
+        if x.texture.is_some() && !rows.iter().any(|(_, y)| y.texture == x.texture) {
+            rows.push((x.label.clone(), x));
+        }
+    }
+    rows.push(("plain liner".into(), &r.plain));
+    rows
+}
+
+/// The table's account of the merged designs (none: nothing).
+fn merged_note(s: &mut String, r: &Report) {
+    if r.merged.is_empty() {
+        return;
+    }
+    let short = |t: &Texture| format!("{}/{}/{}/{} µm", t.l1, t.l2, t.per, t.depth);
+    let _ = writeln!(
+        s,
+        "merged {} front design{} into thicker-walled ones with f̄ within {:.2} % and C_min within {:.2} % (the errors of fidelity {}; list in the JSON's \"merged\"):",
+        r.merged_count,
+        if r.merged_count == 1 { "" } else { "s" },
+        100.0 * r.fidelity_error,
+        100.0 * r.fidelity_c_error,
+        r.report_fidelity
+    );
+    for m in &r.merged {
+        let _ = writeln!(
+            s,
+            "  {} ({}, f̄ {:.5}, C_min {:.4}) into {}",
+            short(&m.texture),
+            m.label,
+            m.f_mean,
+            m.c_min,
+            short(&m.into)
+        );
+    }
 }
 
 /// The time series of the last texture period of a case, kept in `path` with the case's
@@ -288,8 +350,8 @@ pub(super) fn write(dir: &Path, r: &Report, s: &Settings) -> Result<(), String> 
         let t = x.texture.as_ref();
         let f = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
         let label = match i {
-            0 => "best friction".to_string(),
-            1 => "best clearance".to_string(),
+            0 if x.label.is_empty() => "best friction".to_string(),
+            1 if x.label.is_empty() => "best clearance".to_string(),
             _ => x.label.clone(),
         };
         let _ = w.write_record([
@@ -317,91 +379,9 @@ pub(super) fn write(dir: &Path, r: &Report, s: &Settings) -> Result<(), String> 
         .into_inner()
         .map_err(|e| format!("{}: {}", p.display(), e.error()))?;
     crate::output::write(&p, bytes)?;
-    front_plot(&stem, r)?;
+    super::figures::front(&PathBuf::from(format!("{}_front.png", stem.display())), r)?;
+    super::figures::cells(&PathBuf::from(format!("{}_cells.png", stem.display())), r)?;
     period_plots(&stem, r, s)
-}
-
-/// The front among every evaluated design.
-fn front_plot(stem: &Path, r: &Report) -> Result<(), String> {
-    let pts = |fid: &str, active: bool| -> Vec<(f64, f64)> {
-        r.evaluated
-            .iter()
-            .filter(|e| e.fidelity == fid && e.active_constraints.is_empty() != active)
-            .filter_map(|e| Some((e.f_mean?, e.c_min?)))
-            .collect()
-    };
-    let (sa, sf) = (
-        pts(&r.search_fidelity, false),
-        pts(&r.search_fidelity, true),
-    );
-    let front: Vec<(f64, f64)> = r.front.iter().map(|x| (x.f_mean, x.c_min)).collect();
-    let plain = vec![(r.plain.f_mean, r.plain.c_min)];
-    let best = vec![(r.best_friction.f_mean, r.best_friction.c_min)];
-    let outside: Vec<(f64, f64)> = r
-        .front
-        .iter()
-        .chain([&r.plain])
-        .filter(|x| x.outside_model.is_some())
-        .map(|x| (x.f_mean, x.c_min))
-        .collect();
-    let mut series = vec![
-        Series {
-            name: format!("evaluated at {} (no constraint active)", r.search_fidelity),
-            points: &sa,
-            style: Style::Markers,
-            colour: 4,
-        },
-        Series {
-            name: format!("evaluated at {} (on a constraint)", r.search_fidelity),
-            points: &sf,
-            style: Style::Markers,
-            colour: 3,
-        },
-        // The front and the best design drawn to stand out from the cloud of evaluations
-        // (as a thin line and a dot they were lost in it).
-        Series {
-            name: format!("Pareto front at {}", r.report_fidelity),
-            points: &front,
-            style: Style::Thick,
-            colour: 0,
-        },
-        Series {
-            name: "best friction".into(),
-            points: &best,
-            style: Style::Rings,
-            colour: 5,
-        },
-        Series {
-            name: "plain liner".into(),
-            points: &plain,
-            style: Style::Thick,
-            colour: 1,
-        },
-    ];
-    if !outside.is_empty() {
-        series.push(Series {
-            name: format!(
-                "outside the hydrodynamic model (C_min < {:.2} µm)",
-                crate::model::operating::FULL_FILM_LAMBDA * r.roughness_um
-            ),
-            points: &outside,
-            style: Style::Rings,
-            colour: 3,
-        });
-    }
-    let title = format!("Friction against minimum clearance, R = {} cm", r.r);
-    plot::xy(
-        &PathBuf::from(format!("{}_front.png", stem.display())),
-        &Chart {
-            title: &title,
-            x_label: "mean friction coefficient f (eq. 11)",
-            y_label: "minimum clearance C_min (µm)",
-            x_scale: Scale::Linear,
-            y_scale: Scale::Linear,
-        },
-        &series,
-    )?;
-    Ok(())
 }
 
 /// Z(t) and f(t) over one period: the best-friction design against the plain liner.

@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::model::case::{CaseSpec, Texture};
-use crate::plot::{self, Chart, Scale, Series, Style};
+use crate::plot::{self, Chart, Note, Scale, Series, Style};
 use crate::study::file::{Job, Study};
 use crate::study::operating::{figures, Point};
 use crate::study::sweep::CaseResult;
@@ -174,7 +174,7 @@ pub fn write(study: &Study, results: &[CaseResult], wall_note: &str) -> Result<W
         .collect();
     files.extend(figures(dir, name, &points, &study.validity)?);
     let headline = headline(&main, main_theta, study.fidelity);
-    let md = summary(study, &rows, main_theta, &headline, wall_note);
+    let md = summary(study, &rows, main_theta, &headline, wall_note) + &captions(&files);
     let summary_path = dir.join(format!("{name}_summary.md"));
     crate::output::write(&summary_path, md)?;
     files.push(summary_path);
@@ -238,6 +238,41 @@ fn summary(
         }
     }
     md
+}
+
+/// One line per figure written: what to read from it.
+fn captions(files: &[PathBuf]) -> String {
+    let mut md = String::new();
+    for p in files {
+        let Some(name) = p.file_name().and_then(|n| n.to_str()) else {
+            continue;
+        };
+        if let Some(caption) = caption(name) {
+            if md.is_empty() {
+                md.push_str("\n## Figures\n\n");
+            }
+            let _ = writeln!(md, "- `{name}`: {caption}");
+        }
+    }
+    md
+}
+
+/// What to read from a figure of the study's report, by its file name.
+fn caption(file: &str) -> Option<&'static str> {
+    let ends = |s: &str| file.ends_with(s);
+    Some(if ends("_fig6_friction.png") {
+        "mean friction against R, one grey curve per texture; where the lower envelope (each R's least-friction texture named at its point) runs under the untextured liner's thick line, texturing lowers friction at that R."
+    } else if ends("_fig6_clearance.png") {
+        "minimum clearance against R, one grey curve per texture; where the upper envelope (each R's largest-clearance texture named at its point) runs over the untextured liner's thick line, texturing thickens the film at that R."
+    } else if ends("_fig11.png") {
+        "the least-friction envelope and the untextured liner for each cavitation pressure θs: how far the gain of texturing depends on θs."
+    } else if ends("_stribeck.png") {
+        "each ring and texture's change of friction against the plain liner (%) over the Stribeck number: below zero the texture lowers friction at that speed and load."
+    } else if ends("_oil.png") {
+        "each ring and texture's change of friction against the plain liner (%) over the inlet oil film: below zero the texture lowers friction at that oil supply."
+    } else {
+        return None;
+    })
 }
 
 fn write_csv(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {
@@ -430,11 +465,12 @@ fn fig6(path: &Path, rows: &[&Row], friction: bool, theta_s: f64) -> Result<(), 
         })
         .collect();
     let env = if friction { &fam.lower } else { &fam.upper };
+    let notes = envelope_notes(rows, env, friction);
     series.push(Series {
         name: if friction {
-            "lower envelope (least friction)".into()
+            "lower envelope (least friction), named l1/per (cm)/depth of its texture".into()
         } else {
-            "upper envelope (largest clearance)".into()
+            "upper envelope (largest clearance), named l1/per (cm)/depth of its texture".into()
         },
         points: env,
         style: Style::Line,
@@ -467,7 +503,7 @@ fn fig6(path: &Path, rows: &[&Row], friction: bool, theta_s: f64) -> Result<(), 
     } else {
         format!("Minimum clearance against ring radius (θs = {theta_s})")
     };
-    plot::xy(
+    plot::xy_noted(
         path,
         &Chart {
             title: &title,
@@ -481,7 +517,28 @@ fn fig6(path: &Path, rows: &[&Row], friction: bool, theta_s: f64) -> Result<(), 
             y_scale: Scale::Log,
         },
         &series,
+        &notes,
     )
+}
+
+/// The texture of each point of an envelope, shortly: l1/per/depth (cm, cm, µm) for the
+/// paper's round pockets on square cells, l1×l2/per×width/depth otherwise.
+fn envelope_notes(rows: &[&Row], env: &[(f64, f64)], friction: bool) -> Vec<Note> {
+    env.iter()
+        .filter_map(|&(r, v)| {
+            let t = rows.iter().find_map(|x| {
+                let o = x.out?;
+                let y = if friction { o.f_mean } else { o.c_min };
+                (x.job.case.r == r && y == v).then_some(x.job.case.texture.as_ref()?)
+            })?;
+            let text = if t.l2 == t.l1 && t.width == t.per {
+                format!("{}/{}/{}µm", t.l1, t.per, t.depth)
+            } else {
+                format!("{}×{}/{}×{}/{}µm", t.l1, t.l2, t.per, t.width, t.depth)
+            };
+            Some(Note { at: (r, v), text })
+        })
+        .collect()
 }
 
 fn fig11(path: &Path, rows: &[Row], thetas: &[f64]) -> Result<(), String> {

@@ -1,0 +1,227 @@
+//! Merging reported designs the report's fidelity cannot tell apart.
+//!
+//! Two textured designs are the same result when their f̄ differ by less than the tier's f̄
+//! error and their C_min by less than its C_min error (both relative to the smaller of the
+//! two values, so that the rule never merges more than either side's error allows). Of such
+//! designs the one with the thickest walls is kept, being the easiest to make and the least
+//! worn: walls compare by the thinner of the two (along x1, across x2) first, then by the
+//! thicker. The plain liner is never merged, neither away nor into.
+//!
+//! Labels stay truthful: a kept design takes over every label of the designs merged into it
+//! ("best friction" and "best clearance" first, then "balanced"), so a merged-away best design
+//! still has its row, carried by a design within the error of it.
+
+use serde::Serialize;
+
+use super::report::Row;
+use crate::model::case::Texture;
+
+/// A design left out of the table because a thicker-walled one gives the same f̄ and C_min.
+#[derive(Clone, Debug, Serialize)]
+pub struct Merged {
+    /// Its label before merging.
+    pub label: String,
+    pub texture: Texture,
+    pub f_mean: f64,
+    pub c_min: f64,
+    /// The kept design it was merged into.
+    pub into: Texture,
+}
+
+/// Walls of a row as (thinner, thicker) in cm; the plain liner has none.
+fn walls(r: &Row) -> (f64, f64) {
+    (
+        r.wall_x1_cm.min(r.wall_x2_cm),
+        r.wall_x1_cm.max(r.wall_x2_cm),
+    )
+}
+
+/// Whether two values differ by less than `err` relative to the smaller.
+fn within(a: f64, b: f64, err: f64) -> bool {
+    (a - b).abs() < err * a.abs().min(b.abs())
+}
+
+/// Labels in the order a merged row names them.
+const LABEL_ORDER: [&str; 3] = ["best friction", "best clearance", "balanced"];
+
+/// The label of a kept row carrying the labels of the rows merged into it.
+fn joined(labels: &[String]) -> String {
+    let mut parts: Vec<&str> = Vec::new();
+    for l in labels.iter().flat_map(|l| l.split(" + ")) {
+        if !parts.contains(&l) {
+            parts.push(l);
+        }
+    }
+    parts.sort_by_key(|p| LABEL_ORDER.iter().position(|o| o == p).unwrap_or(0));
+    // "balanced" says nothing once a row is a best design.
+    if parts.len() > 1 {
+        parts.retain(|p| *p != "balanced");
+    }
+    parts.join(" + ")
+}
+
+/// Merges the rows within `f_err` in f̄ and `c_err` in C_min of a thicker-walled row into
+/// it: the kept rows in their input order, and the merged-away ones. Each row merges into
+/// the thickest-walled kept row it is within the errors of.
+pub fn merge(rows: Vec<Row>, f_err: f64, c_err: f64) -> (Vec<Row>, Vec<Merged>) {
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    // Thickest walls first, so that every row meets the thicker candidates before itself.
+    order.sort_by(|&a, &b| {
+        let (wa, wb) = (walls(&rows[a]), walls(&rows[b]));
+        wb.0.total_cmp(&wa.0).then(wb.1.total_cmp(&wa.1))
+    });
+    let mut kept: Vec<usize> = Vec::new();
+    let mut into: Vec<Option<usize>> = vec![None; rows.len()];
+    for &i in &order {
+        let r = &rows[i];
+        let twin = if r.texture.is_some() {
+            kept.iter().copied().find(|&k| {
+                rows[k].texture.is_some()
+                    && within(rows[k].f_mean, r.f_mean, f_err)
+                    && within(rows[k].c_min, r.c_min, c_err)
+            })
+        } else {
+            None
+        };
+        match twin {
+            Some(k) => into[i] = Some(k),
+            None => kept.push(i),
+        }
+    }
+    let mut labels: Vec<Vec<String>> = rows.iter().map(|r| vec![r.label.clone()]).collect();
+    let mut merged = Vec::new();
+    for (i, k) in into.iter().enumerate() {
+        let Some(k) = *k else { continue };
+        labels[k].push(rows[i].label.clone());
+        merged.push(Merged {
+            label: rows[i].label.clone(),
+            texture: rows[i].texture.clone().expect("only textures merge"),
+            f_mean: rows[i].f_mean,
+            c_min: rows[i].c_min,
+            into: rows[k].texture.clone().expect("only into textures"),
+        });
+    }
+    let out = rows
+        .into_iter()
+        .enumerate()
+        .filter(|(i, _)| into[*i].is_none())
+        .map(|(i, mut r)| {
+            r.label = joined(&labels[i]);
+            r
+        })
+        .collect();
+    (out, merged)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A textured row with the given f̄, C_min and walls (µm).
+    fn row(label: &str, f: f64, c: f64, w1_um: f64, w2_um: f64) -> Row {
+        let (per, width) = (0.06, 0.06);
+        let t = Texture {
+            l1: (per - w1_um * 1e-4) / 2.0,
+            l2: (width - w2_um * 1e-4) / 2.0,
+            per,
+            width,
+            depth: 5.0,
+            phase: 0.0,
+        };
+        Row {
+            label: label.into(),
+            texture: Some(t),
+            f_mean: f,
+            c_min: c,
+            z_mean: 0.0,
+            f_change_pct: 0.0,
+            c_min_change_pct: 0.0,
+            area_fraction: 0.5,
+            wall_x1_cm: w1_um * 1e-4,
+            wall_x2_cm: w2_um * 1e-4,
+            depth_ratio: 0.0,
+            active_constraints: Vec::new(),
+            on_front: true,
+            friction_n_per_m: 0.0,
+            power_w_per_m: 0.0,
+            outside_model: None,
+        }
+    }
+
+    fn plain(f: f64, c: f64) -> Row {
+        Row {
+            texture: None,
+            wall_x1_cm: f64::NAN,
+            wall_x2_cm: f64::NAN,
+            ..row("plain liner", f, c, 0.0, 0.0)
+        }
+    }
+
+    const F_ERR: f64 = 0.015;
+    const C_ERR: f64 = 0.007;
+
+    #[test]
+    fn designs_apart_beyond_either_error_are_all_kept() {
+        let rows = vec![
+            row("best friction", 0.0900, 4.50, 10.0, 10.0),
+            // f̄ apart by 2 % (beyond 1.5 %), C_min equal.
+            row("balanced", 0.0918, 4.50, 40.0, 10.0),
+            // C_min apart by 1 % (beyond 0.7 %), f̄ equal.
+            row("balanced", 0.0900, 4.545, 60.0, 20.0),
+            // Both apart.
+            row("best clearance", 0.0950, 5.00, 100.0, 10.0),
+            plain(0.1177, 5.18),
+        ];
+        let (kept, merged) = merge(rows.clone(), F_ERR, C_ERR);
+        assert!(merged.is_empty(), "{merged:?}");
+        let labels: Vec<&str> = kept.iter().map(|r| r.label.as_str()).collect();
+        assert_eq!(
+            labels,
+            rows.iter().map(|r| r.label.as_str()).collect::<Vec<_>>()
+        );
+    }
+
+    #[test]
+    fn designs_within_both_errors_merge_into_the_thickest_walled_one() {
+        let rows = vec![
+            row("best friction", 0.08858, 4.800, 10.0, 10.0),
+            // Within both errors of best friction, thicker walls: kept, takes its label.
+            row("balanced", 0.08862, 4.810, 43.8, 10.0),
+            // Within both, thinnest wall thicker still (20 > 10): the one kept of the three.
+            row("balanced", 0.08870, 4.805, 20.0, 20.0),
+            // Beyond the C_min error of all three.
+            row("best clearance", 0.0936, 5.19, 145.0, 10.0),
+            // A texture within the errors of the plain liner stays, and so does the liner.
+            row("balanced", 0.11780, 5.180, 200.0, 10.0),
+            plain(0.11774, 5.178),
+        ];
+        let (kept, merged) = merge(rows, F_ERR, C_ERR);
+        assert_eq!(merged.len(), 2, "{merged:?}");
+        let labels: Vec<&str> = kept.iter().map(|r| r.label.as_str()).collect();
+        assert_eq!(
+            labels,
+            ["best friction", "best clearance", "balanced", "plain liner"]
+        );
+        // The kept twin has the thickest walls of the three (20/20 µm).
+        assert!((kept[0].wall_x1_cm - 20e-4).abs() < 1e-12);
+        assert!((kept[0].wall_x2_cm - 20e-4).abs() < 1e-12);
+        let into = kept[0].texture.clone().unwrap();
+        assert!(merged.iter().all(|m| m.into == into));
+        let mut gone: Vec<&str> = merged.iter().map(|m| m.label.as_str()).collect();
+        gone.sort();
+        assert_eq!(gone, ["balanced", "best friction"]);
+    }
+
+    #[test]
+    fn a_row_merging_both_best_designs_carries_both_labels() {
+        let rows = vec![
+            row("best friction", 0.0900, 4.80, 10.0, 10.0),
+            row("best clearance", 0.0901, 4.81, 30.0, 10.0),
+            row("balanced", 0.0902, 4.805, 40.0, 20.0),
+        ];
+        let (kept, merged) = merge(rows, F_ERR, C_ERR);
+        assert_eq!(merged.len(), 2);
+        assert_eq!(kept.len(), 1);
+        assert_eq!(kept[0].label, "best friction + best clearance");
+    }
+}
