@@ -196,7 +196,7 @@ pub struct OptimiseArgs {
     /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
     #[arg(long, value_name = "FILE")]
     pub cache: Option<PathBuf>,
-    /// Directory of the report files (`optimise_R<R>.json`, .csv, _front.png, _z_t.png, _f_t.png)
+    /// Directory of the report files (`optimise_R<R>.json`, .csv, _front.png, _cells.png, _z_t.png, _f_t.png)
     /// [default: results/optimise].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,

@@ -68,7 +68,7 @@ pub(super) fn run(a: &OptimiseArgs) -> Result<i32, CmdError> {
     } else {
         print!("{}", table(&report));
         eprintln!(
-            "wrote {}/optimise_R{}.json, .csv, _front.png, _z_t.png, _f_t.png",
+            "wrote {}/optimise_R{}.json, .csv, _front.png, _cells.png, _z_t.png, _f_t.png",
             out_dir.display(),
             report.r
         );

@@ -242,9 +242,16 @@ pub fn table_rows(r: &Report) -> Vec<(String, &Row)> {
     rows
 }
 
-/// The table's account of the merged designs (none: nothing).
+/// The table's account of the merged designs, also when there were none (the rule ran).
 fn merged_note(s: &mut String, r: &Report) {
     if r.merged.is_empty() {
+        let _ = writeln!(
+            s,
+            "merged none: no two front designs lie within f̄ {:.2} % and C_min {:.2} % of each other (the errors of fidelity {})",
+            100.0 * r.fidelity_error,
+            100.0 * r.fidelity_c_error,
+            r.report_fidelity
+        );
         return;
     }
     let short = |t: &Texture| format!("{}/{}/{}/{} µm", t.l1, t.l2, t.per, t.depth);
