@@ -109,25 +109,7 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     )?;
     let transient = case.texture.is_some() || a.transient || wanted.is_some();
     if let Some(path) = &a.series {
-        if !transient {
-            return Err(CmdError::Input(format!(
-                "--series {}: an untextured liner is solved as a steady 1D problem with no time series; add --transient to run it as a 2D transient",
-                path.display()
-            )));
-        }
-        let dir = path
-            .parent()
-            .filter(|d| !d.as_os_str().is_empty())
-            .unwrap_or(std::path::Path::new("."));
-        if !dir.is_dir() {
-            return Err(CmdError::Input(format!(
-                "--series {}: the directory {} does not exist; create it or choose another path",
-                path.display(),
-                dir.display()
-            )));
-        }
-        crate::output::check_writable(path)
-            .map_err(|why| CmdError::Input(format!("--series {}: {why}", path.display())))?;
+        check_series(path, transient)?;
     }
 
     // On a terminal the line is redrawn every period; elsewhere (or beside --json output) a
@@ -235,6 +217,30 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
         return Ok(1);
     }
     Ok(0)
+}
+
+/// Whether `--series PATH` can be written: a transient run, an existing and writable
+/// directory.
+fn check_series(path: &std::path::Path, transient: bool) -> Result<(), CmdError> {
+    if !transient {
+        return Err(CmdError::Input(format!(
+            "--series {}: an untextured liner is solved as a steady 1D problem with no time series; add --transient to run it as a 2D transient",
+            path.display()
+        )));
+    }
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(std::path::Path::new("."));
+    if !dir.is_dir() {
+        return Err(CmdError::Input(format!(
+            "--series {}: the directory {} does not exist; create it or choose another path",
+            path.display(),
+            dir.display()
+        )));
+    }
+    crate::output::check_writable(path)
+        .map_err(|why| CmdError::Input(format!("--series {}: {why}", path.display())))
 }
 
 /// The series, with the time also in ms (`ms_per_t`: the time scale L/U, 1 ms at 10 m/s).
