@@ -272,6 +272,16 @@ pub fn table(r: &CycleReport) -> String {
     s
 }
 
+/// What to read from each figure, a line each.
+fn captions(r: &CycleReport) -> String {
+    format!(
+        "\n## Figures\n\n\
+         - `cycle_{0}_force.png`: the friction force per metre of circumference against crank angle for the plain, uniform and zoned liners, over the angles inside the model (the excluded ones marked on the axis); where the zoned liner's line runs under the plain liner's, its zone's texture saves friction at those angles.\n\
+         - `cycle_{0}_liner.png`: the pocket depth each zone of the stroke gets (0: the plain liner) beside the uniform best: the liner to make, read along the stroke from top dead centre.\n",
+        r.name
+    )
+}
+
 /// JSON, CSV (one row per crank angle), the tables as Markdown, and the two figures.
 pub fn write(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
@@ -280,7 +290,7 @@ pub fn write(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, String> {
     crate::output::write(&stem(".json"), json)?;
     crate::output::write(
         &stem(".md"),
-        format!("# Cycle `{}`\n\n{}", r.name, table(r)),
+        format!("# Cycle `{}`\n\n{}{}", r.name, table(r), captions(r)),
     )?;
     let mut w = csv::Writer::from_writer(Vec::new());
     let _ = w.write_record([
