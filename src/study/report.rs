@@ -265,7 +265,7 @@ fn caption(file: &str) -> Option<&'static str> {
     } else if ends("_fig6_clearance.png") {
         "minimum clearance against R, one grey curve per texture; where the upper envelope (each R's largest-clearance texture named at its point) runs over the untextured liner's thick line, texturing thickens the film at that R."
     } else if ends("_fig11.png") {
-        "the least-friction envelope and the untextured liner for each cavitation pressure θs: how far the gain of texturing depends on θs."
+        "the least-friction envelope and the untextured liner for each shear threshold θs of the Couette term (eq. 9): how far the gain of texturing depends on θs."
     } else if ends("_stribeck.png") {
         "each ring and texture's change of friction against the plain liner (%) over the Stribeck number: below zero the texture lowers friction at that speed and load."
     } else if ends("_oil.png") {
