@@ -234,6 +234,24 @@ fn least_covered(
         .unwrap_or(UpperRight)
 }
 
+/// Where a note of `chars` characters goes beside the point `at` (pixels): centred on it, a
+/// line clear of its marker, above or below it, a line further out when the nearer places
+/// would run into a note already `placed` (rectangles left, top, right, bottom).
+fn note_place(placed: &[(i32, i32, i32, i32)], at: (i32, i32), chars: i32) -> (i32, i32) {
+    let (w, h) = (6 * chars, 12);
+    let left = at.0 - w / 2;
+    let free = |top: i32| {
+        placed
+            .iter()
+            .all(|&(l, t, r, b)| left + w <= l || left >= r || top + h <= t || top >= b)
+    };
+    [-22, 10, -36, 24, -50, 38]
+        .iter()
+        .map(|dy| at.1 + dy)
+        .find(|&top| free(top))
+        .map_or((left, at.1 - 22), |top| (left, top))
+}
+
 /// A short text at a point of the chart (e.g. what a point of an envelope is).
 pub struct Note {
     pub at: (f64, f64),
@@ -245,8 +263,8 @@ pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
     xy_noted(path, chart, series, &[])
 }
 
-/// As `xy`, with notes written beside their points, in turn above and below them so that
-/// neighbours' notes do not run into each other.
+/// As `xy`, with notes written beside their points, above or below them, wherever they do
+/// not run into the notes written before.
 pub fn xy_noted(
     path: &Path,
     chart: &Chart,
@@ -346,12 +364,17 @@ fn draw(path: &Path, chart: &Chart, series: &[Series], notes: &[Note]) -> Result
                 }
             }
             let font = ("sans-serif", 11).into_font().color(&BLACK);
-            for (i, n) in notes.iter().enumerate() {
+            let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
+            for n in notes {
                 let (x, y) = ctx.backend_coord(&n.at);
-                // Centred on the point, a line clear of its marker.
-                let half = 3 * n.text.chars().count() as i32;
-                let dy = if i % 2 == 0 { -22 } else { 10 };
-                root.draw(&Text::new(n.text.clone(), (x - half, y + dy), font.clone()))
+                let (left, top) = note_place(&placed, (x, y), n.text.chars().count() as i32);
+                placed.push((
+                    left,
+                    top,
+                    left + 6 * n.text.chars().count() as i32,
+                    top + 12,
+                ));
+                root.draw(&Text::new(n.text.clone(), (left, top), font.clone()))
                     .map_err(|e| err(&e))?;
             }
             // The legend goes where it hides the least of what was drawn (a fixed corner
