@@ -6,7 +6,9 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use super::draw::{case_line, colour_bar, fields, map_panel, profile_axes, profile_panel, Area};
+use super::draw::{
+    case_line, colour_bar, fields, map_panel, profile_axes, profile_panel, Area, MAP_KEY,
+};
 use super::write::Units;
 use super::{Context, Recording};
 
@@ -29,7 +31,10 @@ pub fn animate(path: &Path, rec: &Recording, cx: &Context) -> Result<(), String>
             root.fill(&WHITE).map_err(|e| e.to_string())?;
             let (title, rest) = root.split_vertically(40);
             title
-                .titled(&case_line(cx), ("sans-serif", 17))
+                .draw(&Text::new(case_line(cx), (10, 4), ("sans-serif", 16)))
+                .map_err(|e| e.to_string())?;
+            title
+                .draw(&Text::new(MAP_KEY, (10, 23), ("sans-serif", 12)))
                 .map_err(|e| e.to_string())?;
             let (map, profile): (Area, Area) = rest.split_vertically(290);
             let (map, bar) = map.split_horizontally(730);

@@ -126,7 +126,7 @@ fn grid_of(n: usize) -> (usize, usize) {
 
 fn maps(path: &Path, rec: &Recording, cx: &Context, field: &Field) -> Result<(), String> {
     let (rows, cols) = grid_of(rec.frames.len());
-    let size = (1300, 90 + 270 * rows as u32);
+    let size = (1300, 100 + 270 * rows as u32);
     let root = BitMapBackend::new(path, size).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
     let title = format!(
@@ -139,8 +139,11 @@ fn maps(path: &Path, rec: &Recording, cx: &Context, field: &Field) -> Result<(),
         },
         case_line(cx)
     );
-    let (top, rest) = root.split_vertically(60);
-    top.titled(&title, ("sans-serif", 22)).map_err(err)?;
+    let (top, rest) = root.split_vertically(70);
+    top.draw(&Text::new(title, (20, 10), ("sans-serif", 22)))
+        .map_err(err)?;
+    top.draw(&Text::new(MAP_KEY, (20, 40), ("sans-serif", 15)))
+        .map_err(err)?;
     let (panels, bar) = rest.split_horizontally(1180);
     colour_bar(&bar.margin(20, 40, 10, 10), field)?;
     let u = Units::of(cx);
@@ -155,6 +158,9 @@ fn maps(path: &Path, rec: &Recording, cx: &Context, field: &Field) -> Result<(),
     }
     root.present().map_err(err)
 }
+
+/// What the marks on a map are, under its title.
+pub(super) const MAP_KEY: &str = "dashed white: the ring's edges; white outlines: the pockets; x2 spans a whole texture cell (the simulated half, mirrored about the pockets' centre line)";
 
 /// One map: the field over the shown columns, mirrored about the pocket's centre line so that
 /// a whole texture cell shows (the simulated half cell is its lower half), the ring's edges
