@@ -18,8 +18,8 @@ use crate::mesh::Grid;
 use crate::model::case::CaseSpec;
 use crate::model::operating::Scales;
 use crate::time::{
-    simulate_with, steps_per_period, Numerics, Progress, RunOptions, RunResult, SeriesRow,
-    Transient, Watch, UNTEXTURED_PERIOD,
+    simulate_with, steps_per_period, texture_period, Numerics, Progress, RunOptions, RunResult,
+    SeriesRow, Transient, Watch,
 };
 
 pub use animate::animate;
@@ -194,11 +194,7 @@ pub fn label(k: usize) -> String {
 
 /// Steps a texture period of `case` takes at `num`'s step: the most frames a period has.
 pub fn steps_in_period(case: &CaseSpec, num: &Numerics) -> usize {
-    let period = case
-        .texture
-        .as_ref()
-        .map_or(UNTEXTURED_PERIOD, |t| t.per / case.u);
-    steps_per_period(period, num.dt) as usize
+    steps_per_period(texture_period(case), num.dt) as usize
 }
 
 /// Checks `request` against the run before it starts: at least one frame, no more frames

@@ -29,6 +29,6 @@ pub use periodic::{window_periods, MIN_WINDOW};
 pub use run::{simulate, simulate_with, RunOptions, Watch};
 pub use steady::{solve_untextured, steady_outcome, Steady, SteadyError};
 pub use transient::{
-    equilibrium_start, paper_start, ApproachDone, Transient, BDF2_PATIENCE, CONTACT_Z, MASS_TOL,
-    UNTEXTURED_PERIOD,
+    equilibrium_start, paper_start, texture_period, ApproachDone, Transient, BDF2_PATIENCE,
+    CONTACT_Z, MASS_TOL, UNTEXTURED_PERIOD,
 };

@@ -15,6 +15,14 @@ use crate::solve::{FilmMethod, SolveStats, Step};
 /// Pseudo-period used to average and test an untextured transient run (no texture period).
 pub const UNTEXTURED_PERIOD: f64 = 0.06;
 
+/// The time the texture takes to repeat under the ring, per/u (units of L/U), or
+/// [`UNTEXTURED_PERIOD`] for a plain liner: the period a run steps, averages and tests.
+pub fn texture_period(case: &CaseSpec) -> f64 {
+    case.texture
+        .as_ref()
+        .map_or(UNTEXTURED_PERIOD, |t| t.per / case.u)
+}
+
 /// Largest relative mass defect of a step ([`Transient::mass_defect`]) taken for a converged
 /// solve: the Elrod–Adams scheme conserves mass to round-off (≤ 1.5e-12 over the stability
 /// map, results/stability/).
@@ -118,10 +126,7 @@ impl Transient {
     /// paper's state.
     pub fn with_solver(case: &CaseSpec, num: &Numerics, solver: Box<dyn FilmMethod>) -> Self {
         let scene = Scene::new(case, num.n1, num.n2);
-        let period = case
-            .texture
-            .as_ref()
-            .map_or(UNTEXTURED_PERIOD, |t| t.per / case.u);
+        let period = texture_period(case);
         let steps_per_period = super::numerics::steps_per_period(period, num.dt) as usize;
         let dt = period / steps_per_period as f64;
         let equilibrium = match num.start {
