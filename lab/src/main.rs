@@ -6,6 +6,7 @@
 //!     texopt-lab where-time-goes [CASE [TIER]]
 //!     texopt-lab references run CASE N1xN2 DT | report
 //!     texopt-lab deep-pockets
+//!     texopt-lab shear-threshold
 
 use texopt_lab::studies;
 
@@ -19,8 +20,9 @@ fn main() {
         Some("where-time-goes") => studies::where_time_goes::main(rest),
         Some("references") => studies::references::main(rest),
         Some("deep-pockets") => studies::deep_pockets::main(rest),
+        Some("shear-threshold") => studies::shear_threshold::main(rest),
         _ => Err(
-            "usage: texopt-lab speed … | references … | deep-pockets | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
+            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
                 .into(),
         ),
     };

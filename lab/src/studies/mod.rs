@@ -3,6 +3,7 @@
 pub mod convergence;
 pub mod deep_pockets;
 pub mod references;
+pub mod shear_threshold;
 pub mod speed;
 pub mod stability;
 pub mod where_time_goes;

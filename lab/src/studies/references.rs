@@ -8,10 +8,10 @@
 //!
 //! Method. Two refinement sequences around the base 1024×16 at dt = 1e-4, each by factors of
 //! 2: along the sliding direction with the time step (512×16 at 2e-4, 1024×16 at 1e-4,
-//! 2048×16 at 5e-5: the Courant number u·dt/Δx1 fixed at 0.5, because the time step's error
-//! depends on how far the texture moves in a step against a cell, not on dt alone), and
-//! across it (1024×8, ×16, ×32 at dt = 1e-4; ×64 where run). Each sequence's last three
-//! levels give the observed ratio r of successive changes and, when the changes shrink
+//! 2048×16 at 5e-5, 4096×16 at 2.5e-5: the Courant number u·dt/Δx1 fixed at
+//! 0.5, because the time step's error depends on how far the texture moves in a step against
+//! a cell, not on dt alone), and across it (1024×8, ×16, ×32 at dt = 1e-4; ×64 where run).
+//! Each sequence's last three levels give the observed ratio r of successive changes and, when the changes shrink
 //! monotonically (r > 1), Richardson's limit c + (c − b)/(r − 1); its distance from the finest
 //! level is that sequence's uncertainty. Otherwise (the changes alternate or grow) the finest
 //! level stands and the larger of the last two changes is the uncertainty. The reference is
@@ -33,7 +33,12 @@ const RUNS: &str = "results/references/runs.jsonl";
 pub const CASES: [&str; 4] = ["case-I", "case-III", "conformal-R51.2", "deep-close-packed"];
 
 /// The sequence along the sliding direction (N1 and dt together) and across it (N2).
-const ALONG: [(usize, usize, f64); 3] = [(512, 16, 2e-4), (1024, 16, 1e-4), (2048, 16, 5e-5)];
+const ALONG: [(usize, usize, f64); 4] = [
+    (512, 16, 2e-4),
+    (1024, 16, 1e-4),
+    (2048, 16, 5e-5),
+    (4096, 16, 2.5e-5),
+];
 const ACROSS: [(usize, usize, f64); 4] = [
     (1024, 8, 1e-4),
     (1024, 16, 1e-4),
@@ -173,7 +178,7 @@ fn reference(s: &Sequences) -> Result<(Reference, [Limit; 4]), String> {
 fn report() -> Result<(), String> {
     let runs = RunRecord::load(RUNS)?;
     let mut md = String::from(
-        "# Converged references of the benchmark cases\n\nReproduce: `bash studies/references.sh` (the runs, ≈ 1 h on one core), then `texopt-lab references report`. Every run: BDF2, Anderson acceleration to a periodic tolerance of 1e-6 after a coarse approach on 512×8 at dt = 4e-4 (runs.jsonl). Method (lab/src/studies/references.rs): two sequences refined by 2 around 1024×16 at dt = 1e-4 — along the sliding direction with the time step at a fixed Courant number u·dt/Δx1 = 0.5 (the time step's error depends on how far the texture moves against a cell in a step), and across it at dt = 1e-4. From each sequence's last three levels: the ratio r of its successive changes and, when they shrink monotonically, Richardson's limit c + (c − b)/(r − 1), whose distance from the finest level is the sequence's uncertainty; otherwise the finest level, with the larger of the last two changes as uncertainty. Reference = the along-limit + the across-limit's change from 1024×16. Uncertainty = the sum of the two.\n\n| case | f̄ | ± | C_min (µm) | ± |\n|---|---|---|---|---|\n",
+        "# Converged references of the benchmark cases\n\nReproduce: `bash studies/references.sh` (the runs, ≈ 3 h on one core), then `texopt-lab references report`. Every run: BDF2, Anderson acceleration to a periodic tolerance of 1e-6 after a coarse approach on 512×8 at dt = 4e-4 (runs.jsonl). Method (lab/src/studies/references.rs): two sequences refined by 2 around 1024×16 at dt = 1e-4 — along the sliding direction with the time step at a fixed Courant number u·dt/Δx1 = 0.5 (512×16 to 4096×16) (the time step's error depends on how far the texture moves against a cell in a step), and across it at dt = 1e-4. From each sequence's last three levels: the ratio r of its successive changes and, when they shrink monotonically, Richardson's limit c + (c − b)/(r − 1), whose distance from the finest level is the sequence's uncertainty; otherwise the finest level, with the larger of the last two changes as uncertainty. Reference = the along-limit + the across-limit's change from 1024×16. Uncertainty = the sum of the two.\n\n| case | f̄ | ± | C_min (µm) | ± |\n|---|---|---|---|---|\n",
     );
     let mut detail = String::new();
     let mut json = serde_json::Map::new();
