@@ -249,6 +249,7 @@ fn a_zone_met_at_one_operating_point_gets_the_design_of_optimise_there() {
         log: Mutex::new(Vec::new()),
         simulations: Mutex::new(0),
         progress: false,
+        name: String::new(),
     };
     let plain = ev.evaluate(&[None]).unwrap().remove(0).unwrap();
     let pb = Search {

@@ -2,6 +2,7 @@
 //! for the ideal point, balanced ones between), the front of every searched design confirmed
 //! at the reported fidelity, and the report.
 
+use rayon::prelude::*;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
@@ -62,8 +63,8 @@ pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result
     };
     let ev_s = evaluator(s, s.search_fidelity, cache, stop);
     let ev_r = evaluator(s, s.report_fidelity, cache, stop);
-    let plain_s = plain(&ev_s)?;
-    let plain_r = plain(&ev_r)?;
+    let (plain_s, plain_r) = rayon::join(|| plain(&ev_s), || plain(&ev_r));
+    let (plain_s, plain_r) = (plain_s?, plain_r?);
     searches(s, &ev_s, &plain_s, &say)?;
     let log_s = ev_s.log.lock().expect("lock").clone();
     let cand = front_candidates(&log_s);
@@ -124,6 +125,7 @@ pub(super) fn evaluator<'a>(
         log: Mutex::new(Vec::new()),
         simulations: Mutex::new(0),
         progress: s.progress,
+        name: String::new(),
     }
 }
 
@@ -136,40 +138,71 @@ pub(super) fn plain(ev: &Evaluator) -> Result<Outcome, String> {
 
 /// The searches at the search fidelity: single-objective ones give the ideal point, balanced
 /// ones about it fill the front. Each swarm's best point is polished by a compass search.
+/// Searches that do not need each other's answers run at once (the two single-objective ones,
+/// then the balanced ones): a swarm waits for its whole population between iterations, so
+/// one search alone leaves a core idle at each batch's end. Each search has its own
+/// evaluator (the cache shared) and the logs are joined in the searches' order, so that the
+/// log, and every design reported from it, is that of running them one after the other.
 fn searches(
     s: &Settings,
     ev: &Evaluator,
     plain: &Outcome,
     say: &dyn Fn(String),
 ) -> Result<(), String> {
-    let mut ideal = (1.0, 1.0);
-    let mut seed = s.swarm.seed;
-    let run = |goal: Goal, seed: u64| -> Result<(Vec<f64>, f64), String> {
+    let seed = s.swarm.seed;
+    let run = |goal: Goal, seed: u64| -> Result<(Vec<f64>, f64, Evaluator), String> {
+        let own = Evaluator {
+            name: match goal {
+                Goal::Friction => "friction search: ".into(),
+                Goal::Clearance => "clearance search: ".into(),
+                Goal::Balanced { w, .. } => format!("balanced search w = {w}: "),
+            },
+            ..evaluator(s, ev.fidelity, ev.cache, ev.stop)
+        };
         let pb = Search {
             space: &s.space,
-            eval: ev,
+            eval: &own,
             goal,
             plain: plain.clone(),
         };
         let (u, _) = search(&pb, SwarmSettings { seed, ..s.swarm })?;
-        refine(&pb, u, REFINE_STEP, REFINE_MIN_STEP, REFINE_ITERS)
+        let (u, c) = refine(&pb, u, REFINE_STEP, REFINE_MIN_STEP, REFINE_ITERS)?;
+        Ok((u, c, own))
     };
-    for goal in [Goal::Friction, Goal::Clearance] {
-        let (u, c) = run(goal, seed)?;
-        seed += 1;
+    let absorb = |own: Evaluator| {
+        ev.log
+            .lock()
+            .expect("lock")
+            .extend(own.log.into_inner().expect("lock"));
+        *ev.simulations.lock().expect("lock") += own.simulations.into_inner().expect("lock");
+        ev.log.lock().expect("lock").len()
+    };
+    let (f, c) = rayon::join(
+        || run(Goal::Friction, seed),
+        || run(Goal::Clearance, seed + 1),
+    );
+    let mut ideal = (1.0, 1.0);
+    for (goal, r) in [(Goal::Friction, f), (Goal::Clearance, c)] {
+        let (u, c, own) = r?;
         match goal {
             Goal::Friction => ideal.0 = c.min(1.0),
             _ => ideal.1 = c.min(1.0),
         }
+        let so_far = absorb(own);
         say(format!(
-            "{goal:?} search: best {:?} (relative cost {c:.4}); {} evaluations so far",
-            s.space.decode(&u),
-            ev.log.lock().expect("lock").len()
+            "{goal:?} search: best {:?} (relative cost {c:.4}); {so_far} evaluations so far",
+            s.space.decode(&u)
         ));
     }
-    for &w in &s.balanced {
-        let (u, c) = run(Goal::Balanced { w, ideal }, seed)?;
-        seed += 1;
+    let balanced: Vec<_> = s
+        .balanced
+        .par_iter()
+        .enumerate()
+        .map(|(i, &w)| run(Goal::Balanced { w, ideal }, seed + 2 + i as u64))
+        .collect();
+    for (&w, r) in s.balanced.iter().zip(balanced) {
+        let (u, c, own) = r?;
+        absorb(own);
         say(format!(
             "balanced search w = {w}: best {:?} (cost {c:.4})",
             s.space.decode(&u)

@@ -42,8 +42,10 @@ pub struct Evaluator<'a> {
     pub log: Mutex<Vec<Evaluation>>,
     /// Simulations run (not answered by the cache).
     pub simulations: Mutex<usize>,
-    /// Print a line per batch on stderr.
+    /// Print a line per batch on stderr, headed by `name` (the search's, when several run
+    /// at once; empty: none).
     pub progress: bool,
+    pub name: String,
 }
 
 impl Evaluator<'_> {
@@ -80,7 +82,8 @@ impl Evaluator<'_> {
         };
         if self.progress {
             eprintln!(
-                "  {} designs at {}: {} from the cache, {} simulated ({:.1} s); {total_sims} simulations so far",
+                "  {}{} designs at {}: {} from the cache, {} simulated ({:.1} s); {total_sims} simulations so far",
+                self.name,
                 designs.len(),
                 self.fidelity.name(),
                 sum.cached,

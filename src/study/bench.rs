@@ -90,28 +90,28 @@ pub fn cases() -> Vec<BenchCase> {
 /// that order (results/references/references.json).
 pub const REFERENCES: [Reference; 4] = [
     Reference {
-        f_mean: 0.07758976668404993,
-        c_min: 6.129549679153179,
-        f_uncertainty: 0.0015748327020322097,
-        c_uncertainty: 6.676498829385901e-05,
+        f_mean: 0.07764125455020122,
+        c_min: 6.126371886739894,
+        f_uncertainty: 0.0013536937777880835,
+        c_uncertainty: 0.0002908274915934454,
     },
     Reference {
-        f_mean: 0.08710757977130612,
-        c_min: 3.8533527840272583,
-        f_uncertainty: 0.00486488562171904,
-        c_uncertainty: 0.0037498078873137125,
+        f_mean: 0.0869378876870014,
+        c_min: 3.8574335763298313,
+        f_uncertainty: 0.0019885970016103286,
+        c_uncertainty: 0.0008675849818345234,
     },
     Reference {
-        f_mean: 0.25406307284827023,
-        c_min: 2.9232410749029474,
-        f_uncertainty: 0.0028295170926159368,
-        c_uncertainty: 0.00492444513827408,
+        f_mean: 0.2542532700444127,
+        c_min: 2.9180489384641786,
+        f_uncertainty: 0.0020663980032997963,
+        c_uncertainty: 0.005875580134421104,
     },
     Reference {
-        f_mean: 0.11380343867567604,
-        c_min: 1.7433267250887203,
-        f_uncertainty: 0.009497841951499286,
-        c_uncertainty: 0.007163988147603941,
+        f_mean: 0.11346811890415416,
+        c_min: 1.7426047224471097,
+        f_uncertainty: 0.005229252444238976,
+        c_uncertainty: 0.006475943837019766,
     },
 ];
 

@@ -14,16 +14,16 @@ use crate::model::case::CaseSpec;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Fidelity {
-    /// 384×8, dt = 5.4e-4: the optimiser's search (errors ≤ 2 %, ≈ 0.3–0.4 s a case; a
+    /// 384×8, dt = 5.4e-4: the optimiser's search (errors ≤ 1.7 %, ≈ 0.3–0.4 s a case; a
     /// pocket needs only 2 cells across).
     Draft,
-    /// 512×8, dt = 4e-4: studies, the optimiser and `simulate` (errors ≤ 1.5 % in f̄ and
-    /// 0.7 % in C_min on Case I, Case III and R = 51.2; ≈ 0.5–0.8 s a case).
+    /// 512×8, dt = 4e-4: studies, the optimiser and `simulate` (errors ≤ 1.3 % in f̄ and
+    /// 0.72 % in C_min on Case I, Case III and R = 51.2; ≈ 0.3–0.5 s a case).
     Fast,
     /// 512×32, dt = 4e-4, backward Euler: the paper's numerics (docs/model.md §3), for
     /// reproducing it (4 % off on the conformal R = 51.2, its time step's error).
     Paper,
-    /// 1024×16, dt = 2e-4: checks (errors ≤ 0.9 %).
+    /// 1024×16, dt = 2e-4: checks (errors ≤ 0.7 %).
     Fine,
 }
 
@@ -51,20 +51,20 @@ impl Fidelity {
     /// R = 51.2; pockets much deeper than the film carry more: [`DEEP_POCKET_RATIO`].)
     pub fn f_error(self) -> f64 {
         match self {
-            Fidelity::Draft => 0.0186,
-            Fidelity::Fast => 0.0149,
-            Fidelity::Paper => 0.0402,
-            Fidelity::Fine => 0.0087,
+            Fidelity::Draft => 0.0167,
+            Fidelity::Fast => 0.0130,
+            Fidelity::Paper => 0.0410,
+            Fidelity::Fine => 0.0068,
         }
     }
 
     /// The measured relative error of C_min at this tier (as `f_error`).
     pub fn c_error(self) -> f64 {
         match self {
-            Fidelity::Draft => 0.0132,
-            Fidelity::Fast => 0.0068,
-            Fidelity::Paper => 0.0404,
-            Fidelity::Fine => 0.0007,
+            Fidelity::Draft => 0.0114,
+            Fidelity::Fast => 0.0072,
+            Fidelity::Paper => 0.0423,
+            Fidelity::Fine => 0.0013,
         }
     }
 
