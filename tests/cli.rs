@@ -166,8 +166,10 @@ fn fidelity_tiers_set_mesh_and_step_unless_overridden() {
     let (code, out, err) = texopt(&["simulate", "--R", "0.8", "--fidelity", "draft", "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
-    assert_eq!(v["inputs"]["mesh"], "384x8");
-    assert_eq!(v["inputs"]["numerics"]["dt"], 5.4e-4);
+    assert_eq!(v["inputs"]["mesh"], "400x8");
+    // The characteristic step of the mesh: 2·dx1/u = 2·0.2/400.
+    let dt = |v: &serde_json::Value| v["inputs"]["numerics"]["dt"].as_f64().unwrap();
+    assert!((dt(&v) - 1e-3).abs() < 1e-15, "{}", dt(&v));
     // The tier's periodic tolerance too, so that `simulate` reproduces a study's row.
     assert_eq!(v["inputs"]["numerics"]["periodic_tol"], 1e-3);
     let (code, out, err) = texopt(&[
@@ -183,7 +185,18 @@ fn fidelity_tiers_set_mesh_and_step_unless_overridden() {
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
     assert_eq!(v["inputs"]["mesh"], "64x4");
-    assert_eq!(v["inputs"]["numerics"]["dt"], 5.4e-4);
+    // The step follows the mesh asked for, unless given.
+    assert!((dt(&v) - 6.25e-3).abs() < 1e-15, "{}", dt(&v));
+    let (code, out, err) = texopt(&[
+        "simulate", "--R", "0.8", "--mesh", "64x4", "--dt", "5e-4", "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(dt(&v), 5e-4);
+    // A step that would move the film more than a cell along the characteristics is refused.
+    let (code, _, err) = texopt(&["simulate", "--R", "0.8", "--dt", "1e-3"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("dt") && err.contains("one cell"), "{err}");
     let (code, out, err) = texopt(&[
         "simulate",
         "--R",
@@ -197,10 +210,10 @@ fn fidelity_tiers_set_mesh_and_step_unless_overridden() {
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
     assert_eq!(v["inputs"]["numerics"]["periodic_tol"], 3e-6);
-    // Every tier approaches the periodic regime on 128×4 cells at dt = 1.6e-3 unless told
-    // otherwise; `simulate` runs `fast` unless told otherwise.
+    // `fast` approaches the periodic regime on 120×4 cells at their characteristic step
+    // unless told otherwise; `simulate` runs `fast` unless told otherwise.
     for (extra, want) in [
-        (None, Some((128, 4, 1.6e-3))),
+        (None, Some((120, 4, 2.0 * 0.2 / 120.0))),
         (Some("off"), None),
         (Some("64x2@8e-4"), Some((64, 2, 8e-4))),
     ] {
@@ -211,9 +224,9 @@ fn fidelity_tiers_set_mesh_and_step_unless_overridden() {
         let (code, out, err) = texopt(&args);
         assert_eq!(code, 0, "{err}");
         let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
-        assert_eq!(v["inputs"]["mesh"], "512x8");
+        assert_eq!(v["inputs"]["mesh"], "700x8");
         assert_eq!(v["inputs"]["numerics"]["periodic_tol"], 1e-4);
-        assert_eq!(v["inputs"]["numerics"]["scheme"], "bdf2");
+        assert_eq!(v["inputs"]["numerics"]["scheme"], "characteristic");
         let a = &v["inputs"]["numerics"]["approach"];
         let got = a.is_object().then(|| {
             (
@@ -255,7 +268,7 @@ fn simulate_resolves_small_pockets_as_studies_do() {
         let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
         v["inputs"]["mesh"].as_str().unwrap().to_string()
     };
-    assert_eq!(run(None), "512x10");
+    assert_eq!(run(None), "700x10");
     assert_eq!(run(Some("512x8")), "512x8");
 }
 

@@ -1,25 +1,36 @@
 //! Discrete mass conservation of the film scheme in a textured 2D run with cavitation:
 //! over a step, Σ(hθ)·cell area changes by exactly dt × (inflow − outflow) at the x1 ends
-//! (BDF2: its storage term's change, 1.5·(φⁿ⁺¹ − (4φⁿ − φⁿ⁻¹)/3), does).
+//! (BDF2: its storage term's change, 1.5·(φⁿ⁺¹ − (4φⁿ − φⁿ⁻¹)/3), does; the characteristic
+//! scheme: the change from the old level moved along the characteristics, against the
+//! Poiseuille flows, the Couette ones being that move, whose own balance
+//! time/characteristic.rs tests).
 
 use texopt::model::case::{CaseSpec, Texture};
 use texopt::time::{Numerics, TimeScheme, Transient, Watch};
 
 #[test]
 fn textured_step_conserves_mass_to_round_off() {
-    conserves_mass(TimeScheme::BackwardEuler);
+    conserves_mass(TimeScheme::BackwardEuler, 4e-4);
 }
 
 #[test]
 fn textured_bdf2_step_conserves_mass_to_round_off() {
-    conserves_mass(TimeScheme::Bdf2);
+    conserves_mass(TimeScheme::Bdf2, 4e-4);
 }
 
-fn conserves_mass(scheme: TimeScheme) {
+/// At the characteristic step 2·dx1/u (the foot on a node) and below it (interpolated).
+#[test]
+fn textured_characteristic_step_conserves_mass_to_round_off() {
+    conserves_mass(TimeScheme::Characteristic, 2.0 * 0.2 / 256.0);
+    conserves_mass(TimeScheme::Characteristic, 4e-4);
+}
+
+fn conserves_mass(scheme: TimeScheme, dt: f64) {
     let case = CaseSpec::paper(0.8).with_texture(Texture::circular(0.01, 0.06, 5.0));
     let num = Numerics {
         n1: 256,
         n2: 16,
+        dt,
         scheme,
         ..Numerics::default()
     };

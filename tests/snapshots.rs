@@ -204,8 +204,9 @@ fn the_animation_has_a_frame_per_stride_of_the_period() {
         .and_then(|n| n.parse().ok())
         .unwrap();
     assert_eq!(frames, said, "{err}");
-    // Every 20th step of a period of 112 (0.06 cm at dt = 5.4e-4, shortened to divide it).
-    assert_eq!(frames, 112usize.div_ceil(20));
+    // Every 20th step of a period of 60 (0.06 cm at draft's characteristic step, 2·dx1/u =
+    // 1e-3 on 400 cells).
+    assert_eq!(frames, 60usize.div_ceil(20));
 }
 
 /// `optimise --snapshots`: refused before the search when it cannot write (no cache made);

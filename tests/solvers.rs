@@ -291,10 +291,11 @@ fn periodic_outcome_does_not_depend_on_the_start() {
 
 #[test]
 fn fidelity_tiers_refine_along_the_sliding_direction_and_in_time() {
-    let n: Vec<Numerics> = Fidelity::ALL.iter().map(|f| f.numerics()).collect();
+    let ladder = [Fidelity::Draft, Fidelity::Fast, Fidelity::Fine];
+    let n: Vec<Numerics> = ladder.iter().map(|f| f.numerics()).collect();
     for w in n.windows(2) {
-        // Each tier resolves the sliding direction and time at least as finely as the one
-        // before (the error carriers of the speed study, results/speed/).
+        // Each tier of the ladder resolves the sliding direction and time at least as finely
+        // as the one before (the error carriers of the speed study, results/speed/).
         assert!(w[1].n1 >= w[0].n1 && w[1].dt <= w[0].dt);
         assert!(w[1].n1 > w[0].n1 || w[1].n2 > w[0].n2 || w[1].dt < w[0].dt);
     }

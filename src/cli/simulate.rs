@@ -56,7 +56,7 @@ fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
     // The tier as studies use it: N2 raised where a pocket would span too few cells across,
     // so that `simulate` reproduces a study's row.
     let tier = a.fidelity.numerics_for(&case);
-    let num = Numerics {
+    let mut num = Numerics {
         n1: a.mesh.map_or(tier.n1, |m| m.0),
         n2: a.mesh.map_or(tier.n2, |m| m.1),
         dt: a.dt.unwrap_or(tier.dt),
@@ -68,6 +68,11 @@ fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
         scheme: a.time_scheme.unwrap_or(tier.scheme),
         ..Numerics::default()
     };
+    if a.dt.is_none() {
+        // The tier's step follows the mesh and scheme asked for (a step given is validated).
+        num.fit_characteristic_step(&case);
+        num.fit_step_to_period(&case);
+    }
     case.validate(a.allow_thick_pockets)?;
     num.validate(&case)?;
     Ok((case, num))

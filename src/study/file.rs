@@ -518,13 +518,15 @@ fn expand_cases(
 pub fn numerics_for(case: &CaseSpec, fidelity: Fidelity, o: &NumericsOverride) -> Numerics {
     let mut n = fidelity.numerics();
     n.fit_mesh_to_ring(case);
-    n.fit_step_to_period(case);
     if let Some(v) = o.n1 {
         n.n1 = v;
     }
     if let Some(v) = o.n2 {
         n.n2 = v;
     }
+    // A step given explicitly is validated, not fitted.
+    n.fit_characteristic_step(case);
+    n.fit_step_to_period(case);
     if let Some(v) = o.dt {
         n.dt = v;
     }

@@ -51,8 +51,8 @@ impl Fidelity {
     /// R = 51.2; pockets much deeper than the film carry more: [`DEEP_POCKET_RATIO`].)
     pub fn f_error(self) -> f64 {
         match self {
-            Fidelity::Draft => 0.0167,
-            Fidelity::Fast => 0.0130,
+            Fidelity::Draft => 0.0146,
+            Fidelity::Fast => 0.0090,
             Fidelity::Paper => 0.0410,
             Fidelity::Fine => 0.0068,
         }
@@ -61,8 +61,8 @@ impl Fidelity {
     /// The measured relative error of C_min at this tier (as `f_error`).
     pub fn c_error(self) -> f64 {
         match self {
-            Fidelity::Draft => 0.0114,
-            Fidelity::Fast => 0.0072,
+            Fidelity::Draft => 0.0063,
+            Fidelity::Fast => 0.0022,
             Fidelity::Paper => 0.0423,
             Fidelity::Fine => 0.0013,
         }
@@ -74,8 +74,22 @@ impl Fidelity {
     /// `draft` at 1e-3 (its errors stay under 2 %, tests/fidelity.rs).
     pub fn numerics(self) -> Numerics {
         let (n1, n2, dt, periodic_tol, scheme, approach) = match self {
-            Fidelity::Draft => (384, 8, 5.4e-4, 1e-3, TimeScheme::Bdf2, APPROACH),
-            Fidelity::Fast => (512, 8, 4e-4, 1e-4, TimeScheme::Bdf2, APPROACH),
+            Fidelity::Draft => (
+                400,
+                8,
+                characteristic_dt(400),
+                1e-3,
+                TimeScheme::Characteristic,
+                CHARACTERISTIC_APPROACH,
+            ),
+            Fidelity::Fast => (
+                700,
+                8,
+                characteristic_dt(700),
+                1e-4,
+                TimeScheme::Characteristic,
+                CHARACTERISTIC_APPROACH,
+            ),
             // The paper's own scheme (docs/model.md §3). Its approach is the fast mesh: the
             // 512×32 windows dominate, and they start nearer their regime from 512×8
             // (Case III from the paper's start: 4.3 s, against 7.0 s after 128×4).
@@ -107,6 +121,7 @@ impl Fidelity {
         let mut num = self.numerics();
         num.fit_mesh_to_ring(case);
         num.resolve_pockets(case, self.pocket_cells());
+        num.fit_characteristic_step(case);
         num.fit_step_to_period(case);
         num
     }
@@ -130,6 +145,25 @@ pub const APPROACH: Approach = Approach {
     n2: 4,
     dt: 1.6e-3,
 };
+
+/// The coarse approach of the characteristic tiers: the ring's transient on 120×4 cells at
+/// their own characteristic step, 2·dx1/u = 3.3e-3 (measured on the four reference cases at
+/// `fast` from the paper's start: 0.37–0.70 s, against 0.42–0.71 s after 128×4 at 1.6e-3,
+/// whose step interpolates the characteristics' feet, and 0.70–0.95 s without an approach).
+pub const CHARACTERISTIC_APPROACH: Approach = Approach {
+    n1: 120,
+    n2: 4,
+    dt: 2.0 * PAPER_LENGTH / 120.0,
+};
+
+/// The length of the paper's domain along x1 (cm): 2.5 widths of its 0.08 cm ring.
+const PAPER_LENGTH: f64 = 0.2;
+
+/// The characteristic step 2·dx1/u on `n1` cells of the paper's domain at u = 1: the step
+/// at which the film content moves exactly one cell ([`TimeScheme::Characteristic`]).
+const fn characteristic_dt(n1: usize) -> f64 {
+    2.0 * PAPER_LENGTH / n1 as f64
+}
 
 /// The coarse approach of the `paper` tier: its own N1 and step on 8 cells across.
 pub const PAPER_APPROACH: Approach = Approach {

@@ -5,6 +5,7 @@
 
 mod anderson;
 mod approach;
+pub mod characteristic;
 mod fidelity;
 pub mod limits;
 mod memory;
@@ -18,7 +19,9 @@ mod transient;
 #[cfg(test)]
 mod tests;
 
-pub use fidelity::{unresolved_depth, Fidelity, APPROACH, DEEP_POCKET_RATIO, POCKET_CELLS};
+pub use fidelity::{
+    unresolved_depth, Fidelity, APPROACH, CHARACTERISTIC_APPROACH, DEEP_POCKET_RATIO, POCKET_CELLS,
+};
 pub use limits::Limits;
 pub use numerics::{
     short, steps_per_period, Approach, Numerics, Start, TimeScheme, APPROACH_TOL,

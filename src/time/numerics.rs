@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::characteristic::MAX_COURANT;
 use crate::model::case::{bad, positive, CaseSpec, InputError, PAPER_RING_WIDTH};
 use crate::solve::{Method, Tolerance};
 
@@ -68,6 +69,11 @@ pub enum TimeScheme {
     /// previous levels are not at hand (a start, a jump, a new mesh) or where the old-level
     /// term (4φⁿ − φⁿ⁻¹)/3 would be negative somewhere (a film emptying within a step).
     Bdf2,
+    /// Backward Euler along the Couette characteristics: (φⁿ⁺¹ − φⁿ(x1 − u·dt/2))/dt, the
+    /// Couette flux carried by that shift instead of the stencil; exact transport of the
+    /// cavitated film at dt = 2·dx1/u (the step the tiers take), interpolated below it, and
+    /// rejected above it (docs/solver.md).
+    Characteristic,
 }
 
 impl TimeScheme {
@@ -139,6 +145,21 @@ pub fn short(x: f64) -> String {
 pub const APPROACH_TOL: f64 = 1e-3;
 
 impl Numerics {
+    /// The step at which the characteristic scheme moves the film content exactly one cell,
+    /// 2·dx1/u, on this mesh for this case (infinite for a liner at rest).
+    pub fn characteristic_dt(&self, case: &CaseSpec) -> f64 {
+        2.0 * case.contact().length_cm / self.n1 as f64 / case.u
+    }
+
+    /// With the characteristic scheme, the step is the mesh's: 2·dx1/u (then fitted to
+    /// divide the texture period, which only lowers it). A step given explicitly is
+    /// checked by [`Self::validate`] instead.
+    pub fn fit_characteristic_step(&mut self, case: &CaseSpec) {
+        if self.scheme == TimeScheme::Characteristic && case.u > 0.0 {
+            self.dt = self.characteristic_dt(case);
+        }
+    }
+
     /// The film-solver settings these numerics ask for.
     pub fn film_tolerance(&self) -> Tolerance {
         Tolerance::default()
@@ -200,6 +221,9 @@ impl Numerics {
             ..self.clone()
         };
         coarse.resolve_pockets(case, 2.0);
+        if coarse.scheme == TimeScheme::Characteristic && case.u > 0.0 {
+            coarse.dt = coarse.dt.min(coarse.characteristic_dt(case));
+        }
         let cheaper = coarse.n1 < self.n1 || coarse.n2 < self.n2 || coarse.dt > self.dt;
         // The approach is exempt from the steps a period: it only carries the ring's transient
         // to the run's mesh, and its answer is not read (the paper study's 0.005 cm periods
@@ -274,6 +298,20 @@ impl Numerics {
                         ),
                     ));
                 }
+            }
+        }
+        if self.scheme == TimeScheme::Characteristic && case.u > 0.0 {
+            let limit = self.characteristic_dt(case);
+            if self.dt > limit * MAX_COURANT {
+                return Err(bad(
+                    "dt",
+                    self.dt,
+                    format!(
+                        "moves the film more than one cell a step along the characteristics (u·dt/2 > dx1 on {} cells): dt ≤ 2·dx1/u = {} with this mesh, or more cells along x1",
+                        self.n1,
+                        short(limit)
+                    ),
+                ));
             }
         }
         Ok(())

@@ -1,6 +1,7 @@
 //! The coupled transient (docs/model.md §3–5): the film under the moving texture, the ring's
 //! dynamics and the friction, advanced one backward-Euler step at a time.
 
+use super::characteristic;
 use super::memory::{PeriodGuess, PlacedTexture, TextureShift};
 use super::numerics::{Numerics, Start, TimeScheme};
 use super::outcome::{SeriesRow, SolveError};
@@ -8,6 +9,7 @@ use super::steady::{solve_untextured, Steady};
 use crate::mesh::integrals::{boundary_flows, friction_thresholds};
 use crate::mesh::{FilmState, Scene};
 use crate::model::case::CaseSpec;
+use crate::model::film::Boundary;
 use crate::model::friction::{Friction, FrictionModel};
 use crate::model::ring::{Ring, RingState};
 use crate::solve::{FilmMethod, SolveStats, Step};
@@ -209,9 +211,20 @@ impl Transient {
             gap: &self.scene.gap,
             phi_old: self.old_level(),
             inv_dt: self.inv_dt_eff,
-            boundary: self.case.film_boundary(),
+            boundary: self.film_boundary(),
             ring: None,
         }
+    }
+
+    /// The film's boundary data as the stencil sees it: with the characteristic scheme the
+    /// old level carries the Couette flux (time/characteristic.rs), so the stencil's liner
+    /// speed is 0.
+    fn film_boundary(&self) -> Boundary {
+        let mut b = self.case.film_boundary();
+        if self.scheme == TimeScheme::Characteristic {
+            b.u = 0.0;
+        }
+        b
     }
 
     /// The old-level film the last step's storage term read.
@@ -282,6 +295,11 @@ impl Transient {
         // The last two levels move down (φⁿ⁻¹, φⁿ); the third buffer takes the guess.
         std::mem::swap(&mut self.phi_older, &mut self.phi_old);
         std::mem::swap(&mut self.phi_old, &mut self.state.phi);
+        if self.scheme == TimeScheme::Characteristic {
+            let g = &self.scene.grid;
+            let c = characteristic::courant(self.case.u, self.dt, g.dx);
+            characteristic::shift(&mut self.phi_old, g.n1, g.n2, c);
+        }
         self.inv_dt_eff = self.storage_term();
         self.eff = self.inv_dt_eff != 1.0 / self.dt;
         // Factors kept a period ago are of the scheme's own storage term: a restart step of
@@ -299,7 +317,7 @@ impl Transient {
                 &self.phi_eff
             },
             inv_dt: self.inv_dt_eff,
-            boundary: self.case.film_boundary(),
+            boundary: self.film_boundary(),
             ring: Some(link),
         };
         let level = self.steps + 1;
@@ -487,15 +505,17 @@ impl Transient {
                 * g.dy
                 * (self.inv_dt_eff * self.dt)
         };
-        let (inflow, outflow) = boundary_flows(
-            g,
-            &self.scene.gap,
-            self.ring_state.z,
-            self.case.u,
-            &self.state,
-        );
+        let flows = |u: f64| boundary_flows(g, &self.scene.gap, self.ring_state.z, u, &self.state);
+        // The stencil's flows (without the Couette flux when the old level carries it)
+        // balance the change; the film's own flows give the scale.
+        let (inflow, outflow) = flows(self.film_boundary().u);
+        let (scale_in, scale_out) = if self.scheme == TimeScheme::Characteristic {
+            flows(self.case.u)
+        } else {
+            (inflow, outflow)
+        };
         let defect = change - self.dt * (inflow - outflow);
-        defect.abs() / (self.dt * (inflow.abs() + outflow.abs())).max(f64::MIN_POSITIVE)
+        defect.abs() / (self.dt * (scale_in.abs() + scale_out.abs())).max(f64::MIN_POSITIVE)
     }
 
     /// The time-series row of the current state.
