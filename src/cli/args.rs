@@ -446,8 +446,9 @@ pub struct BenchArgs {
     #[arg(long, value_enum, default_value_t = Start::Paper)]
     pub start: Start,
     /// Coarse approach to the periodic regime: the mesh and time step the ring's transient
-    /// runs on before the tier's mesh takes over (e.g. 128x4@1.6e-3), or `off` [default: the
-    /// tier's: 128x4 at dt 1.6e-3, 512x8 at 4e-4 for paper]
+    /// runs on before the tier's mesh takes over (e.g. 120x4@3.3e-3), or `off` [default: the
+    /// tier's: 120x4 at its characteristic step 3.3e-3 for draft and fast, 128x4 at 1.6e-3
+    /// for fine, 512x8 at 4e-4 for paper]
     #[arg(long = "approach", value_name = "N1xN2@DT|off", value_parser = parse_approach)]
     pub approach: Option<ApproachArg>,
     /// Runs of each case: its row reports the shortest wall time and lists all (this VM's
@@ -527,9 +528,10 @@ pub struct SimulateArgs {
         default_value_t = 0.0
     )]
     pub phase: f64,
-    /// Fidelity tier: draft (384x8, dt 5.4e-4), fast (512x8, 4e-4), paper (512x32, 4e-4,
-    /// the paper's numerics) or fine (1024x16, 2e-4); errors in docs/validation.md. --mesh,
-    /// --dt and --time-scheme override its parts.
+    /// Fidelity tier: draft (400x8, characteristic, dt 1e-3), fast (700x8, characteristic,
+    /// 5.7e-4), paper (512x32, 4e-4, the paper's numerics) or fine (1024x16, BDF2, 2e-4);
+    /// errors in docs/validation.md. --mesh, --dt and --time-scheme override its parts (with
+    /// the characteristic scheme the step follows the mesh: 2·dx1/u).
     #[arg(long, value_enum, default_value_t = Fidelity::Fast)]
     pub fidelity: Fidelity,
     /// Mesh N1xN2: cells along x1 over 0.2 cm and along x2 over half a texture cell
@@ -538,8 +540,8 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
     pub mesh: Option<(usize, usize)>,
     /// Largest time step (units of L/U: ms at 10 m/s); the step used divides the texture
-    /// period exactly
-    /// [default: from --fidelity].
+    /// period exactly. The characteristic scheme needs dt ≤ 2·dx1/u
+    /// [default: from --fidelity; with the characteristic scheme 2·dx1/u of the mesh].
     #[arg(long, value_name = "DT", allow_hyphen_values = true)]
     pub dt: Option<f64>,
     /// Shear threshold θ_s of the Couette friction switch.
@@ -570,8 +572,9 @@ pub struct SimulateArgs {
     /// paper (Z = 2.5 µm at rest, docs/model.md §4). The periodic answer does not depend on it.
     #[arg(long, value_enum, default_value_t = Start::Equilibrium)]
     pub start: Start,
-    /// Time scheme of the film: bdf2 (second order) or backward-euler (first order)
-    /// [default: the tier's]
+    /// Time scheme of the film: characteristic (backward Euler along the Couette
+    /// characteristics, at dt ≤ 2·dx1/u), bdf2 (second order) or backward-euler (first
+    /// order) [default: the tier's]
     #[arg(long = "time-scheme", value_enum)]
     pub time_scheme: Option<TimeScheme>,
     /// March every window plainly (no Anderson acceleration of the approach to the periodic
@@ -579,10 +582,10 @@ pub struct SimulateArgs {
     #[arg(long = "no-accelerate")]
     pub no_accelerate: bool,
     /// Coarse approach to the periodic regime: run the ring's transient on a cheaper mesh and
-    /// time step first (e.g. 128x4@1.6e-3), then carry the state over to the full mesh and run
+    /// time step first (e.g. 120x4@3.3e-3), then carry the state over to the full mesh and run
     /// on to its own periodic regime (the answer is the full mesh's); `off` to run every step
-    /// on the full mesh. [default: the tier's: 128x4 at dt 1.6e-3,
-    /// 512x8 at 4e-4 for paper]
+    /// on the full mesh. [default: the tier's: 120x4 at its characteristic step 3.3e-3 for
+    /// draft and fast, 128x4 at 1.6e-3 for fine, 512x8 at 4e-4 for paper]
     #[arg(long = "approach", value_name = "N1xN2@DT|off", value_parser = parse_approach)]
     pub approach: Option<ApproachArg>,
     /// Accept pockets that break thin-film validity (10⁴·l < 5·depth).

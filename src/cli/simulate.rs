@@ -195,7 +195,7 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     if let Some(t) = case.texture.as_ref() {
         if unresolved_depth(t.depth, outcome.c_min) {
             eprintln!(
-                "note: pockets {} µm deep against a least clearance of {:.2} µm (more than {DEEP_POCKET_RATIO}×): their rims are narrower than the cells, and the tiers' errors grow to several % (20 µm on R = 3.2 at fast: f̄ +5 %, C_min −11 % against the converged answer; results/deep_pockets/, docs/validation.md); compare such designs by trends, not by differences of a few %",
+                "note: pockets {} µm deep against a least clearance of {:.2} µm (more than {DEEP_POCKET_RATIO}×): their rims are narrower than the cells, and the tiers' errors grow to several % (20 µm on R = 3.2 at fast: f̄ +2.8 %, C_min −6.3 % against the converged answer; with --mesh 600x24 within 1 %; results/speed/, docs/validation.md); compare such designs by trends, not by differences of a few %, or rerun them with more cells across",
                 t.depth, outcome.c_min
             );
         }

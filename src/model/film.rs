@@ -13,7 +13,9 @@
 //! Poiseuille flux centred with the face gap the mean of the two nodal gaps, backward Euler on
 //! φ with h at the new time level. Node (i, j) is stored at i·n2 + j. Every solver path
 //! (Newton residual and Jacobian, Z-derivative, upwind sweeps, mass checks, and the lab's
-//! solvers) evaluates the film through [`Column::balance`]: there is one stencil.
+//! solvers) evaluates the film through [`Column::balance`]: there is one stencil. The
+//! characteristic time scheme (time/characteristic.rs) uses it with u = 0 and the old level
+//! moved along the Couette characteristics, which then carry the Couette flux.
 
 /// Boundary data along x1 (docs/model.md §3).
 #[derive(Clone, Copy, Debug)]

@@ -8,22 +8,25 @@ use crate::model::case::CaseSpec;
 
 /// Named fidelity tiers the rest of the product asks for, chosen from the Pareto front of the
 /// speed-against-accuracy study (results/speed/; errors against the converged references of
-/// results/references/): the cell count along the sliding direction and the Courant number
-/// u·dt/Δx1 carry most of the error, the cells across (N2) less, so the tiers are
-/// anisotropic. All but `paper` step the film by BDF2 (docs/solver.md).
+/// results/references/): the cell count along the sliding direction and the time scheme carry
+/// most of the error, the cells across (N2) less, so the tiers are anisotropic. `draft` and
+/// `fast` step the film along the Couette characteristics at dt = 2·dx1/u, where the
+/// cavitated film's transport is exact (docs/solver.md, "Time scheme"); `fine` by BDF2.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Fidelity {
-    /// 384×8, dt = 5.4e-4: the optimiser's search (errors ≤ 1.7 %, ≈ 0.3–0.4 s a case; a
-    /// pocket needs only 2 cells across).
+    /// 400×8, characteristic, dt = 1e-3: the optimiser's search (errors ≤ 1.5 % in f̄ and
+    /// 0.63 % in C_min, ≈ 0.1–0.2 s a case; a pocket needs only 2 cells across).
     Draft,
-    /// 512×8, dt = 4e-4: studies, the optimiser and `simulate` (errors ≤ 1.3 % in f̄ and
-    /// 0.72 % in C_min on Case I, Case III and R = 51.2; ≈ 0.3–0.5 s a case).
+    /// 700×8, characteristic, dt = 5.7e-4: studies, the optimiser and `simulate` (errors
+    /// ≤ 0.9 % in f̄ and 0.22 % in C_min on Case I, Case III and R = 51.2; ≈ 0.4–0.7 s a
+    /// case).
     Fast,
     /// 512×32, dt = 4e-4, backward Euler: the paper's numerics (docs/model.md §3), for
     /// reproducing it (4 % off on the conformal R = 51.2, its time step's error).
     Paper,
-    /// 1024×16, dt = 2e-4: checks (errors ≤ 0.7 %).
+    /// 1024×16, dt = 2e-4, BDF2: checks (errors ≤ 0.7 %), by a scheme independent of the
+    /// characteristic tiers'.
     Fine,
 }
 
@@ -69,8 +72,8 @@ impl Fidelity {
     }
 
     /// The numerics of this tier (other settings at their defaults). The screening tiers
-    /// stop early: `fast` at a periodic tolerance of 1e-4 (the speed study: it moves f̄ by
-    /// < 1e-5 relative on Case I, far under its mesh error, and saves ≈ 30 % of the periods),
+    /// stop early: `fast` at a periodic tolerance of 1e-4 (the speed study: against 1e-5 it
+    /// moves f̄ by < 5e-5 relative, far under its mesh error, and saves 1–2 periods),
     /// `draft` at 1e-3 (its errors stay under 2 %, tests/fidelity.rs).
     pub fn numerics(self) -> Numerics {
         let (n1, n2, dt, periodic_tol, scheme, approach) = match self {
@@ -137,9 +140,9 @@ impl Fidelity {
     }
 }
 
-/// The coarse approach of the tiers but `paper`: the ring's transient from its start (the
+/// The coarse approach of the `fine` tier: the ring's transient from its start (the
 /// nonlinear part: the ring lifting or sinking by µm, the film flushed through the contact)
-/// on 128×4 cells at dt = 1.6e-3, 16 to 60 times cheaper a period than their meshes.
+/// on 128×4 cells at dt = 1.6e-3, 16 to 60 times cheaper a period than its mesh.
 pub const APPROACH: Approach = Approach {
     n1: 128,
     n2: 4,

@@ -5,13 +5,13 @@
 //! touching (l1 = 0.03: the plateau between neighbours narrows to a point) and with walls of
 //! 10 and 60 µm between them (l1 = 0.0295, 0.027). For each: the change of f̄ and C_min as
 //! the cells across double (N2 = 8 → 16 → 32 at 512 cells along and dt = 1e-4), and as the
-//! time step halves at the `fast` mesh (512×8, dt = 4e-4 → 2e-4 → 1e-4). BDF2, Anderson
-//! acceleration to 1e-6 after the tiers' coarse approach.
+//! time step halves on 512×8 (dt = 4e-4 → 2e-4 → 1e-4). The ring-frame BDF2, Anderson
+//! acceleration to 1e-6 after a coarse approach on 128×4 at dt = 1.6e-3.
 
 use std::fs;
 
 use texopt::model::case::{CaseSpec, Texture};
-use texopt::time::{simulate, Fidelity, Numerics, Outcome};
+use texopt::time::{simulate, Numerics, Outcome, TimeScheme, APPROACH};
 
 /// (label, l1 in cm, depth in µm).
 const POCKETS: [(&str, f64, f64); 7] = [
@@ -25,11 +25,15 @@ const POCKETS: [(&str, f64, f64); 7] = [
 ];
 
 fn run(case: &CaseSpec, n2: usize, dt: f64) -> Result<Outcome, String> {
+    // The ring's frame: 512 cells along, BDF2, after 128×4 at 1.6e-3.
     let num = Numerics {
+        n1: 512,
         n2,
         dt,
         periodic_tol: 1e-6,
-        ..Fidelity::Fast.numerics()
+        scheme: TimeScheme::Bdf2,
+        approach: Some(APPROACH),
+        ..Numerics::default()
     };
     simulate(case, &num)
         .map(|r| r.outcome)
@@ -43,7 +47,7 @@ fn pct(a: f64, b: f64) -> String {
 
 pub fn main(_args: &[String]) -> Result<(), String> {
     let mut md = String::from(
-        "# Deep pockets: what the error grows with\n\nReproduce: `texopt-lab deep-pockets` (≈ 10 min on one core). Case III's ring and lattice (R = 3.2, per = width = 0.06), circular pockets touching (2·l1 = per) or with a wall between neighbours, 5–30 µm deep. Changes in per cent of f̄ and C_min as the cells across double at 512 cells along and dt = 1e-4 (BDF2), and as the time step halves at the `fast` mesh 512×8. Periodic tolerance 1e-6 (lab/src/studies/deep_pockets.rs).\n\n| pockets | f̄ at 512×32, 1e-4 | N2 8→16: f̄, C_min | N2 16→32: f̄, C_min | dt 4e-4→2e-4: f̄, C_min | dt 2e-4→1e-4: f̄, C_min |\n|---|---|---|---|---|---|\n",
+        "# Deep pockets: what the error grows with\n\nReproduce: `texopt-lab deep-pockets` (≈ 10 min on one core). Case III's ring and lattice (R = 3.2, per = width = 0.06), circular pockets touching (2·l1 = per) or with a wall between neighbours, 5–30 µm deep. Changes in per cent of f̄ and C_min as the cells across double at 512 cells along and dt = 1e-4 (BDF2), and as the time step halves on 512×8 (the ring-frame BDF2; the characteristic scheme of the tiers: results/speed/). Periodic tolerance 1e-6 (lab/src/studies/deep_pockets.rs).\n\n| pockets | f̄ at 512×32, 1e-4 | N2 8→16: f̄, C_min | N2 16→32: f̄, C_min | dt 4e-4→2e-4: f̄, C_min | dt 2e-4→1e-4: f̄, C_min |\n|---|---|---|---|---|---|\n",
     );
     for (label, l1, depth) in POCKETS {
         let case = CaseSpec::paper(3.2).with_texture(Texture::circular(l1, 0.06, depth));
