@@ -1,5 +1,5 @@
 //! The coupled transient (docs/model.md §3–5): the film under the moving texture, the ring's
-//! dynamics and the friction, advanced one backward-Euler step at a time.
+//! dynamics and the friction, advanced one time step at a time (docs/solver.md, "Time scheme").
 
 use super::characteristic;
 use super::memory::{PeriodGuess, PlacedTexture, TextureShift};
