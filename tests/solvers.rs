@@ -305,8 +305,8 @@ fn fidelity_tiers_refine_along_the_sliding_direction_and_in_time() {
     assert!((p.dt - 4e-4).abs() < 1e-15);
 }
 
-/// Numerics of the acceleration tests: the draft mesh with BDF2, plain or accelerated (with
-/// the tiers' coarse approach), from `start`, to `tol`.
+/// Numerics of the acceleration tests: the draft tier's (400×8, the characteristic scheme),
+/// plain or accelerated (with a coarse approach on 128×4 at 1.6e-3), from `start`, to `tol`.
 fn draft_run(case: &CaseSpec, accelerate: bool, start: Start, tol: f64) -> Outcome {
     let num = Numerics {
         accelerate,
