@@ -4,7 +4,7 @@
 # (results/speed/speed.{md,csv,png}): errors against the converged references
 # (results/references/, studies/references.sh), wall time from the paper's start on one core.
 # Every run is the `fast` tier's numerics with the row's mesh and step and the changes named.
-# ≈ 5 min on one core; time it on an otherwise idle machine.
+# ≈ 1.5 min on one core; time it on an otherwise idle machine.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release -p texopt-lab

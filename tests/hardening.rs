@@ -59,7 +59,7 @@ fn write_study(dir: &Path, parameters: &str, numerics: &str) -> std::path::PathB
 #[test]
 fn memory_is_estimated_and_bounded_before_anything_is_allocated() {
     refused(&["--mesh", "100000x100000"], "--max-memory");
-    // The tier raises N2 so that a pocket in a 100 cm wide cell spans 2 cells: 384×5000.
+    // The tier raises N2 so that a pocket in a 100 cm wide cell spans 2 cells: 400×5000.
     refused(&["--width", "100"], "--max-memory");
     // A count whose product overflows is over the limit, not a panic.
     refused(&["--mesh", "18446744073709551615x8"], "--max-memory");
@@ -312,6 +312,14 @@ fn messages_are_short_and_name_the_flag() {
     assert_eq!(code, 2, "{err}");
     assert!(
         err.contains("--R = inf") && !err.contains("designs at"),
+        "{err}"
+    );
+    // A step the fast tier's characteristic scheme cannot take (dt > 2·dx1/u on 700 cells) is
+    // refused before any search, not when the confirmation reaches it.
+    let (code, _, err) = texopt(&["optimise", "--R", "5", "--dt", "6e-4"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--dt") && err.contains("one cell") && !err.contains("designs at"),
         "{err}"
     );
     // A failing --json run answers with a JSON object.

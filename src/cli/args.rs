@@ -555,8 +555,8 @@ pub struct SimulateArgs {
     #[command(flatten)]
     pub operating: OperatingArgs,
     /// Relative tolerance of the periodic-regime test (estimated distance of the period-mean
-    /// friction and Z from their periodic limits) [default: the tier's: 1e-4 for draft and
-    /// fast, 1e-5 for paper and fine, as studies use them]
+    /// friction and Z from their periodic limits) [default: the tier's: 1e-3 for draft, 1e-4
+    /// for fast, 1e-5 for paper and fine, as studies use them]
     #[arg(long = "periodic-tol", value_name = "TOL", allow_hyphen_values = true)]
     pub periodic_tol: Option<f64>,
     /// Give up after this much simulated time (units of L/U: ms at 10 m/s) and report
@@ -574,7 +574,8 @@ pub struct SimulateArgs {
     pub start: Start,
     /// Time scheme of the film: characteristic (backward Euler along the Couette
     /// characteristics, at dt ≤ 2·dx1/u), bdf2 (second order) or backward-euler (first
-    /// order) [default: the tier's]
+    /// order), the last two in the ring's frame, where draft's and fast's step becomes dx1/u
+    /// unless --dt is given [default: the tier's]
     #[arg(long = "time-scheme", value_enum)]
     pub time_scheme: Option<TimeScheme>,
     /// March every window plainly (no Anderson acceleration of the approach to the periodic

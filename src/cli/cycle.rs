@@ -5,11 +5,11 @@
 use std::path::{Path, PathBuf};
 
 use super::args::{CycleArgs, CycleDesign};
-use super::optimise::{overrides, space_error, SpaceKeys};
+use super::optimise::{check_design_space, overrides, space_error, SpaceKeys};
 use super::{directory_can_be_made, install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::engine::Engine;
 use crate::model::operating::Validity;
-use crate::optimise::cycle::{design_all, evaluate_liners, CycleSettings};
+use crate::optimise::cycle::{design_all, evaluate_liners, points, CycleSettings};
 use crate::optimise::cycle_report::{assemble, table, write};
 use crate::optimise::search::SwarmSettings;
 use crate::optimise::space::Space;
@@ -17,6 +17,17 @@ use crate::time::Fidelity;
 
 pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     let s = settings(a)?;
+    // The design space on the first point inside the model (u = 1 and the ring's width in
+    // every scaled case: one case stands for all).
+    if let Some(p) = points(&s, s.step_deg).iter().find(|p| p.excluded.is_none()) {
+        check_design_space(
+            &p.base,
+            &s.space,
+            [s.search_fidelity, s.report_fidelity],
+            &s.overrides,
+            &s.limits,
+        )?;
+    }
     let cache = open_cache(a.cache.as_deref())?;
     install_ctrl_c();
     let cache = std::sync::Mutex::new(cache);

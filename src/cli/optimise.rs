@@ -16,7 +16,7 @@ use crate::optimise::search::SwarmSettings;
 use crate::optimise::space::{Bounds, Constraints, Space};
 use crate::snapshot::{run_recorded, write_all, Context, Request};
 use crate::study::NumericsOverride;
-use crate::time::{short, steps_per_period, Fidelity, RunOptions, MIN_STEPS_PER_PERIOD};
+use crate::time::{short, steps_per_period, Fidelity, Limits, RunOptions, MIN_STEPS_PER_PERIOD};
 
 pub(super) fn run(a: &OptimiseArgs) -> Result<i32, CmdError> {
     let file = config(a)?;
@@ -248,18 +248,42 @@ fn settings(a: &OptimiseArgs, file: &OptimiseFile, r: f64) -> Result<Settings, C
 /// pockets: the tiers raise N2 to resolve them): each corner's run at either tier must stay
 /// within the run limits, or the search is refused before it starts.
 fn check_corners(s: &Settings) -> Result<(), CmdError> {
-    let n = s.space.dim();
+    check_design_space(
+        &s.base,
+        &s.space,
+        [s.search_fidelity, s.report_fidelity],
+        &s.overrides,
+        &s.limits,
+    )
+}
+
+/// Every corner of the design space on `base`, at each fidelity with the overrides: within
+/// the run limits and valid numerics (a `--dt` above the characteristic step 2·dx1/u of a
+/// tier's mesh, a `--mesh` too coarse for a corner's pockets), checked before any search.
+pub(super) fn check_design_space(
+    base: &CaseSpec,
+    space: &Space,
+    fidelities: [Fidelity; 2],
+    overrides: &NumericsOverride,
+    limits: &Limits,
+) -> Result<(), CmdError> {
+    let n = space.dim();
     for corner in 0..(1usize << n) {
         let u: Vec<f64> = (0..n).map(|k| ((corner >> k) & 1) as f64).collect();
         let case = CaseSpec {
-            texture: Some(s.space.decode(&u)),
-            ..s.base.clone()
+            texture: Some(space.decode(&u)),
+            ..base.clone()
         };
-        for fidelity in [s.search_fidelity, s.report_fidelity] {
-            let num = crate::study::numerics_for(&case, fidelity, &s.overrides);
-            if let Err(e) = crate::time::limits::check(&case, &num, &s.limits) {
+        for fidelity in fidelities {
+            let num = crate::study::numerics_for(&case, fidelity, overrides);
+            // Over the run limits the bounds are the fix; invalid numerics say their own.
+            let checked = match crate::time::limits::check(&case, &num, limits) {
+                Err(e) => Err((e, "; narrow the bounds")),
+                Ok(()) => num.validate(&case).map_err(|e| (e, "")),
+            };
+            if let Err((e, fix)) = checked {
                 return Err(CmdError::Input(format!(
-                    "the design space reaches {} (at fidelity {}): {}; narrow the bounds",
+                    "the design space reaches {} (at fidelity {}): {}{fix}",
                     case.label(),
                     fidelity.name(),
                     input_message(&e, flag)

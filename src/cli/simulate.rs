@@ -69,7 +69,12 @@ fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
         ..Numerics::default()
     };
     if a.dt.is_none() {
-        // The tier's step follows the mesh and scheme asked for (a step given is validated).
+        // The tier's step follows the mesh and scheme asked for (a step given is validated):
+        // a ring-frame scheme asked of a characteristic tier takes the texture one cell a step
+        // (dx1/u, Courant number 1), not the characteristic step's two.
+        if num.scheme != tier.scheme && tier.scheme == TimeScheme::Characteristic {
+            num.dt = 0.5 * num.characteristic_dt(&case);
+        }
         num.fit_characteristic_step(&case);
         num.fit_step_to_period(&case);
     }

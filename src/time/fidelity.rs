@@ -93,9 +93,9 @@ impl Fidelity {
                 TimeScheme::Characteristic,
                 CHARACTERISTIC_APPROACH,
             ),
-            // The paper's own scheme (docs/model.md §3). Its approach is the fast mesh: the
-            // 512×32 windows dominate, and they start nearer their regime from 512×8
-            // (Case III from the paper's start: 4.3 s, against 7.0 s after 128×4).
+            // The paper's own scheme (docs/model.md §3). Its approach is 512×8 at its own
+            // step: the 512×32 windows dominate, and they start nearer their regime from
+            // 512×8 (Case III from the paper's start: 4.3 s, against 7.0 s after 128×4).
             Fidelity::Paper => (
                 512,
                 32,
@@ -142,7 +142,7 @@ impl Fidelity {
 
 /// The coarse approach of the `fine` tier: the ring's transient from its start (the
 /// nonlinear part: the ring lifting or sinking by µm, the film flushed through the contact)
-/// on 128×4 cells at dt = 1.6e-3, 16 to 60 times cheaper a period than its mesh.
+/// on 128×4 cells at dt = 1.6e-3, ≈ 250 times fewer cell-steps a period than its mesh.
 pub const APPROACH: Approach = Approach {
     n1: 128,
     n2: 4,
@@ -150,9 +150,12 @@ pub const APPROACH: Approach = Approach {
 };
 
 /// The coarse approach of the characteristic tiers: the ring's transient on 120×4 cells at
-/// their own characteristic step, 2·dx1/u = 3.3e-3 (measured on the four reference cases at
-/// `fast` from the paper's start: 0.37–0.70 s, against 0.42–0.71 s after 128×4 at 1.6e-3,
-/// whose step interpolates the characteristics' feet, and 0.70–0.95 s without an approach).
+/// their own characteristic step, 2·dx1/u = 3.3e-3 at u = 1 (a slower liner takes the same
+/// step, below its own characteristic one). Measured on Case I, Case III and R = 51.2 at
+/// `fast` from the paper's start (results/speed/): 0.37–0.67 s, against 0.40–0.69 s after
+/// 128×4 at 1.6e-3, whose step interpolates the characteristics' feet, and 0.65–0.92 s
+/// without an approach (R = 51.2, whose creep the coarse mesh does not shorten, alone is as
+/// quick without: 0.65 s against 0.67 s).
 pub const CHARACTERISTIC_APPROACH: Approach = Approach {
     n1: 120,
     n2: 4,

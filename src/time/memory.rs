@@ -64,7 +64,8 @@ impl PlacedTexture {
 
 /// Initial guesses for the film iteration from one texture period earlier.
 ///
-/// Why: the texture moves about one cell per step, so the previous time level's active set
+/// Why: the texture moves one or two cells per step (the ring-frame schemes, the
+/// characteristic step), so the previous time level's active set
 /// is wrong along every pocket edge (≈ 20–90 nodes switch in the first Newton iteration of
 /// a step), while the state one period earlier has the texture in the same place and
 /// differs only by the ring's drift over the period. Near the periodic regime the iteration

@@ -34,9 +34,9 @@ pub const MASS_TOL: f64 = 1e-6;
 /// regime halving over the last half of them, before it goes on with backward Euler.
 /// Why: at a Courant number u·dt/Δx1 near 1, BDF2 can settle into a slow spurious oscillation
 /// where backward Euler's damping finds the periodic regime (R = 1.6, pockets 0.005 / 0.01 /
-/// 10 µm at `fast`: f̄ swinging between 0.181 and 0.209 with a period of 2.4 ms, where backward
-/// Euler settles at 0.151 in 102 periods and both schemes at dt = 1e-4 agree on 0.158); 27 of
-/// the paper study's 730 cases did so, most with 20–30 µm pockets on R ≥ 25.6. Every benchmark case settles within 12 windows, a
+/// 10 µm on 384×8 at dt = 5.4e-4: f̄ swinging between 0.181 and 0.209 with a period of 2.4 ms,
+/// where backward Euler settles at 0.151 in 102 periods and both schemes at dt = 1e-4 agree on
+/// 0.158; tests/time_scheme.rs). Every benchmark case settles within 12 windows, a
 /// conformal ring's creep within 20; a run whose distance stalls after 30 (a spurious
 /// oscillation, or a draining oil bank, which takes ≈ 220) finishes with backward Euler, at
 /// its first-order accuracy, and says so (`Outcome::scheme`). A run still settling goes on:
