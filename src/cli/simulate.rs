@@ -73,7 +73,7 @@ fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
         // a ring-frame scheme asked of a characteristic tier takes the texture one cell a step
         // (dx1/u, Courant number 1), not the characteristic step's two.
         if num.scheme != tier.scheme && tier.scheme == TimeScheme::Characteristic {
-            num.dt = 0.5 * num.characteristic_dt(&case);
+            num.dt = num.cell_crossing_dt(&case);
         }
         num.fit_characteristic_step(&case);
         num.fit_step_to_period(&case);

@@ -146,18 +146,25 @@ pub fn short(x: f64) -> String {
 pub const APPROACH_TOL: f64 = 1e-3;
 
 impl Numerics {
-    /// The step at which the characteristic scheme moves the film content exactly one cell,
-    /// 2·dx1/u, on this mesh for this case (infinite for a liner at rest).
-    pub fn characteristic_dt(&self, case: &CaseSpec) -> f64 {
-        2.0 * case.contact().length_cm / self.n1 as f64 / case.u
+    /// The step in which the liner moves one cell, dx1/u, on this mesh for this case
+    /// (infinite for a liner at rest).
+    pub fn cell_crossing_dt(&self, case: &CaseSpec) -> f64 {
+        case.contact().length_cm / self.n1 as f64 / case.u
+    }
+
+    /// With the characteristic scheme and a moving liner, the step at which the film content
+    /// moves exactly one cell, 2·dx1/u: the scheme's step and its largest.
+    pub fn characteristic_dt(&self, case: &CaseSpec) -> Option<f64> {
+        (self.scheme == TimeScheme::Characteristic && case.u > 0.0)
+            .then(|| 2.0 * self.cell_crossing_dt(case))
     }
 
     /// With the characteristic scheme, the step is the mesh's: 2·dx1/u (then fitted to
     /// divide the texture period, which only lowers it). A step given explicitly is
     /// checked by [`Self::validate`] instead.
     pub fn fit_characteristic_step(&mut self, case: &CaseSpec) {
-        if self.scheme == TimeScheme::Characteristic && case.u > 0.0 {
-            self.dt = self.characteristic_dt(case);
+        if let Some(dt) = self.characteristic_dt(case) {
+            self.dt = dt;
         }
     }
 
@@ -222,8 +229,8 @@ impl Numerics {
             ..self.clone()
         };
         coarse.resolve_pockets(case, 2.0);
-        if coarse.scheme == TimeScheme::Characteristic && case.u > 0.0 {
-            coarse.dt = coarse.dt.min(coarse.characteristic_dt(case));
+        if let Some(dt) = coarse.characteristic_dt(case) {
+            coarse.dt = coarse.dt.min(dt);
         }
         let cheaper = coarse.n1 < self.n1 || coarse.n2 < self.n2 || coarse.dt > self.dt;
         // The approach is exempt from the steps a period: it only carries the ring's transient
@@ -301,8 +308,7 @@ impl Numerics {
                 }
             }
         }
-        if self.scheme == TimeScheme::Characteristic && case.u > 0.0 {
-            let limit = self.characteristic_dt(case);
+        if let Some(limit) = self.characteristic_dt(case) {
             if self.dt > limit * MAX_COURANT {
                 return Err(bad(
                     "dt",
