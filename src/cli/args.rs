@@ -529,14 +529,14 @@ pub struct SimulateArgs {
     )]
     pub phase: f64,
     /// Fidelity tier: draft (400x8, characteristic, dt 1e-3), fast (700x8, characteristic,
-    /// 5.7e-4), paper (512x32, 4e-4, the paper's numerics) or fine (1024x16, BDF2, 2e-4);
-    /// errors in docs/validation.md. --mesh, --dt and --time-scheme override its parts (with
+    /// 5.7e-4; pockets deeper than 6×C_min go on on 600x24), paper (512x32, 4e-4, the paper's
+    /// numerics) or fine (1024x16, BDF2, 2e-4); errors in docs/validation.md. --mesh, --dt and --time-scheme override its parts (with
     /// the characteristic scheme the step follows the mesh: 2·dx1/u).
     #[arg(long, value_enum, default_value_t = Fidelity::Fast)]
     pub fidelity: Fidelity,
-    /// Mesh N1xN2: cells along x1 over 0.2 cm and along x2 over half a texture cell
-    /// [default: from --fidelity, N2 raised where a pocket would span fewer than 4 cells
-    /// across (2 at draft), as in studies].
+    /// Mesh N1xN2: cells along x1 over 0.2 cm and along x2 over half a texture cell; the
+    /// run stays on it (no deep-pocket mesh) [default: from --fidelity, N2 raised where a
+    /// pocket would span fewer than 4 cells across (2 at draft), as in studies].
     #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
     pub mesh: Option<(usize, usize)>,
     /// Largest time step (units of L/U: ms at 10 m/s); the step used divides the texture

@@ -7,7 +7,7 @@ use crate::model::case::{bad, CaseSpec, InputError, Texture};
 use crate::model::operating::{Operating, Physical};
 use crate::time::{
     simulate_with, unresolved_depth, Numerics, Outcome, Progress, RunOptions, RunResult, SeriesRow,
-    TimeScheme, Watch, DEEP_POCKET_RATIO,
+    TimeScheme, Watch, DEEP_POCKET_RATIO, RESOLVED_DEEP_RATIO,
 };
 
 /// The case and numerics named by the flags, validated (errors name the flags).
@@ -66,6 +66,8 @@ fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
         accelerate: !a.no_accelerate,
         approach: a.approach.map_or(tier.approach, |x| x.0),
         scheme: a.time_scheme.unwrap_or(tier.scheme),
+        // A mesh given is the mesh the answer is on.
+        deep: if a.mesh.is_some() { None } else { tier.deep },
         ..Numerics::default()
     };
     if a.dt.is_none() {
@@ -90,6 +92,33 @@ fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
 const CONFORMAL_R_CM: f64 = 10.0;
 /// The backward-Euler step that keeps R = 51.2 within ≈ 0.7 % of its dt-converged answer.
 const CONFORMAL_DT: f64 = 1e-4;
+
+/// What a user should know of pockets far deeper than the film (docs/validation.md): the run
+/// did not go on on the deep-pocket mesh (another tier, or `--mesh`), or did, but deeper
+/// than that mesh is shown to resolve.
+fn deep_pocket_note(depth: f64, o: &Outcome) {
+    let ratio = depth / o.c_min;
+    if o.deep_unsettled {
+        eprintln!(
+            "note: pockets {depth} µm deep against a least clearance of {:.2} µm (more than {DEEP_POCKET_RATIO}×): the run went on on the deep-pocket mesh, which did not reach its periodic regime within its allowance, so the answer is the run's own mesh's, whose error with pockets this deep is several % (docs/solver.md, \"Deep pockets\"); --mesh 600x24 with a larger --t-max runs that mesh alone",
+            o.c_min
+        );
+    } else if o.deep_mesh.is_none() && unresolved_depth(depth, o.c_min) {
+        eprintln!(
+            "note: pockets {depth} µm deep against a least clearance of {:.2} µm (more than {DEEP_POCKET_RATIO}×): their rims are narrower than the cells, and the error grows to several % (20 µm on R = 3.2 on 700x8: f̄ +2.8 %, C_min −6.3 % against the converged answer; on 600x24 within 1 %; docs/validation.md); --fidelity fast without --mesh goes on on 600x24 by itself",
+            o.c_min
+        );
+    } else if o.deep_mesh.is_some() && ratio > RESOLVED_DEEP_RATIO {
+        eprintln!(
+            "note: pockets {depth} µm deep against a least clearance of {:.2} µm ({ratio:.0}×): the deep-pocket mesh is shown within 1 % up to {RESOLVED_DEEP_RATIO}×; deeper, its answer is nearer than 8 cells across give but can still be several % off, more with small pockets (docs/validation.md): compare such designs by trends, not by differences of a few %",
+            o.c_min
+        );
+    }
+}
+
+fn mesh_name((n1, n2): (usize, usize)) -> String {
+    format!("{n1}x{n2}")
+}
 
 pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     let (case, num) = case_from_args(a).map_err(CmdError::Input)?;
@@ -183,7 +212,7 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     let outside = validity.outside(&case, outcome.c_min);
     if a.json {
         let report = serde_json::json!({
-            "inputs": { "case": case, "numerics": num, "mesh": format!("{}x{}", num.n1, num.n2),
+            "inputs": { "case": case, "numerics": num, "mesh": mesh_name(outcome.mesh((num.n1, num.n2))),
                         "operating": op, "roughness_um": validity.roughness_um },
             "physical": physical,
             "outside_model": outside,
@@ -198,12 +227,7 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
         print_physical(&op, &physical, outside.as_deref());
     }
     if let Some(t) = case.texture.as_ref() {
-        if unresolved_depth(t.depth, outcome.c_min) {
-            eprintln!(
-                "note: pockets {} µm deep against a least clearance of {:.2} µm (more than {DEEP_POCKET_RATIO}×): their rims are narrower than the cells, and the tiers' errors grow to several % (20 µm on R = 3.2 at fast: f̄ +2.8 %, C_min −6.3 % against the converged answer; with --mesh 600x24 within 1 %; results/speed/, docs/validation.md); compare such designs by trends, not by differences of a few %, or rerun them with more cells across",
-                t.depth, outcome.c_min
-            );
-        }
+        deep_pocket_note(t.depth, &outcome);
     }
     // The series is written after the result is printed: a full disk loses the file, not
     // the answer.
@@ -307,10 +331,11 @@ fn print_summary(case: &CaseSpec, num: &Numerics, o: &Outcome, ms_per_t: f64) {
     if o.method == "steady-1d" {
         println!("  steady 1D force balance on {} cells", num.n1);
     } else {
+        let (n1, n2) = o.mesh((num.n1, num.n2));
         println!(
             "  transient on {}x{} cells, dt = {:.4e} ms: {} periods, {} steps, t = {:.3} ms; periodic regime {} (est. error {:.1e})",
-            num.n1,
-            num.n2,
+            n1,
+            n2,
             o.dt * ms_per_t,
             o.periods,
             o.steps,
@@ -318,7 +343,12 @@ fn print_summary(case: &CaseSpec, num: &Numerics, o: &Outcome, ms_per_t: f64) {
             if o.converged { "reached" } else { "NOT reached" },
             o.periodic_error
         );
-        if let (true, Some(coarse)) = (o.approach_steps > 0, num.approach_numerics(case)) {
+        if o.deep_mesh.is_some() {
+            println!(
+                "  (the pockets ended deeper than {DEEP_POCKET_RATIO}× C_min on {}x{} cells, which do not resolve their rims: the run went on on {n1}x{n2}, the deep-pocket mesh, from there; the first {} steps were on the coarser meshes)",
+                num.n1, num.n2, o.approach_steps
+            );
+        } else if let (true, Some(coarse)) = (o.approach_steps > 0, num.approach_numerics(case)) {
             println!(
                 "  (the first {} steps on {}x{} cells at dt = {:.4e}, the coarse approach: the outcomes are those of the full mesh; --approach off to run every step on it)",
                 o.approach_steps, coarse.n1, coarse.n2, coarse.dt * ms_per_t

@@ -120,6 +120,8 @@ struct KeyNumerics {
     approach: Option<Approach>,
     #[serde(skip_serializing_if = "TimeScheme::is_backward_euler")]
     scheme: TimeScheme,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    deep: Option<Approach>,
 }
 
 impl KeyNumerics {
@@ -136,6 +138,7 @@ impl KeyNumerics {
             accelerate,
             approach,
             scheme,
+            deep,
         } = n.clone();
         KeyNumerics {
             n1,
@@ -151,6 +154,7 @@ impl KeyNumerics {
             accelerate,
             approach,
             scheme,
+            deep,
         }
     }
 }

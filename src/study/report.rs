@@ -352,9 +352,13 @@ fn csv_rows(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {
             format!("{}", c.mass),
             format!("{}", c.e),
             study.fidelity.name().to_string(),
-            format!("{}", n.n1),
-            format!("{}", n.n2),
-            format!("{}", n.dt),
+            // The mesh and step of the answer (the deep-pocket mesh where the run went on).
+            format!("{}", o.map_or(n.n1, |o| o.mesh((n.n1, n.n2)).0)),
+            format!("{}", o.map_or(n.n2, |o| o.mesh((n.n1, n.n2)).1)),
+            format!(
+                "{}",
+                o.filter(|o| o.deep_mesh.is_some()).map_or(n.dt, |o| o.dt)
+            ),
             match (o, r.reason) {
                 (Some(_), _) => "done".into(),
                 (None, Some(_)) => "failed".into(),

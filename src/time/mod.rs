@@ -20,7 +20,8 @@ mod transient;
 mod tests;
 
 pub use fidelity::{
-    unresolved_depth, Fidelity, APPROACH, CHARACTERISTIC_APPROACH, DEEP_POCKET_RATIO, POCKET_CELLS,
+    unresolved_depth, Fidelity, APPROACH, CHARACTERISTIC_APPROACH, DEEP_MESH, DEEP_POCKET_RATIO,
+    POCKET_CELLS, RESOLVED_DEEP_RATIO,
 };
 pub use limits::Limits;
 pub use numerics::{

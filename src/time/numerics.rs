@@ -47,6 +47,13 @@ pub struct Numerics {
     /// Euler, so cache keys of runs with it do not carry it.
     #[serde(default, skip_serializing_if = "TimeScheme::is_backward_euler")]
     pub scheme: TimeScheme,
+    /// Deep pockets (docs/solver.md, "Deep pockets"): a run that reaches its periodic regime
+    /// with pockets deeper than [`super::DEEP_POCKET_RATIO`]·C_min goes on from there on this
+    /// mesh (more cells across than the run's own) and its step, to that mesh's periodic
+    /// regime, and reports its answer. None: off. Not serialised when off, so cache keys of
+    /// runs without it do not carry it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub deep: Option<Approach>,
 }
 
 /// The mesh and time step of a coarse approach (see [`Numerics::approach`]).
@@ -113,6 +120,7 @@ impl Default for Numerics {
             accelerate: true,
             approach: None,
             scheme: TimeScheme::BackwardEuler,
+            deep: None,
         }
     }
 }
@@ -225,6 +233,7 @@ impl Numerics {
             dt: a.dt.max(self.dt),
             periodic_tol: APPROACH_TOL.max(self.periodic_tol),
             approach: None,
+            deep: None,
             solver: Method::Direct,
             ..self.clone()
         };
@@ -238,6 +247,28 @@ impl Numerics {
         // take 4 of its steps).
         let valid = coarse.check(case, false).is_ok();
         (cheaper && coarse.n2 <= self.n2 && valid).then_some(coarse)
+    }
+
+    /// The numerics a run on these goes on with where its pockets end deeper than the mesh
+    /// resolves ([`Numerics::deep`]): that mesh (N1 scaled with the ring as the run's own)
+    /// and step (the characteristic one where the scheme is), the rest the run's. None
+    /// without a texture, or where that mesh has no more cells across than the run's.
+    pub fn deep_numerics(&self, case: &CaseSpec) -> Option<Numerics> {
+        case.texture.as_ref()?;
+        let d = self.deep?;
+        let mut deep = Numerics {
+            n1: d.n1,
+            n2: d.n2,
+            dt: d.dt,
+            approach: None,
+            deep: None,
+            ..self.clone()
+        };
+        deep.fit_mesh_to_ring(case);
+        deep.fit_characteristic_step(case);
+        deep.fit_step_to_period(case);
+        let valid = deep.validate(case).is_ok();
+        (deep.n2 > self.n2 && valid).then_some(deep)
     }
 
     /// Checks the numerics against the case (cells across pockets, time step, guards).
@@ -415,5 +446,37 @@ mod tests {
             ..Numerics::default()
         };
         assert_eq!(coarse.approach_numerics(&CaseSpec::paper(3.2)), None);
+    }
+
+    #[test]
+    fn deep_pockets_go_on_on_more_rows_at_the_mesh_s_characteristic_step() {
+        let deep = CaseSpec::paper(3.2).with_texture(Texture::circular(0.03, 0.06, 20.0));
+        let num = Fidelity::Fast.numerics_for(&deep);
+        let d = num
+            .deep_numerics(&deep)
+            .expect("fast resolves deep pockets");
+        assert_eq!((d.n1, d.n2), (600, 24));
+        assert_eq!(d.dt, 2.0 * 0.2 / 600.0);
+        assert_eq!((d.approach, d.deep), (None, None));
+        assert_eq!(d.periodic_tol, num.periodic_tol);
+        // A wider ring scales N1 as the run's own mesh.
+        let wide = CaseSpec {
+            ring_width: 2.0 * deep.ring_width,
+            ..deep.clone()
+        };
+        let w = Fidelity::Fast.numerics_for(&wide);
+        assert_eq!(
+            w.deep_numerics(&wide).map(|d| (d.n1, d.n2)),
+            Some((1200, 24))
+        );
+        // None for an untextured liner, for a run already as fine across, or for a tier
+        // without it.
+        assert_eq!(num.deep_numerics(&CaseSpec::paper(3.2)), None);
+        let across = Numerics { n2: 24, ..num };
+        assert_eq!(across.deep_numerics(&deep), None);
+        assert_eq!(
+            Fidelity::Draft.numerics_for(&deep).deep_numerics(&deep),
+            None
+        );
     }
 }

@@ -51,6 +51,27 @@ pub struct Outcome {
     /// made before BDF2 existed, and for steady solves.
     #[serde(default, skip_serializing_if = "TimeScheme::is_backward_euler")]
     pub scheme: TimeScheme,
+    /// The mesh (N1, N2) and step the answer is on where it is not the numerics' own: a run
+    /// whose pockets ended deeper than its mesh resolves and went on on the deep-pocket mesh
+    /// ([`super::Numerics::deep`]). Absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub deep_mesh: Option<(usize, usize)>,
+    /// The run went on on the deep-pocket mesh, which did not reach its periodic regime within
+    /// its allowance: the answer is the run's own mesh's. Absent otherwise.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub deep_unsettled: bool,
+}
+
+impl Outcome {
+    /// The mesh (N1, N2) the answer is on: the deep-pocket mesh where the run went on on it,
+    /// else the numerics' `own`.
+    pub fn mesh(&self, own: (usize, usize)) -> (usize, usize) {
+        self.deep_mesh.unwrap_or(own)
+    }
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 fn is_zero(n: &usize) -> bool {

@@ -187,6 +187,8 @@ pub fn steady_outcome(case: &CaseSpec, n1: usize) -> Result<RunResult, SolveErro
         wall_time_s: start.elapsed().as_secs_f64(),
         approach_steps: 0,
         scheme: TimeScheme::BackwardEuler,
+        deep_mesh: None,
+        deep_unsettled: false,
     };
     Ok(RunResult {
         outcome,

@@ -4,7 +4,7 @@
 use super::characteristic;
 use super::memory::{PeriodGuess, PlacedTexture, TextureShift};
 use super::numerics::{Numerics, Start, TimeScheme};
-use super::outcome::{SeriesRow, SolveError};
+use super::outcome::{Outcome, SeriesRow, SolveError};
 use super::steady::{solve_untextured, Steady};
 use crate::mesh::integrals::{boundary_flows, friction_thresholds};
 use crate::mesh::{FilmState, Scene};
@@ -111,6 +111,17 @@ pub struct ApproachDone {
     pub steps: usize,
     pub periods: usize,
     pub wall_time_s: f64,
+}
+
+impl ApproachDone {
+    /// The whole of a finished run, as the part before a continuation on a finer mesh.
+    pub fn of(o: &Outcome) -> Self {
+        ApproachDone {
+            steps: o.steps,
+            periods: o.periods,
+            wall_time_s: o.wall_time_s,
+        }
+    }
 }
 
 impl Transient {

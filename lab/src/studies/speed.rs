@@ -6,7 +6,7 @@
 //! `run CASE N1xN2 DT [KEY=VALUE …]` appends one run to results/speed/runs.jsonl: the `fast`
 //! tier's numerics with that mesh and step (`c` for the characteristic step 2·dx1/u of the
 //! mesh), changed by `tol=` (periodic tolerance), `scheme=be|bdf2|char`,
-//! `approach=off|N1xN2@DT`, `accelerate=no`, `solver=NAME`. `report`
+//! `approach=off|N1xN2@DT`, `accelerate=no`, `deep=off` (no deep-pocket mesh), `solver=NAME`. `report`
 //! writes results/speed/speed.{md,csv,png}: every setting with its errors and time, the
 //! Pareto-optimal ones (no other setting both faster and more accurate) marked, the tiers
 //! named.
@@ -48,7 +48,7 @@ fn run(args: &[String]) -> Result<(), String> {
     };
     for o in options {
         let bad = || {
-            format!("option {o}: tol=X | scheme=be|bdf2|char | approach=off|N1xN2@DT | accelerate=no | solver=NAME")
+            format!("option {o}: tol=X | scheme=be|bdf2|char | approach=off|N1xN2@DT | accelerate=no | deep=off | solver=NAME")
         };
         let (k, v) = o.split_once('=').ok_or_else(bad)?;
         match (k, v) {
@@ -59,6 +59,7 @@ fn run(args: &[String]) -> Result<(), String> {
             ("approach", "off") => num.approach = None,
             ("approach", v) => num.approach = Some(parse_approach(v)?),
             ("accelerate", "no") => num.accelerate = false,
+            ("deep", "off") => num.deep = None,
             ("solver", v) => solver = Solver::parse(v)?,
             _ => return Err(bad()),
         }
@@ -105,6 +106,7 @@ fn tier_name(r: &Run) -> Option<&'static str> {
                     t.approach,
                     t.scheme,
                     t.accelerate,
+                    t.deep,
                 ) == (
                     n.n1,
                     n.n2,
@@ -113,6 +115,7 @@ fn tier_name(r: &Run) -> Option<&'static str> {
                     n.approach,
                     n.scheme,
                     n.accelerate,
+                    n.deep,
                 )
         })
         .map(Fidelity::name)
@@ -142,6 +145,9 @@ fn setting(r: &Run) -> String {
     if !n.accelerate {
         s += ", plain march";
     }
+    if let Some((n1, n2)) = r.outcome.deep_mesh {
+        s += &format!(", then {n1}×{n2} (deep pockets)");
+    }
     if r.solver != Solver::Direct {
         s += &format!(", {}", r.solver.name());
     }
@@ -153,7 +159,7 @@ fn report() -> Result<(), String> {
     let mut csv = String::from(
         "case,setting,tier,n1,n2,dt,f_mean,c_min,err_f,err_c,wall_s,steps,periods,pareto\n",
     );
-    let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh` (the runs, ≈ 1.5 min on one core), then `texopt-lab speed report`. Errors: signed, relative to each case's converged reference (results/references/); `error` = the larger of |f̄| and |C_min|'s. Wall time: one core of the 2-core machine, from the paper's initial state to the detected periodic regime, coarse approach included. Every run is the `fast` tier's numerics (the characteristic scheme, Anderson acceleration, the coarse approach on 120×4 at its characteristic step 3.3e-3, periodic tolerance 1e-4) with the mesh and step of its row and what else the row says. ★ = Pareto-optimal in error and time; tier names mark the fidelity tiers as the product runs them.\n");
+    let mut md = String::from("# Speed against accuracy\n\nReproduce: `bash studies/speed.sh` (the runs, ≈ 1.5 min on one core), then `texopt-lab speed report`. Errors: signed, relative to each case's converged reference (results/references/); `error` = the larger of |f̄| and |C_min|'s. Wall time: one core of the 2-core machine, from the paper's initial state to the detected periodic regime, coarse approach included. Every run is the `fast` tier's numerics (the characteristic scheme, Anderson acceleration, the coarse approach on 120×4 at its characteristic step 3.3e-3, periodic tolerance 1e-4) with the mesh and step of its row and what else the row says (a row that went on on the deep-pocket mesh, as `fast` does where pockets end deeper than 6·C_min, says `then 600×24`; the other rows stay on their mesh). ★ = Pareto-optimal in error and time; tier names mark the fidelity tiers as the product runs them.\n");
     let mut series_data = Vec::new();
     let mut tier_rings = Vec::new();
     for (ci, name) in CASES.iter().chain(&TABLED).enumerate() {
