@@ -526,8 +526,8 @@ fn a_conformal_ring_at_a_coarse_time_step_gets_a_note() {
     assert!(!run("51.2", &[]), "a note with BDF2");
 }
 
-/// Pockets far deeper than the film is thick get a note that the tiers do not resolve their
-/// rims (results/deep_pockets/); Case III's 10 µm pockets do not.
+/// Pockets far deeper than the film is thick get a note, at a tier that stays on its mesh, that
+/// its cells do not resolve their rims (results/deep_pockets/); Case III's 10 µm pockets do not.
 #[test]
 fn pockets_far_deeper_than_the_film_get_a_note() {
     let run = |depth: &str| {

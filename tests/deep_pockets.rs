@@ -65,4 +65,9 @@ fn simulate_names_the_mesh_of_its_answer_and_a_mesh_given_stays() {
     assert_eq!(v["inputs"]["mesh"], "700x8");
     assert!(v.get("deep_mesh").is_none(), "{out}");
     assert!(err.contains("goes on on 600x24 by itself"), "{err}");
+    // So does a step given.
+    let (code, out, _) = common::texopt(&[&deep[..], &["--dt", "5e-4"]].concat());
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["inputs"]["mesh"], "700x8");
 }

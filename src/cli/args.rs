@@ -535,7 +535,7 @@ pub struct SimulateArgs {
     #[arg(long, value_enum, default_value_t = Fidelity::Fast)]
     pub fidelity: Fidelity,
     /// Mesh N1xN2: cells along x1 over 0.2 cm and along x2 over half a texture cell; the
-    /// run stays on it (no deep-pocket mesh) [default: from --fidelity, N2 raised where a
+    /// run stays on it (no deep-pocket mesh; nor with --dt or --time-scheme) [default: from --fidelity, N2 raised where a
     /// pocket would span fewer than 4 cells across (2 at draft), as in studies].
     #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
     pub mesh: Option<(usize, usize)>,

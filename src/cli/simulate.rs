@@ -66,8 +66,12 @@ fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
         accelerate: !a.no_accelerate,
         approach: a.approach.map_or(tier.approach, |x| x.0),
         scheme: a.time_scheme.unwrap_or(tier.scheme),
-        // A mesh given is the mesh the answer is on.
-        deep: if a.mesh.is_some() { None } else { tier.deep },
+        // A mesh, step or scheme given is what the answer is on: no deep-pocket mesh after it.
+        deep: if a.mesh.is_some() || a.dt.is_some() || a.time_scheme.is_some() {
+            None
+        } else {
+            tier.deep
+        },
         ..Numerics::default()
     };
     if a.dt.is_none() {

@@ -539,6 +539,10 @@ pub fn numerics_for(case: &CaseSpec, fidelity: Fidelity, o: &NumericsOverride) -
     if let Some(v) = o.solver {
         n.solver = v;
     }
+    // A mesh or step given is the one the answer is on: no deep-pocket mesh after it.
+    if o.n1.is_some() || o.n2.is_some() || o.dt.is_some() {
+        n.deep = None;
+    }
     n.resolve_pockets(case, fidelity.pocket_cells());
     n
 }
@@ -777,6 +781,31 @@ fn range(key: &str, t: &toml::Table) -> Result<Vec<f64>, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_mesh_or_step_given_keeps_the_run_on_its_own_mesh() {
+        let case = CaseSpec::paper(3.2)
+            .with_texture(crate::model::case::Texture::circular(0.03, 0.06, 20.0));
+        let none = NumericsOverride::default();
+        assert!(numerics_for(&case, Fidelity::Fast, &none).deep.is_some());
+        let tol = NumericsOverride {
+            periodic_tol: Some(1e-5),
+            ..NumericsOverride::default()
+        };
+        assert!(numerics_for(&case, Fidelity::Fast, &tol).deep.is_some());
+        for given in [
+            NumericsOverride {
+                n2: Some(12),
+                ..NumericsOverride::default()
+            },
+            NumericsOverride {
+                dt: Some(5e-4),
+                ..NumericsOverride::default()
+            },
+        ] {
+            assert_eq!(numerics_for(&case, Fidelity::Fast, &given).deep, None);
+        }
+    }
 
     #[test]
     fn physical_axes_and_chosen_textures_expand() {
