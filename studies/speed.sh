@@ -4,7 +4,7 @@
 # (results/speed/speed.{md,csv,png}): errors against the converged references
 # (results/references/, studies/references.sh), wall time from the paper's start on one core.
 # Every run is the `fast` tier's numerics with the row's mesh and step and the changes named.
-# ≈ 1.5 min on one core; time it on an otherwise idle machine.
+# ≈ 2.5 min on one core; time it on an otherwise idle machine.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release -p texopt-lab
@@ -36,8 +36,13 @@ done
 # its deep-pocket mesh), and cells across on one mesh.
 for s in "400x8 c tol=1e-3 deep=off" "700x8 c" "700x8 c deep=off" \
   "512x8 4e-4 scheme=bdf2 approach=128x4@1.6e-3 deep=off" \
-  "700x16 c deep=off" "700x24 c" "600x24 c" "700x32 c"; do
+  "700x16 c deep=off" "700x24 c" "600x24 c" "700x32 c" \
+  "600x24 c solver=multigrid" "600x24 c solver=pt-multigrid"; do
   # shellcheck disable=SC2086
   $bin run deep-close-packed $s
+done
+# The paper tier's coarse approach: its own step on 512×8 against cheaper ones.
+for a in 120x4@3.3333333333333e-3 256x8@1.6e-3 256x8@8e-4; do
+  $bin run case-III 512x32 4e-4 scheme=be tol=1e-5 approach=$a deep=off
 done
 $bin report

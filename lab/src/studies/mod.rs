@@ -159,5 +159,24 @@ pub fn parse_approach(s: &str) -> Result<texopt::time::Approach, String> {
 
 /// An approach as tables name it.
 pub fn approach_name(a: &texopt::time::Approach) -> String {
-    format!("{}×{}@{}", a.n1, a.n2, a.dt)
+    // A step given as a fraction (1/300) prints in four digits, not seventeen.
+    let dt = match a.dt.to_string() {
+        s if s.len() <= 8 => s,
+        _ => format!("{:.3e}", a.dt),
+    };
+    format!("{}×{}@{dt}", a.n1, a.n2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{approach_name, parse_approach};
+
+    #[test]
+    fn an_approach_reads_back_as_given_and_a_fraction_in_four_digits() {
+        let given = parse_approach("128x4@1.6e-3").unwrap();
+        assert_eq!(approach_name(&given), "128×4@0.0016");
+        let third = parse_approach("120x4@3.3333333333333e-3").unwrap();
+        assert_eq!(approach_name(&third), "120×4@3.333e-3");
+        assert!(parse_approach("128x4").is_err());
+    }
 }
