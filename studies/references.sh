@@ -2,8 +2,8 @@
 # The converged references of the four benchmark cases (results/references/): two refinement
 # sequences around 1024×16 at dt = 1e-4 per case — along the sliding direction with the time
 # step (Courant number 0.5) and across it — then the report, which extrapolates them
-# (lab/src/studies/references.rs). ≈ 3 h on one core; the 2048×16 runs take 2–6 min each,
-# the 4096×16 ones 20–30 min, the deep case's 1024×64 ≈ 15 min.
+# (lab/src/studies/references.rs). ≈ 2 h on one core (the wall times in runs.jsonl); the
+# 2048×16 runs take 2–6 min each, the 4096×16 ones 7–25 min, the deep case's 1024×64 ≈ 30 min.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release -p texopt-lab

@@ -2,7 +2,7 @@
 # The film under the ring over one texture period for the paper's three cases (its
 # Figs. 7–10): maps of p, θ and h, centre-line profiles, Z(t) and f(t) with the instants a–j
 # marked, and an animation of Case III, at the paper's numerics (512×32, dt = 4e-4) from the
-# paper's start. ≈ 20 s on one core. The fields' CSV files are written beside the pictures
+# paper's start. ≈ 10 s on one core. The fields' CSV files are written beside the pictures
 # and not committed (≈ 1 MB a case).
 set -euo pipefail
 cd "$(dirname "$0")/.."

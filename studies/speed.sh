@@ -35,6 +35,8 @@ done
 # The deep close-packed pockets (tabled, off the chart's scale): the tiers (`fast` going on on
 # its deep-pocket mesh), and cells across on one mesh.
 for s in "400x8 c tol=1e-3 deep=off" "700x8 c" "700x8 c deep=off" \
+  "512x32 4e-4 scheme=be tol=1e-5 approach=512x8@4e-4 deep=off" \
+  "1024x16 2e-4 scheme=bdf2 tol=1e-5 approach=128x4@1.6e-3 deep=off" \
   "512x8 4e-4 scheme=bdf2 approach=128x4@1.6e-3 deep=off" \
   "700x16 c deep=off" "700x24 c" "600x24 c" "700x32 c" \
   "600x24 c solver=multigrid" "600x24 c solver=pt-multigrid"; do

@@ -191,7 +191,7 @@ pub const POCKET_CELLS: f64 = 4.0;
 /// where it is shallower than the film, ≈ l·(C_min/depth)²/2 wide, is then narrower than a
 /// quarter of a cell. Measured on Case III's ring and lattice (results/deep_pockets/): at
 /// depth/C_min ≈ 2.6 (10 µm) doubling the cells across or halving dt moves f̄ and C_min by
-/// < 0.4 %; at ≈ 12 (20 µm) by 1–5 %, at ≈ 20 (30 µm) by up to 14 %, with walls between the
+/// < 0.4 %; at ≈ 12 (20 µm) by 0.5–6.3 %, at ≈ 20 (30 µm) by up to 14 %, with walls between the
 /// pockets or without.
 pub const DEEP_POCKET_RATIO: f64 = 6.0;
 
