@@ -79,6 +79,13 @@ fn bad_engine_files_are_refused_with_exit_2_one_line_and_nothing_written() {
         ),
         ("per = [0.0128, 0.06]", "per = [0.0128]", "[design]"),
         ("l1 = [0.005, 0.03]", "pitch = 3", "[design]"),
+        ("R_cm = 5", "R_cm = 0.05", "must exceed half the ring width"),
+        // So fast that every angle's Stribeck number is beyond the validated range.
+        (
+            "rpm = 3000",
+            "rpm = 1000000",
+            "no crank angle of the cycle lies inside",
+        ),
     ] {
         assert!(ENGINE.contains(from), "{from}");
         let file = dir.join("e.toml");
@@ -160,6 +167,20 @@ fn the_dead_centres_are_excluded_and_carry_no_number() {
     assert!(row.ends_with(",,,,,,"), "{row}");
     let md = std::fs::read_to_string(out.join("cycle_t.md")).unwrap();
     assert!(md.contains("% of the cycle's time"), "{md}");
+    // It says why, counted by kind: as many angles slow near a dead centre as the samples say.
+    let slow = samples
+        .iter()
+        .filter(|s| {
+            s["excluded"]
+                .as_str()
+                .is_some_and(|w| w.contains("near a dead centre"))
+        })
+        .count();
+    assert!(slow > 0);
+    assert!(
+        md.contains(&format!("{slow} angles slow near a dead centre")),
+        "{md}"
+    );
     let _ = std::fs::remove_dir_all(dir);
 }
 

@@ -280,6 +280,14 @@ fn destinations_are_checked_before_the_run() {
 #[test]
 fn runaway_work_is_refused() {
     refused(&["--dt", "1e-9"], "--max-steps");
+    // A tolerance that would stop a run in its transient, and an animation of no frames.
+    refused(&["--periodic-tol", "10"], "--periodic-tol = 10");
+    let gif = std::env::temp_dir().join("texopt-hardening-never.gif");
+    refused(
+        &["--animate", gif.to_str().unwrap(), "--animate-stride", "0"],
+        "--animate-stride",
+    );
+    assert!(!gif.exists());
     let (code, _, err) = texopt(&["study", "studies/paper.toml", "--jobs", "100000"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("from 1 to 256"), "{err}");
@@ -296,6 +304,13 @@ fn messages_are_short_and_name_the_flag() {
     let (code, _, err) = texopt(&["optimise", "--R", "5", "--w-min", "1e308"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.len() < 400 && err.contains("w_min = 1e304 cm"), "{err}");
+    let (code, _, err) = texopt(&["bench", "--repeat", "1000000"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--repeat 1000000: at most 100"), "{err}");
+    // The least wall is said in µm, as it is given.
+    let (code, _, err) = texopt(&["optimise", "--R", "5", "--w-min", "-10"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--w-min = -10 µm"), "{err}");
     // A negative range reaches the range check, not the argument parser.
     let (code, _, err) = texopt(&["optimise", "--R", "5", "--l1", "-0.01..0.03"]);
     assert_eq!(code, 2, "{err}");
@@ -320,6 +335,46 @@ fn messages_are_short_and_name_the_flag() {
     assert_eq!(code, 2, "{err}");
     assert!(
         err.contains("--dt") && err.contains("one cell") && !err.contains("designs at"),
+        "{err}"
+    );
+    // Narrow pockets in a wide texture cell raise N2 a long way: said before the run, and an
+    // absurd width gives a count, not an overflow.
+    let (_, _, err) = texopt(&[
+        "simulate",
+        "--R",
+        "3",
+        "--l1",
+        "0.0025",
+        "--l2",
+        "0.0004",
+        "--per",
+        "0.06",
+        "--depth",
+        "0.8",
+        "--fidelity",
+        "draft",
+        "--t-max",
+        "0.01",
+        "--approach",
+        "off",
+    ]);
+    assert!(err.contains("note: 75 cells across (N2 raised"), "{err}");
+    let (code, _, err) = texopt(&[
+        "simulate", "--R", "3", "--l1", "0.01", "--per", "1e300", "--depth", "5",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("raise N2 to at least 5e301") && !err.contains("18446744073709551615"),
+        "{err}"
+    );
+    // A coarse approach the run cannot take as asked is said, not dropped or changed silently.
+    let (code, _, err) = simulate(&["--approach", "800x16@1e-3"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("--approach 800x16@0.001 is not used"), "{err}");
+    let (code, _, err) = simulate(&["--approach", "120x4@1e-5"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("--approach 120x4@1e-5 runs as 120x4@0.001"),
         "{err}"
     );
     // A failing --json run answers with a JSON object.

@@ -193,6 +193,25 @@ fn a_study_run_in_shares_and_merged_reports_as_one_run() {
     )
     .unwrap();
     let f = file.to_str().unwrap();
+    // From an empty cache with --cached-only nothing runs: the summary says so and concludes
+    // nothing.
+    let empty = dir.join("empty.sqlite");
+    let (code, _, err) = texopt(&[
+        "study",
+        f,
+        "--cache",
+        empty.to_str().unwrap(),
+        "--cached-only",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let summary = std::fs::read_to_string(dir.join("report/s_summary.md")).unwrap();
+    assert!(
+        summary.contains("Cases: 0 simulated or cached (0 failed), 20 not run"),
+        "{summary}"
+    );
+    assert!(summary.contains("nothing to compare"), "{summary}");
+    assert!(!summary.contains("no texture beats"), "{summary}");
+    std::fs::remove_dir_all(dir.join("report")).unwrap();
     let mut shares = Vec::new();
     for i in 1..=3 {
         let share = dir.join(format!("share-{i}.sqlite"));

@@ -62,7 +62,8 @@ pub struct CycleArgs {
     /// Particles per swarm [default: 8].
     #[arg(long)]
     pub particles: Option<usize>,
-    /// Swarm iterations per search [default: 3].
+    /// Swarm iterations per search [default: 3]. Each search's best is then refined by a
+    /// local pattern search, whose evaluations come on top of the swarm's.
     #[arg(long)]
     pub iterations: Option<u64>,
     /// Random seed of the swarms [default: 1].
@@ -177,7 +178,9 @@ pub struct OptimiseArgs {
     /// Particles per swarm [default: 8].
     #[arg(long)]
     pub particles: Option<usize>,
-    /// Swarm iterations per search (each evaluates every particle) [default: 3].
+    /// Swarm iterations per search (each evaluates every particle) [default: 3]. Each
+    /// search's best is then refined by a local pattern search, whose evaluations come on top
+    /// of the swarm's.
     #[arg(long)]
     pub iterations: Option<u64>,
     /// Weights on friction of the balanced searches (comma-separated, each in (0, 1))

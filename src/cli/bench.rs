@@ -4,6 +4,9 @@ use super::{BenchArgs, CmdError};
 use crate::study::bench::{default_runs, run_case};
 use crate::time::{Fidelity, Numerics};
 
+/// Most runs of each case `--repeat` takes: more is a typo, not a benchmark.
+const MAX_REPEAT: usize = 100;
+
 pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
     let all = crate::study::bench::cases();
     for name in &a.cases {
@@ -19,6 +22,12 @@ pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
         return Err(CmdError::Input(
             "--repeat 0: each case must run at least once; give 1 or more".into(),
         ));
+    }
+    if a.repeat > MAX_REPEAT {
+        return Err(CmdError::Input(format!(
+            "--repeat {}: at most {MAX_REPEAT} runs of each case (the best of a few is the benchmark's time)",
+            a.repeat
+        )));
     }
     let out = a.out_path();
     let dir = out

@@ -9,7 +9,7 @@ use super::optimise::{check_design_space, overrides, space_error, SpaceKeys};
 use super::{directory_can_be_made, install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::engine::Engine;
 use crate::model::operating::Validity;
-use crate::optimise::cycle::{design_all, evaluate_liners, points, CycleSettings};
+use crate::optimise::cycle::{design_all, evaluate_liners, no_angle_inside, points, CycleSettings};
 use crate::optimise::cycle_report::{assemble, table, write};
 use crate::optimise::search::SwarmSettings;
 use crate::optimise::space::Space;
@@ -17,6 +17,12 @@ use crate::time::Fidelity;
 
 pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     let s = settings(a)?;
+    // A cycle whose every design angle is outside the model before anything runs (an engine
+    // far too fast or too loaded for the validated Stribeck range) is an input error.
+    let design_points = points(&s, s.design_step_deg);
+    if design_points.iter().all(|p| p.excluded.is_some()) {
+        return Err(input(&a.file, no_angle_inside(&design_points)));
+    }
     // The design space on the first point inside the model (u = 1 and the ring's width in
     // every scaled case: one case stands for all).
     if let Some(p) = points(&s, s.step_deg).iter().find(|p| p.excluded.is_none()) {

@@ -369,6 +369,19 @@ impl SpaceKeys {
 
 /// A design-space error in flag names (the free width across sliding is `--free-width`).
 pub(super) fn space_error(e: &InputError) -> CmdError {
+    // The least wall is given in µm (the space holds cm): said in the unit it was given in.
+    let in_um;
+    let e = match e.value.parse::<f64>() {
+        Ok(cm) if e.param == "w_min" => {
+            in_um = InputError {
+                value: format!("{} µm", short(cm * 1e4)),
+                rule: "the least wall thickness must be ≥ 0".into(),
+                ..e.clone()
+            };
+            &in_um
+        }
+        _ => e,
+    };
     CmdError::Input(input_message(e, |p| match p {
         "width" => "--free-width".into(),
         "constraints" => "constraints".into(),

@@ -3,11 +3,11 @@
 use std::io::{IsTerminal, Write};
 
 use super::{flag, input_message, CmdError, SimulateArgs};
-use crate::model::case::{bad, CaseSpec, InputError, Texture};
+use crate::model::case::{bad, short, CaseSpec, InputError, Texture};
 use crate::model::operating::{Operating, Physical};
 use crate::time::{
-    simulate_with, unresolved_depth, Numerics, Outcome, Progress, RunOptions, RunResult, SeriesRow,
-    TimeScheme, Watch, DEEP_POCKET_RATIO, RESOLVED_DEEP_RATIO,
+    simulate_with, unresolved_depth, Approach, Numerics, Outcome, Progress, RunOptions, RunResult,
+    SeriesRow, TimeScheme, Watch, DEEP_POCKET_RATIO, RESOLVED_DEEP_RATIO,
 };
 
 /// The case and numerics named by the flags, validated (errors name the flags).
@@ -120,6 +120,30 @@ fn deep_pocket_note(depth: f64, o: &Outcome) {
     }
 }
 
+/// Cells across from which `simulate` says that N2 was raised for the pockets: the tiers
+/// have 8–32, and a band that wide makes every step dear.
+const HEAVY_N2: usize = 64;
+
+/// What became of the coarse approach asked for, when the run does not take it as given: it
+/// is dropped where it would be no cheaper than the run itself (or cannot run the case), and
+/// taken with N2 raised to resolve the pockets, the step capped at the characteristic one or
+/// nothing finer than the run's own.
+fn approach_note(asked: Approach, used: Option<&Numerics>) -> Option<String> {
+    let name = format!("{}x{}@{}", asked.n1, asked.n2, short(asked.dt));
+    match used {
+        None => Some(format!(
+            "--approach {name} is not used: it would be no cheaper than the run's own mesh and step, or cannot run this case; the run starts on its own mesh"
+        )),
+        Some(c) if (c.n1, c.n2, c.dt) != (asked.n1, asked.n2, asked.dt) => Some(format!(
+            "--approach {name} runs as {}x{}@{} (N2 raised to put 2 cells across a pocket, the step at most the characteristic one, nothing finer than the run's own)",
+            c.n1,
+            c.n2,
+            short(c.dt)
+        )),
+        Some(_) => None,
+    }
+}
+
 fn mesh_name((n1, n2): (usize, usize)) -> String {
     format!("{n1}x{n2}")
 }
@@ -127,6 +151,19 @@ fn mesh_name((n1, n2): (usize, usize)) -> String {
 pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     let (case, num) = case_from_args(a).map_err(CmdError::Input)?;
     let (op, validity) = a.operating.resolve()?;
+    if a.mesh.is_none() && num.n2 >= HEAVY_N2 {
+        eprintln!(
+            "note: {} cells across (N2 raised to put {} across each pocket of the {} cm wide texture cell): a heavy run; --mesh N1xN2 sets the mesh",
+            num.n2,
+            a.fidelity.pocket_cells(),
+            case.texture.as_ref().map_or(0.0, |t| t.width)
+        );
+    }
+    if let (Some(super::args::ApproachArg(Some(asked))), Some(_)) = (a.approach, &case.texture) {
+        if let Some(note) = approach_note(asked, num.approach_numerics(&case).as_ref()) {
+            eprintln!("note: {note}");
+        }
+    }
     if case.texture.is_none()
         && (a.l1.is_some() || a.per.is_some() || a.l2.is_some() || a.width.is_some())
     {
@@ -249,8 +286,8 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     }
     if !outcome.converged {
         eprintln!(
-            "warning: the periodic regime was not reached by t = {} (estimated error {:.1e} > tolerance {:.1e}); the numbers above are not final. Raise --t-max or loosen --periodic-tol.",
-            num.t_max, outcome.periodic_error, num.periodic_tol
+            "warning: the periodic regime was not reached by t = {} (the end of the first averaging window past --t-max {}; estimated error {:.1e} > tolerance {:.1e}); the numbers above are not final. Raise --t-max or loosen --periodic-tol.",
+            short(outcome.t_end), short(num.t_max), outcome.periodic_error, num.periodic_tol
         );
         return Ok(1);
     }

@@ -29,6 +29,11 @@ pub(super) fn wanted(
     if dir.is_none() && gif.is_none() {
         return Ok(None);
     }
+    if stride == Some(0) {
+        return Err(CmdError::Input(
+            "--animate-stride = 0: must be at least 1 (time steps between frames)".into(),
+        ));
+    }
     let spp = snapshot::steps_in_period(case, num);
     let request = Request {
         frames,

@@ -83,14 +83,27 @@ pub struct Zones {
     pub boundaries_mm: Option<Vec<f64>>,
 }
 
-/// An input that breaks a rule: the key (`[section] name`), its value and the rule.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{key} = {value}: {rule}")]
+/// An input that breaks a rule: the key (`[section] name`), its value and the rule; a file
+/// that is not valid TOML has the key `file` and no value.
+#[derive(Clone, Debug, PartialEq)]
 pub struct EngineError {
     pub key: String,
     pub value: String,
     pub rule: String,
 }
+
+impl std::fmt::Display for EngineError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.value.as_str() {
+            // The parser's message names the line and column already.
+            "" if self.key == "file" => write!(f, "{}", self.rule),
+            "" => write!(f, "{}: {}", self.key, self.rule),
+            v => write!(f, "{} = {v}: {}", self.key, self.rule),
+        }
+    }
+}
+
+impl std::error::Error for EngineError {}
 
 fn err(key: &str, value: impl std::fmt::Display, rule: impl Into<String>) -> EngineError {
     EngineError {
@@ -212,6 +225,20 @@ impl Engine {
             };
             err(key, e.value, e.rule)
         })?;
+        // The ring face's radius must exceed its half width (docs/model.md §2), as `simulate`
+        // asks of --R.
+        let half_width_cm = 0.05 * engine.file.ring.width_mm;
+        if engine.file.ring.r_cm <= half_width_cm {
+            return Err(err(
+                "[ring] R_cm",
+                short(engine.file.ring.r_cm),
+                format!(
+                    "must exceed half the ring width ({} cm for width_mm = {})",
+                    short(half_width_cm),
+                    short(engine.file.ring.width_mm)
+                ),
+            ));
+        }
         Ok(engine)
     }
 
@@ -268,11 +295,13 @@ impl Engine {
                     ));
                 }
                 increasing("[oil] position_mm", &o.position_mm)?;
-                if o.position_mm[0] < 0.0 || o.position_mm[t.len() - 1] > stroke {
+                // The value named is the one outside (positions are increasing).
+                let (first, last) = (o.position_mm[0], o.position_mm[t.len() - 1]);
+                if first < 0.0 || last > stroke {
                     return Err(err(
                         "[oil] position_mm",
-                        short(o.position_mm[0]),
-                        "must lie within the stroke",
+                        short(if first < 0.0 { first } else { last }),
+                        format!("must lie within the stroke (0–{} mm)", short(stroke)),
                     ));
                 }
                 match t.iter().find(|v| !ok(**v)) {
@@ -511,6 +540,7 @@ mod tests {
             ("width_mm = 1.2", "width_mm = 120", "[ring] width_mm"),
             ("d_oil_um = 20", "d_oil_um = -1", "[oil] d_oil_um"),
             ("R_cm = 5", "", "file"),
+            ("R_cm = 5", "R_cm = 0.05", "[ring] R_cm"),
         ] {
             let text = EXAMPLE.replace(from, to);
             let e = Engine::parse(&text).unwrap_err();

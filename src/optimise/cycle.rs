@@ -317,6 +317,23 @@ pub struct Designs {
     pub uniform: Option<Texture>,
 }
 
+/// The error of a cycle none of whose angles lies inside the model: nothing can be weighed,
+/// and the first angles' reasons say which input to look at.
+pub fn no_angle_inside(pts: &[Point]) -> String {
+    let reasons: Vec<String> = pts
+        .iter()
+        .filter_map(|p| {
+            let why = p.excluded.as_ref()?;
+            Some(format!("{:.0}°: {why}", p.sample.crank_deg))
+        })
+        .take(3)
+        .collect();
+    format!(
+        "no crank angle of the cycle lies inside the hydrodynamic model, so no liner can be weighed; check the engine file's speed (rpm, stroke), loads, oil and ring. The first angles: {}",
+        reasons.join("; ")
+    )
+}
+
 /// Designs every zone and the uniform liner at the design step.
 pub fn design_all(
     s: &CycleSettings,
@@ -332,6 +349,9 @@ pub fn design_all(
     let mut pts = points(s, s.design_step_deg);
     let plain = plain_and_exclude(s, &mut pts, s.search_fidelity, cache, stop)?;
     let inside: Vec<usize> = (0..pts.len()).filter(|&k| plain[k].is_some()).collect();
+    if inside.is_empty() {
+        return Err(no_angle_inside(&pts));
+    }
     say(format!(
         "{} of {} design angles inside the model",
         inside.len(),

@@ -210,6 +210,41 @@ fn searched(c: &Confirmation) -> String {
     }
 }
 
+/// Why angles are outside the model, counted by kind (the per-angle reasons are in the CSV),
+/// e.g. "30 angles slow near a dead centre, 2 with the Stribeck number out of range".
+pub fn exclusion_summary(samples: &[SampleRow]) -> String {
+    let kind = |why: &str| {
+        if why.contains("near a dead centre") {
+            "slow near a dead centre"
+        } else if why.starts_with("not quasi-steady") {
+            "with speed or load changing too fast for a quasi-steady film"
+        } else if why.starts_with("Stribeck number") {
+            "with the Stribeck number outside the validated range"
+        } else if why.starts_with("plain liner failed") {
+            "where the plain liner's run failed"
+        } else if why.starts_with("plain liner") {
+            "where the plain liner runs below the least clearance"
+        } else {
+            "with inputs out of range"
+        }
+    };
+    let mut counts: Vec<(&str, usize)> = Vec::new();
+    for why in samples.iter().filter_map(|x| x.excluded.as_deref()) {
+        match counts.iter_mut().find(|(k, _)| *k == kind(why)) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((kind(why), 1)),
+        }
+    }
+    if counts.is_empty() {
+        return "no angle".into();
+    }
+    counts
+        .iter()
+        .map(|(k, n)| format!("{n} angle{} {k}", if *n == 1 { "" } else { "s" }))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// The tables (terminal and Markdown).
 pub fn table(r: &CycleReport) -> String {
     let mut s = String::new();
@@ -220,9 +255,10 @@ pub fn table(r: &CycleReport) -> String {
     );
     let _ = writeln!(
         s,
-        "Outside the hydrodynamic model, and left out of every number below: {:.1} % of the cycle's time, {:.1} % of its sliding distance (the dead centres, where the speed and the film vanish).\n",
+        "Outside the hydrodynamic model, and left out of every number below: {:.1} % of the cycle's time, {:.1} % of its sliding distance ({}).\n",
         100.0 * r.excluded_cycle_fraction,
-        100.0 * r.excluded_sliding_fraction
+        100.0 * r.excluded_sliding_fraction,
+        exclusion_summary(&r.samples)
     );
     let _ = writeln!(s, "| zone | from–to (mm) | texture | angles in / out | work plain (J/m) | work zoned (J/m) | change | least C_min (µm) | its search's design: change here |");
     let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");

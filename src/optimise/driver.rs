@@ -52,8 +52,22 @@ pub const REFINE_ITERS: u64 = 8;
 /// Most front points confirmed at the reported fidelity.
 const MAX_CONFIRM: usize = 10;
 
-/// Searches, confirms and reports (the files too, when `s.out_dir` is set).
+/// Searches, confirms and reports (the files too, when `s.out_dir` is set), on at most
+/// `s.jobs` threads: the searches that run side by side share them (each evaluation batch
+/// has its own pool of `s.jobs` as well, so `--jobs 1` runs everything on one core).
 pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result<Report, String> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(s.jobs.max(1))
+        .build()
+        .map_err(|e| format!("cannot start {} worker threads: {e}", s.jobs))?
+        .install(|| optimise_on_pool(s, cache, stop))
+}
+
+fn optimise_on_pool(
+    s: &Settings,
+    cache: &Mutex<Cache>,
+    stop: &AtomicBool,
+) -> Result<Report, String> {
     let t0 = Instant::now();
     s.space.validate().map_err(|e| e.to_string())?;
     let say = |m: String| {

@@ -216,11 +216,15 @@ fn summary(
         "Compute behind these results: {:.0} s of single-core simulation (sum of the cases' wall times; cases that differ only in θs share one simulation and count it each).\n",
         compute
     );
+    let failed = rows.iter().filter(|r| r.reason.is_some()).count();
+    let run = rows.iter().filter(|r| r.out.is_some()).count() + failed;
+    let not_run = match study.jobs.len() - run {
+        0 => String::new(),
+        n => format!(", {n} not run (not in the cache, or stopped)"),
+    };
     let _ = writeln!(
         md,
-        "Cases: {} simulated or cached ({} failed); {} combinations skipped as invalid:",
-        study.jobs.len(),
-        rows.iter().filter(|r| r.reason.is_some()).count(),
+        "Cases: {run} simulated or cached ({failed} failed){not_run}; {} combinations skipped as invalid:",
         study.skipped_total()
     );
     for (rule, n) in &study.skipped {
@@ -583,6 +587,18 @@ fn fig11(path: &Path, rows: &[Row], thetas: &[f64]) -> Result<(), String> {
 /// below which no texture beats it.
 fn headline(rows: &[&Row], theta_s: f64, fidelity: crate::time::Fidelity) -> Vec<String> {
     let mut out = Vec::new();
+    // Nothing to weigh (every textured case or its plain liner failed or was not run): no
+    // conclusion, rather than "no texture beats it".
+    if !rows
+        .iter()
+        .any(|r| r.job.case.texture.is_some() && r.f_ratio().is_some())
+    {
+        out.push(
+            "no textured case has a result beside its untextured liner's (they failed or were not run): nothing to compare"
+                .into(),
+        );
+        return out;
+    }
     // The best within the hydrodynamic model: a flagged case is not a prediction.
     let best = |ratio: &dyn Fn(&Row) -> Option<f64>, lower: bool| {
         rows.iter()

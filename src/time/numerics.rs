@@ -145,6 +145,12 @@ pub fn short(x: f64) -> String {
     crate::model::case::short(x)
 }
 
+/// Largest periodic tolerance a run may be given ([`Numerics::check`]).
+pub const MAX_PERIODIC_TOL: f64 = 0.1;
+
+/// Most cells across [`Numerics::resolve_pockets`] raises N2 to.
+const MAX_RAISED_N2: f64 = 1e5;
+
 /// Periodic tolerance at which a coarse approach hands over to the full mesh: about the
 /// coarse mesh's own offset from the full one (512×8 against 512×32: 0.1–0.4 % in f̄ and Z̄),
 /// which only the full mesh's periods remove; converging the coarse run much further buys
@@ -186,7 +192,9 @@ impl Numerics {
         if let Some(t) = &case.texture {
             let half = 0.5 * t.width;
             let need = (cells * half / (2.0 * t.l2) - 1e-9).ceil();
-            if need.is_finite() && need > self.n2 as f64 {
+            // Beyond any mesh a run could hold, N2 is left as it is and the check says what
+            // the pockets would need (no overflowing count).
+            if need.is_finite() && need > self.n2 as f64 && need <= MAX_RAISED_N2 {
                 self.n2 = need as usize;
             }
         }
@@ -297,6 +305,17 @@ impl Numerics {
         }
         positive("dt", self.dt)?;
         positive("periodic_tol", self.periodic_tol)?;
+        // A relative distance from the periodic regime; beyond 10 % a run would stop in its
+        // transient and report that as its answer.
+        if self.periodic_tol > MAX_PERIODIC_TOL {
+            return Err(bad(
+                "periodic_tol",
+                self.periodic_tol,
+                format!(
+                    "is a relative distance from the periodic regime and must be at most {MAX_PERIODIC_TOL} (the tiers use 1e-3 to 1e-5)"
+                ),
+            ));
+        }
         positive("t_max", self.t_max)?;
         if let Some(t) = &case.texture {
             let period = t.per / case.u;
