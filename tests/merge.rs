@@ -164,7 +164,7 @@ fn foreign_or_damaged_files_are_refused_and_left_untouched() {
     let full = bytes(&cut);
     std::fs::write(&cut, &full[..full.len() / 2 + 100]).unwrap();
     let files: [(PathBuf, &str); 4] = [
-        (text, "not a texopt cache"),
+        (text.clone(), "not a texopt cache"),
         (other, "not a texopt cache"),
         (altered, "damaged"),
         (cut, "damaged"),
@@ -176,7 +176,21 @@ fn foreign_or_damaged_files_are_refused_and_left_untouched() {
         assert!(err.contains(says), "{}: {err}", f.display());
         assert_eq!(bytes(f), was, "{} was changed", f.display());
         assert_eq!(export(&c), before);
+        // Into a new file, a refused merge leaves no file behind.
+        let new = dir.join("new.sqlite");
+        let (code, _, err) = merge(&[f], &new);
+        assert_eq!(code, 2, "{}: {err}", f.display());
+        let left: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .filter_map(|e| e.ok()?.file_name().into_string().ok())
+            .filter(|n| n.starts_with("new.sqlite"))
+            .collect();
+        assert!(left.is_empty(), "{}: left {left:?}", f.display());
     }
+    // A destination that is not a cache is named by the flag that gave it.
+    let (code, _, err) = merge(&[&c], &text);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--into") && !err.contains("--cache"), "{err}");
     let _ = std::fs::remove_dir_all(dir);
 }
 
@@ -210,6 +224,7 @@ fn a_study_run_in_shares_and_merged_reports_as_one_run() {
         "{summary}"
     );
     assert!(summary.contains("nothing to compare"), "{summary}");
+    assert!(summary.contains(": 0 s of single-core"), "{summary}");
     assert!(!summary.contains("no texture beats"), "{summary}");
     std::fs::remove_dir_all(dir.join("report")).unwrap();
     let mut shares = Vec::new();

@@ -58,6 +58,15 @@ pub(super) fn run(a: &CacheArgs) -> Result<i32, CmdError> {
     Ok(0)
 }
 
+/// Removes a cache file this command created, with SQLite's journal files beside it.
+fn drop_new_cache(path: &std::path::Path) {
+    for suffix in ["", "-wal", "-shm", "-journal"] {
+        let mut p = path.as_os_str().to_owned();
+        p.push(suffix);
+        let _ = std::fs::remove_file(p);
+    }
+}
+
 /// `texopt cache merge A B … --into C`.
 fn merge(sources: &[std::path::PathBuf], into: &std::path::Path) -> Result<i32, CmdError> {
     let into =
@@ -70,10 +79,22 @@ fn merge(sources: &[std::path::PathBuf], into: &std::path::Path) -> Result<i32, 
             )));
         }
     }
-    let cache = Cache::open(&into).map_err(cache_error)?;
-    let m = cache.merge(sources).map_err(|e| match e {
-        CacheError::Sqlite { .. } => CmdError::Other(e.to_string()),
-        _ => CmdError::Input(format!("cache merge: {e}")),
+    let existed = into.exists();
+    let cache = Cache::open(&into).map_err(|e| match cache_error(e) {
+        CmdError::Input(m) => CmdError::Input(m.replace("--cache", "--into")),
+        other => other,
+    })?;
+    let merged = cache.merge(sources);
+    drop(cache);
+    let m = merged.map_err(|e| {
+        // A merge that fails leaves no new file behind (nor SQLite's journal files).
+        if !existed {
+            drop_new_cache(&into);
+        }
+        match e {
+            CacheError::Sqlite { .. } => CmdError::Other(e.to_string()),
+            _ => CmdError::Input(format!("cache merge: {e}")),
+        }
     })?;
     println!(
         "merged {} caches into {}: {} entries added, {} already there, {} failures replaced by results, {} failures not copied over results, {} of another model version skipped",

@@ -360,13 +360,18 @@ fn print_summary(case: &CaseSpec, num: &Numerics, o: &Outcome, ms_per_t: f64) {
     let ring = if case.r.is_infinite() {
         "flat ring".to_string()
     } else {
-        format!("ring face radius R = {} cm", case.r)
+        format!("ring face radius R = {} cm", short(case.r))
     };
     match &case.texture {
         None => println!("texopt simulate: {ring}, untextured liner"),
         Some(t) => println!(
             "texopt simulate: {ring}; pockets l1 = {} cm, l2 = {} cm, depth = {} µm on a {} × {} cm lattice (textured area {:.1} %)",
-            t.l1, t.l2, t.depth, t.per, t.width, 100.0 * t.area_fraction()
+            short(t.l1),
+            short(t.l2),
+            short(t.depth),
+            short(t.per),
+            short(t.width),
+            100.0 * t.area_fraction()
         ),
     }
     if o.method == "steady-1d" {

@@ -28,6 +28,15 @@ pub struct Texture {
 }
 
 impl Texture {
+    /// The texture in a table's words: the four lengths in cm to 1 µm (4 decimals), the
+    /// depth to 0.1 µm.
+    pub fn rounded_label(&self) -> String {
+        format!(
+            "l1={:.4} l2={:.4} per={:.4} width={:.4} depth={:.1}",
+            self.l1, self.l2, self.per, self.width, self.depth
+        )
+    }
+
     /// Square lattice of circular pockets (the paper's family): l2 = l1, width = per.
     pub fn circular(l1: f64, per: f64, depth: f64) -> Self {
         Texture {
@@ -145,14 +154,19 @@ impl CaseSpec {
 
     /// Short label for messages, e.g. "R=0.8 l1=0.01 l2=0.01 per=0.06 width=0.06 depth=5".
     pub fn label(&self) -> String {
-        let mut s = format!("R={}", self.r);
+        // `short` is the plain form for every everyday value, and keeps absurd ones short.
+        let mut s = format!("R={}", short(self.r));
         if let Some(t) = &self.texture {
             s += &format!(
                 " l1={} l2={} per={} width={} depth={}",
-                t.l1, t.l2, t.per, t.width, t.depth
+                short(t.l1),
+                short(t.l2),
+                short(t.per),
+                short(t.width),
+                short(t.depth)
             );
             if t.phase != 0.0 {
-                s += &format!(" phase={}", t.phase);
+                s += &format!(" phase={}", short(t.phase));
             }
         } else {
             s += " untextured";

@@ -186,12 +186,8 @@ pub fn assemble(s: &CycleSettings, d: &Designs, ev: &Evaluated, wall: f64) -> Cy
 }
 
 fn texture_label(t: &Option<Texture>) -> String {
-    t.as_ref().map_or("plain liner".into(), |t| {
-        format!(
-            "l1={:.4} l2={:.4} per={:.4} width={:.4} depth={:.1}",
-            t.l1, t.l2, t.per, t.width, t.depth
-        )
-    })
+    t.as_ref()
+        .map_or("plain liner".into(), Texture::rounded_label)
 }
 
 /// A searched design and what the report's fidelity and step made of it.

@@ -204,8 +204,8 @@ fn searches(
         }
         let so_far = absorb(own);
         say(format!(
-            "{goal:?} search: best {:?} (relative cost {c:.4}); {so_far} evaluations so far",
-            s.space.decode(&u)
+            "{goal:?} search: best {} (relative cost {c:.4}); {so_far} evaluations so far",
+            s.space.decode(&u).rounded_label()
         ));
     }
     let balanced: Vec<_> = s
@@ -218,8 +218,8 @@ fn searches(
         let (u, c, own) = r?;
         absorb(own);
         say(format!(
-            "balanced search w = {w}: best {:?} (cost {c:.4})",
-            s.space.decode(&u)
+            "balanced search w = {w}: best {} (cost {c:.4})",
+            s.space.decode(&u).rounded_label()
         ));
     }
     Ok(())

@@ -316,13 +316,6 @@ fn assemble(
     }
 }
 
-fn texture_label(t: &Texture) -> String {
-    format!(
-        "l1={:.4} l2={:.4} per={:.4} width={:.4} depth={:.1}",
-        t.l1, t.l2, t.per, t.width, t.depth
-    )
-}
-
 /// The terminal table (also the Markdown file): per R, and the candidates.
 pub fn table(r: &RobustReport) -> String {
     let mut s = String::new();
@@ -331,7 +324,7 @@ pub fn table(r: &RobustReport) -> String {
         "texopt optimise over R = {:?} cm: reported at fidelity {} (searched at {}); f̄ per eq. (11)\n",
         r.radii, r.report_fidelity, r.search_fidelity
     );
-    let _ = writeln!(s, "robust design: {}\n", texture_label(&r.robust.texture));
+    let _ = writeln!(s, "robust design: {}\n", r.robust.texture.rounded_label());
     let _ = writeln!(
         s,
         "| R (cm) | plain f̄ | own optimum | its f̄ | robust f̄ | robust / plain | robust gives up |"
@@ -350,7 +343,7 @@ pub fn table(r: &RobustReport) -> String {
             a.plain_f_mean,
             a.optimum
                 .as_ref()
-                .map_or("plain liner".into(), texture_label),
+                .map_or("plain liner".into(), Texture::rounded_label),
             a.optimum_f_mean,
             a.robust_f_mean,
             r.robust.ratio[i],
@@ -369,7 +362,7 @@ pub fn table(r: &RobustReport) -> String {
             } else {
                 ""
             },
-            texture_label(&c.texture),
+            c.texture.rounded_label(),
             c.worst,
             c.mean
         );

@@ -206,11 +206,13 @@ fn summary(
         let _ = writeln!(md, "{}\n", study.description);
     }
     let _ = writeln!(md, "This run: {wall_note}\n");
+    // (An empty f64 sum is −0.0: printed "-0 s" when nothing ran.)
     let compute: f64 = rows
         .iter()
         .filter_map(|r| r.out)
         .map(|o| o.wall_time_s)
-        .sum();
+        .sum::<f64>()
+        .max(0.0);
     let _ = writeln!(
         md,
         "Compute behind these results: {:.0} s of single-core simulation (sum of the cases' wall times; cases that differ only in θs share one simulation and count it each).\n",
