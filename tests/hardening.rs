@@ -367,6 +367,10 @@ fn messages_are_short_and_name_the_flag() {
         err.contains("raise N2 to at least 5e301") && !err.contains("18446744073709551615"),
         "{err}"
     );
+    // Flags an untextured (steady) run does not use are said.
+    let (code, _, err) = texopt(&["simulate", "--R", "0.8", "--dt", "1e-3", "--mesh", "400x8"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("--dt, --mesh's N2 not used"), "{err}");
     // A coarse approach the run cannot take as asked is said, not dropped or changed silently.
     let (code, _, err) = simulate(&["--approach", "800x16@1e-3"]);
     assert_eq!(code, 0, "{err}");

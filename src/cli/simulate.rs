@@ -188,6 +188,23 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
         &num,
     )?;
     let transient = case.texture.is_some() || a.transient || wanted.is_some();
+    if !transient {
+        let unused: Vec<&str> = [
+            (a.dt.is_some(), "--dt"),
+            (a.time_scheme.is_some(), "--time-scheme"),
+            (a.approach.is_some(), "--approach"),
+            (a.mesh.is_some(), "--mesh's N2"),
+        ]
+        .into_iter()
+        .filter_map(|(given, name)| given.then_some(name))
+        .collect();
+        if !unused.is_empty() {
+            eprintln!(
+                "note: the untextured liner is solved as a steady 1D force balance on N1 cells: {} not used (--transient runs the 2D transient)",
+                unused.join(", ")
+            );
+        }
+    }
     if let Some(path) = &a.series {
         check_series(path, transient)?;
     }

@@ -274,7 +274,11 @@ pub fn prepare_dir(dir: &Path) -> Result<(), String> {
 /// Whether `path` can take the animation (its directory exists and is writable, the name
 /// ends in .gif).
 pub fn check_gif_path(path: &Path) -> Result<(), String> {
-    if path.extension().and_then(|e| e.to_str()) != Some("gif") {
+    let gif = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("gif"));
+    if !gif {
         return Err("the animation is a GIF: give a file name ending in .gif".into());
     }
     crate::output::check_writable(path)
@@ -283,6 +287,17 @@ pub fn check_gif_path(path: &Path) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_animation_is_a_gif_whatever_the_case_of_its_extension() {
+        let dir = std::env::temp_dir();
+        for ok in ["a.gif", "A.GIF", "b.Gif"] {
+            assert!(check_gif_path(&dir.join(ok)).is_ok(), "{ok}");
+        }
+        for bad in ["a.png", "gif", "a.gif.txt"] {
+            assert!(check_gif_path(&dir.join(bad)).is_err(), "{bad}");
+        }
+    }
 
     #[test]
     fn frames_divide_the_period_evenly_and_end_at_its_end() {
