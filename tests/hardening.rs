@@ -367,6 +367,8 @@ fn messages_are_short_and_name_the_flag() {
         err.contains("raise N2 to at least 5e301") && !err.contains("18446744073709551615"),
         "{err}"
     );
+    // A mesh is named as it was given.
+    refused(&["--mesh", "0x8"], "--mesh = 0x8");
     // Flags an untextured (steady) run does not use are said.
     let (code, _, err) = texopt(&["simulate", "--R", "0.8", "--dt", "1e-3", "--mesh", "400x8"]);
     assert_eq!(code, 0, "{err}");

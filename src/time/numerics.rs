@@ -288,10 +288,18 @@ impl Numerics {
     /// [`Self::validate`], with the steps-per-period rule or without it.
     fn check(&self, case: &CaseSpec, steps_rule: bool) -> Result<(), InputError> {
         if self.n1 < 16 {
-            return Err(bad("mesh", self.n1, "needs at least 16 cells along x1"));
+            return Err(bad(
+                "mesh",
+                format!("{}x{}", self.n1, self.n2),
+                "needs at least 16 cells along x1",
+            ));
         }
         if self.n2 < 1 {
-            return Err(bad("mesh", self.n2, "needs at least 1 cell along x2"));
+            return Err(bad(
+                "mesh",
+                format!("{}x{}", self.n1, self.n2),
+                "needs at least 1 cell along x2",
+            ));
         }
         if let Some(a) = self.approach {
             if a.n1 < 16 || a.n2 < 1 || !(a.dt > 0.0 && a.dt.is_finite()) {
