@@ -367,6 +367,14 @@ fn messages_are_short_and_name_the_flag() {
         err.contains("raise N2 to at least 5e301") && !err.contains("18446744073709551615"),
         "{err}"
     );
+    // A run that misses --t-max says where it ended (runs end on whole averaging windows).
+    let (code, _, err) = simulate(&["--t-max", "0.01"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("past --t-max 0.01"), "{err}");
+    // An absurd value is printed short in a case's label.
+    let (code, _, err) = texopt(&["simulate", "--R", "1e308"]);
+    assert_ne!(code, 0, "{err}");
+    assert!(err.contains("R=1e308") && err.len() < 400, "{err}");
     // A mesh is named as it was given.
     refused(&["--mesh", "0x8"], "--mesh = 0x8");
     // Flags an untextured (steady) run does not use are said.
