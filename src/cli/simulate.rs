@@ -144,13 +144,10 @@ fn approach_note(asked: Approach, used: Option<&Numerics>) -> Option<String> {
     }
 }
 
-fn mesh_name((n1, n2): (usize, usize)) -> String {
-    format!("{n1}x{n2}")
-}
-
-pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
-    let (case, num) = case_from_args(a).map_err(CmdError::Input)?;
-    let (op, validity) = a.operating.resolve()?;
+/// Notes on what the run makes of the flags (before it starts): a large N2 raised for the
+/// pockets, a coarse approach not taken as given, pocket flags of an untextured liner, a
+/// conformal ring's time-step error.
+fn input_notes(a: &SimulateArgs, case: &CaseSpec, num: &Numerics) {
     if a.mesh.is_none() && num.n2 >= HEAVY_N2 {
         eprintln!(
             "note: {} cells across (N2 raised to put {} across each pocket of the {} cm wide texture cell): a heavy run; --mesh N1xN2 sets the mesh",
@@ -160,7 +157,7 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
         );
     }
     if let (Some(super::args::ApproachArg(Some(asked))), Some(_)) = (a.approach, &case.texture) {
-        if let Some(note) = approach_note(asked, num.approach_numerics(&case).as_ref()) {
+        if let Some(note) = approach_note(asked, num.approach_numerics(case).as_ref()) {
             eprintln!("note: {note}");
         }
     }
@@ -179,6 +176,35 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
             case.r, num.dt
         );
     }
+}
+
+/// The flags a steady (untextured, not transient) run does not use, said.
+fn steady_note(a: &SimulateArgs) {
+    let unused: Vec<&str> = [
+        (a.dt.is_some(), "--dt"),
+        (a.time_scheme.is_some(), "--time-scheme"),
+        (a.approach.is_some(), "--approach"),
+        (a.mesh.is_some(), "--mesh's N2"),
+    ]
+    .into_iter()
+    .filter_map(|(given, name)| given.then_some(name))
+    .collect();
+    if !unused.is_empty() {
+        eprintln!(
+            "note: the untextured liner is solved as a steady 1D force balance on N1 cells: {} not used (--transient runs the 2D transient)",
+            unused.join(", ")
+        );
+    }
+}
+
+fn mesh_name((n1, n2): (usize, usize)) -> String {
+    format!("{n1}x{n2}")
+}
+
+pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
+    let (case, num) = case_from_args(a).map_err(CmdError::Input)?;
+    let (op, validity) = a.operating.resolve()?;
+    input_notes(a, &case, &num);
     let wanted = super::snapshots::wanted(
         a.snapshots.as_deref(),
         a.frames,
@@ -189,21 +215,7 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     )?;
     let transient = case.texture.is_some() || a.transient || wanted.is_some();
     if !transient {
-        let unused: Vec<&str> = [
-            (a.dt.is_some(), "--dt"),
-            (a.time_scheme.is_some(), "--time-scheme"),
-            (a.approach.is_some(), "--approach"),
-            (a.mesh.is_some(), "--mesh's N2"),
-        ]
-        .into_iter()
-        .filter_map(|(given, name)| given.then_some(name))
-        .collect();
-        if !unused.is_empty() {
-            eprintln!(
-                "note: the untextured liner is solved as a steady 1D force balance on N1 cells: {} not used (--transient runs the 2D transient)",
-                unused.join(", ")
-            );
-        }
+        steady_note(a);
     }
     if let Some(path) = &a.series {
         check_series(path, transient)?;
