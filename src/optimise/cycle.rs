@@ -347,6 +347,11 @@ pub fn design_all(
         }
     };
     let mut pts = points(s, s.design_step_deg);
+    say(format!(
+        "the plain liner at the {} design angles (every {}°) …",
+        pts.len(),
+        s.design_step_deg
+    ));
     let plain = plain_and_exclude(s, &mut pts, s.search_fidelity, cache, stop)?;
     let inside: Vec<usize> = (0..pts.len()).filter(|&k| plain[k].is_some()).collect();
     if inside.is_empty() {
@@ -366,6 +371,12 @@ pub fn design_all(
             .filter(|&k| pts[k].sample.zone == z)
             .collect();
         let f: Vec<f64> = at.iter().filter_map(|&k| plain[k]).collect();
+        // A zone's search takes minutes: said as it starts, and what it found.
+        say(format!(
+            "zone {} of {zone_count}: searching over its {} angles …",
+            z + 1,
+            at.len()
+        ));
         let d = design(s, at.iter().map(|&k| &pts[k]).collect(), &f, cache, stop)?;
         say(format!(
             "zone {}: {} angles; {}",
@@ -373,12 +384,17 @@ pub fn design_all(
             at.len(),
             d.as_ref()
                 .map_or("the plain liner".into(), |(t, c)| format!(
-                    "{t:?}, work ratio {c:.4}"
+                    "{}, work ratio {c:.4}",
+                    t.rounded_label()
                 ))
         ));
         zones.push(d.map(|x| x.0));
     }
     let f: Vec<f64> = inside.iter().filter_map(|&k| plain[k]).collect();
+    say(format!(
+        "uniform liner: searching over all {} angles …",
+        inside.len()
+    ));
     let uniform = design(
         s,
         inside.iter().map(|&k| &pts[k]).collect(),
@@ -391,7 +407,8 @@ pub fn design_all(
         uniform
             .as_ref()
             .map_or("the plain liner".into(), |(t, c)| format!(
-                "{t:?}, work ratio {c:.4}"
+                "{}, work ratio {c:.4}",
+                t.rounded_label()
             ))
     ));
     Ok(Designs {
