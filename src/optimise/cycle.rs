@@ -142,6 +142,25 @@ fn excluded_before(
     op.check().err().map(|e| format!("{e}"))
 }
 
+/// The kind of an exclusion reason, as the report counts them: read from the reasons
+/// [`excluded_before`] and [`plain_and_exclude`] write (kept beside them so that the two
+/// change together).
+pub fn exclusion_kind(why: &str) -> &'static str {
+    if why.contains("near a dead centre") {
+        "slow near a dead centre"
+    } else if why.starts_with("not quasi-steady") {
+        "with speed or load changing too fast for a quasi-steady film"
+    } else if why.starts_with("Stribeck number") {
+        "with the Stribeck number outside the validated range"
+    } else if why.starts_with("plain liner failed") {
+        "where the plain liner's run failed"
+    } else if why.starts_with("plain liner") {
+        "where the plain liner runs below the least clearance"
+    } else {
+        "with inputs out of range"
+    }
+}
+
 /// Evaluates a liner (`texture` per point: None is the plain liner) at the points that are
 /// not excluded, in parallel through the cache, at `fidelity`.
 pub fn evaluate(

@@ -209,21 +209,7 @@ fn searched(c: &Confirmation) -> String {
 /// Why angles are outside the model, counted by kind (the per-angle reasons are in the CSV),
 /// e.g. "30 angles slow near a dead centre, 2 with the Stribeck number out of range".
 pub fn exclusion_summary(samples: &[SampleRow]) -> String {
-    let kind = |why: &str| {
-        if why.contains("near a dead centre") {
-            "slow near a dead centre"
-        } else if why.starts_with("not quasi-steady") {
-            "with speed or load changing too fast for a quasi-steady film"
-        } else if why.starts_with("Stribeck number") {
-            "with the Stribeck number outside the validated range"
-        } else if why.starts_with("plain liner failed") {
-            "where the plain liner's run failed"
-        } else if why.starts_with("plain liner") {
-            "where the plain liner runs below the least clearance"
-        } else {
-            "with inputs out of range"
-        }
-    };
+    let kind = super::cycle::exclusion_kind;
     let mut counts: Vec<(&str, usize)> = Vec::new();
     for why in samples.iter().filter_map(|x| x.excluded.as_deref()) {
         match counts.iter_mut().find(|(k, _)| *k == kind(why)) {
