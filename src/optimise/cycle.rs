@@ -143,7 +143,7 @@ fn excluded_before(
 }
 
 /// The kind of an exclusion reason, as the report counts them: read from the reasons
-/// [`excluded_before`] and [`plain_and_exclude`] write (kept beside them so that the two
+/// `excluded_before` and `plain_and_exclude` write (kept beside them so that the two
 /// change together).
 pub fn exclusion_kind(why: &str) -> &'static str {
     if why.contains("near a dead centre") {
