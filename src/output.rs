@@ -1,8 +1,55 @@
 //! How texopt writes its files: each output goes to a temporary file beside its destination
 //! and is renamed into place once complete, so that a full disk, a crash or Ctrl-C never
 //! leaves a truncated report, and a failed rerun leaves the previous complete file as it was.
+//!
+//! The rename is for regular files only. A symbolic link is followed and its target is
+//! replaced (the link stays a link); a device, FIFO or socket (`/dev/null`, `/dev/stdout`, a
+//! named pipe a reader waits on) is written through, never replaced by a file.
 
 use std::path::{Path, PathBuf};
+
+/// Where an output goes once its path is resolved.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Destination {
+    /// A regular file, or nothing yet: written beside it and renamed into place.
+    Regular(PathBuf),
+    /// A device, FIFO or socket: opened and written through.
+    Special(PathBuf),
+}
+
+/// Resolves `path`: symbolic links are followed (a dangling link's target is where the file
+/// will be made); what stands at the end decides how it is written.
+fn destination(path: &Path) -> Result<Destination, String> {
+    let mut p = path.to_path_buf();
+    for _ in 0..40 {
+        let meta = match std::fs::symlink_metadata(&p) {
+            Ok(m) => m,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                return Ok(Destination::Regular(p))
+            }
+            Err(e) => return Err(format!("cannot inspect {}: {e}", p.display())),
+        };
+        let kind = meta.file_type();
+        if kind.is_symlink() {
+            let target = std::fs::read_link(&p)
+                .map_err(|e| format!("cannot follow the link {}: {e}", p.display()))?;
+            p = match p.parent() {
+                Some(dir) if target.is_relative() => dir.join(target),
+                _ => target,
+            };
+        } else if kind.is_dir() {
+            return Err(format!("{} is a directory; give a file path", p.display()));
+        } else if kind.is_file() {
+            return Ok(Destination::Regular(p));
+        } else {
+            return Ok(Destination::Special(p));
+        }
+    }
+    Err(format!(
+        "{} is a loop of symbolic links; give a file path",
+        path.display()
+    ))
+}
 
 /// The temporary file for `path`: hidden, in the same directory (a rename within one file
 /// system is atomic), named for this process, and ending like `path` (plotters picks the
@@ -19,25 +66,63 @@ fn temporary(path: &Path) -> PathBuf {
 }
 
 /// Runs `write` on a temporary file and renames it to `path` if it succeeds; otherwise
-/// removes it and says that `path` was left untouched.
+/// removes it and says that `path` was left untouched. A link at `path` is followed and its
+/// target replaced; a device or FIFO is written through (see the module's doc).
 pub fn atomically<T>(
     path: &Path,
     write: impl FnOnce(&Path) -> Result<T, String>,
 ) -> Result<T, String> {
-    let tmp = temporary(path);
+    match destination(path).map_err(|why| format!("cannot write {}: {why}", path.display()))? {
+        Destination::Regular(target) => replace(path, &target, write),
+        Destination::Special(target) => write_through(path, &target, write),
+    }
+}
+
+/// The atomic write of a regular file at `target` (`path`, or the end of the link at it).
+fn replace<T>(
+    path: &Path,
+    target: &Path,
+    write: impl FnOnce(&Path) -> Result<T, String>,
+) -> Result<T, String> {
+    let tmp = temporary(target);
     let result = write(&tmp).and_then(|v| {
-        std::fs::rename(&tmp, path).map_err(|e| format!("cannot move it into place: {e}"))?;
+        std::fs::rename(&tmp, target).map_err(|e| format!("cannot move it into place: {e}"))?;
         Ok(v)
     });
     result.map_err(|why| {
         let _ = std::fs::remove_file(&tmp);
-        let kept = if path.exists() {
+        let kept = if target.exists() {
             "the previous file was left as it was"
         } else {
             "nothing was written"
         };
         format!("cannot write {}: {why}; {kept}", path.display())
     })
+}
+
+/// A device, FIFO or socket at `target`: the output is made complete in a private temporary
+/// file first (so a failed write sends nothing), then copied into `target`, which stays what
+/// it is.
+fn write_through<T>(
+    path: &Path,
+    target: &Path,
+    write: impl FnOnce(&Path) -> Result<T, String>,
+) -> Result<T, String> {
+    let name = target
+        .file_name()
+        .map_or_else(|| std::ffi::OsString::from("output"), |n| n.to_os_string());
+    let tmp = temporary(&std::env::temp_dir().join(name));
+    let result = write(&tmp).and_then(|v| {
+        let mut from = std::fs::File::open(&tmp).map_err(|e| e.to_string())?;
+        let mut to = std::fs::OpenOptions::new()
+            .write(true)
+            .open(target)
+            .map_err(|e| format!("cannot open it for writing: {e}"))?;
+        std::io::copy(&mut from, &mut to).map_err(|e| e.to_string())?;
+        Ok(v)
+    });
+    let _ = std::fs::remove_file(&tmp);
+    result.map_err(|why| format!("cannot write {}: {why}", path.display()))
 }
 
 /// Writes `bytes` to `path` atomically (see [`atomically`]).
@@ -69,21 +154,33 @@ pub fn write_with(
     })
 }
 
-/// Checks, before any work, that a file can be created in `path`'s directory (a probe file
-/// is made and removed there): so that a run does not end unable to store what it computed.
+/// Checks, before any work, that `path` can be written: a file can be created in the
+/// directory of the regular file it names (a probe file is made and removed there), or the
+/// device or FIFO it names can be opened for writing — so that a run does not end unable to
+/// store what it computed.
 pub fn check_writable(path: &Path) -> Result<(), String> {
-    if path.is_dir() {
-        return Err(format!(
-            "{} is a directory; give a file path",
-            path.display()
-        ));
+    match destination(path)? {
+        Destination::Regular(target) => {
+            let probe = temporary(&target).with_extension("probe");
+            std::fs::File::create(&probe)
+                .map(|_| {
+                    let _ = std::fs::remove_file(&probe);
+                })
+                .map_err(|e| format!("cannot write in the directory of {}: {e}", path.display()))
+        }
+        Destination::Special(target) => special_writable(&target)
+            .map_err(|e| format!("cannot write to {}: {e}", path.display())),
     }
-    let probe = temporary(path).with_extension("probe");
-    std::fs::File::create(&probe)
-        .map(|_| {
-            let _ = std::fs::remove_file(&probe);
-        })
-        .map_err(|e| format!("cannot write in the directory of {}: {e}", path.display()))
+}
+
+/// Whether a device or FIFO has a write permission at all, checked without opening it
+/// (opening a FIFO waits for its reader, which may only come once the run has its answer);
+/// anything finer shows when it is opened.
+fn special_writable(target: &Path) -> std::io::Result<()> {
+    if std::fs::metadata(target)?.permissions().readonly() {
+        return Err(std::io::Error::from(std::io::ErrorKind::PermissionDenied));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -124,5 +221,88 @@ mod tests {
         let t = temporary(Path::new("results/x/front.png"));
         assert_eq!(t.extension().unwrap(), "png");
         assert_eq!(t.parent().unwrap(), Path::new("results/x"));
+    }
+
+    #[test]
+    fn a_link_is_followed_and_stays_a_link() {
+        let d = dir("link");
+        let target = d.join("real.csv");
+        std::fs::write(&target, "old\n").unwrap();
+        let link = d.join("link.csv");
+        std::os::unix::fs::symlink("real.csv", &link).unwrap();
+        write(&link, "new\n").unwrap();
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "new\n");
+        // A dangling link makes its target.
+        let dangling = d.join("dangling.json");
+        std::os::unix::fs::symlink(d.join("made.json"), &dangling).unwrap();
+        write(&dangling, "{}").unwrap();
+        assert_eq!(std::fs::read_to_string(d.join("made.json")).unwrap(), "{}");
+        assert!(std::fs::symlink_metadata(&dangling)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+    }
+
+    #[test]
+    fn a_device_is_written_through_not_replaced() {
+        // A null device of the test's own: a failure must not replace the machine's.
+        let d = dir("device");
+        let null = d.join("null");
+        let made = std::process::Command::new("mknod")
+            .arg(&null)
+            .args(["c", "1", "3"])
+            .status()
+            .is_ok_and(|s| s.success());
+        if !made {
+            return; // not allowed to make a device here: nothing to check
+        }
+        check_writable(&null).unwrap();
+        write(&null, "discarded\n").unwrap();
+        write_with(&null, |w| w.write_all(b"discarded too\n")).unwrap();
+        use std::os::unix::fs::FileTypeExt;
+        let kind = std::fs::symlink_metadata(&null).unwrap().file_type();
+        assert!(kind.is_char_device(), "the device was replaced");
+    }
+
+    #[test]
+    fn a_fifo_gets_the_whole_output_and_stays_a_fifo() {
+        let d = dir("fifo");
+        let fifo = d.join("pipe.json");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if !made.is_ok_and(|s| s.success()) {
+            return; // no mkfifo here: nothing to check
+        }
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+        };
+        write(&fifo, "whole\n").unwrap();
+        assert_eq!(reader.join().unwrap(), "whole\n");
+        use std::os::unix::fs::FileTypeExt;
+        assert!(std::fs::symlink_metadata(&fifo)
+            .unwrap()
+            .file_type()
+            .is_fifo());
+        assert_eq!(
+            std::fs::read_dir(&d).unwrap().count(),
+            1,
+            "a temporary was left"
+        );
+    }
+
+    #[test]
+    fn a_directory_or_a_link_loop_is_refused() {
+        let d = dir("loop");
+        assert!(check_writable(&d).unwrap_err().contains("is a directory"));
+        let a = d.join("a");
+        std::os::unix::fs::symlink("b", &a).unwrap();
+        std::os::unix::fs::symlink("a", d.join("b")).unwrap();
+        assert!(write(&a, "x")
+            .unwrap_err()
+            .contains("loop of symbolic links"));
     }
 }

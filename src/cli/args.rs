@@ -342,9 +342,13 @@ pub struct StudyArgs {
     #[arg(long)]
     pub no_report: bool,
     /// Simulate nothing: report what the cache already holds (e.g. while the study runs
-    /// elsewhere); missing cases appear as "not run".
-    #[arg(long)]
+    /// elsewhere); missing cases appear as "not run". The cache is only read: it must exist.
+    #[arg(long, conflicts_with = "shard")]
     pub cached_only: bool,
+    /// Replace the study's report even where the one in place holds more results (by
+    /// default such a report is kept and the command refused).
+    #[arg(long)]
+    pub replace_report: bool,
     /// Run only share I of N of the cases (1 ≤ I ≤ N): a split balanced by expected cost that
     /// depends on the study file alone, so every machine agrees on it; into --cache, a file
     /// of this share's own; no report (merge the shares with `texopt cache merge`, then

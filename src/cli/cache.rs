@@ -16,7 +16,12 @@ pub(super) fn run(a: &CacheArgs) -> Result<i32, CmdError> {
             path.display()
         )));
     }
-    let cache = Cache::open_existing(&path).map_err(cache_error)?;
+    // Inspection reads only: it never writes, nor checkpoints a log into the file.
+    let cache = match a.action {
+        CacheAction::Clear { .. } => Cache::open_existing(&path),
+        _ => Cache::open_read_only(&path),
+    }
+    .map_err(cache_error)?;
     let other = |e: CacheError| CmdError::Other(e.to_string());
     match &a.action {
         CacheAction::Stats => {
@@ -24,16 +29,34 @@ pub(super) fn run(a: &CacheArgs) -> Result<i32, CmdError> {
             let ok = cache.integrity_check().map_err(other)?;
             println!("cache {}", cache.path().display());
             println!(
-                "  {} evaluations done, {} failed; {:.1} s of compute stored; {} bytes; integrity: {ok}",
-                s.done, s.failed, s.compute_seconds, s.file_bytes
+                "  {} evaluations done, {} failed; {:.1} s of compute stored; {} bytes; integrity: {}",
+                s.done,
+                s.failed,
+                s.compute_seconds,
+                s.file_bytes,
+                integrity(&ok, &s.damaged)
             );
+            if s.unchecked > 0 {
+                println!(
+                    "  {} entries written before entries carried checksums (checked from the next run that writes to this cache)",
+                    s.unchecked
+                );
+            }
+            if !s.damaged.is_empty() {
+                return Err(CmdError::Other(format!(
+                    "cache {}: {} damaged entries (never served: a study or optimise run computes them again, `texopt cache merge` does not copy them): {}",
+                    cache.path().display(),
+                    s.damaged.len(),
+                    short_hashes(&s.damaged)
+                )));
+            }
         }
         CacheAction::Export { out } => {
-            let n = match out {
+            let (n, damaged) = match out {
                 Some(p) => {
                     crate::output::check_writable(p)
                         .map_err(|why| CmdError::Input(format!("--out {}: {why}", p.display())))?;
-                    let mut n = 0;
+                    let mut n = (0, Vec::new());
                     crate::output::write_with(p, |w| {
                         n = cache.export(w).map_err(std::io::Error::other)?;
                         Ok(())
@@ -44,6 +67,13 @@ pub(super) fn run(a: &CacheArgs) -> Result<i32, CmdError> {
                 None => cache.export(&mut std::io::stdout().lock()).map_err(other)?,
             };
             eprintln!("exported {n} evaluations");
+            if !damaged.is_empty() {
+                eprintln!(
+                    "left out {} damaged entries (their checksum does not match): {}",
+                    damaged.len(),
+                    short_hashes(&damaged)
+                );
+            }
         }
         CacheAction::Merge { .. } => unreachable!("handled above"),
         CacheAction::Clear { failed } => {
@@ -56,6 +86,30 @@ pub(super) fn run(a: &CacheArgs) -> Result<i32, CmdError> {
         }
     }
     Ok(0)
+}
+
+/// SQLite's verdict on the file, and the entries whose checksum does not match.
+fn integrity(sqlite: &str, damaged: &[String]) -> String {
+    match (sqlite, damaged.len()) {
+        ("ok", 0) => "ok".into(),
+        ("ok", n) => format!("{n} damaged entries"),
+        (s, 0) => s.into(),
+        (s, n) => format!("{s}; {n} damaged entries"),
+    }
+}
+
+/// Entries named by the first 12 digits of their hash: the first ten, and how many more.
+fn short_hashes(hashes: &[String]) -> String {
+    let mut s: Vec<&str> = hashes
+        .iter()
+        .take(10)
+        .map(|h| &h[..h.len().min(12)])
+        .collect();
+    let more = format!("and {} more", hashes.len().saturating_sub(10));
+    if hashes.len() > 10 {
+        s.push(&more);
+    }
+    s.join(", ")
 }
 
 /// Removes a cache file this command created, with SQLite's journal files beside it.
@@ -106,5 +160,23 @@ fn merge(sources: &[std::path::PathBuf], into: &std::path::Path) -> Result<i32, 
         m.kept_done,
         m.other_model
     );
+    if m.repaired > 0 {
+        println!(
+            "  {} damaged entries of {} replaced by sound ones",
+            m.repaired,
+            into.display()
+        );
+    }
+    if !m.damaged.is_empty() {
+        let hashes: Vec<String> = m.damaged.iter().map(|(_, h)| h.clone()).collect();
+        let from: std::collections::BTreeSet<&str> =
+            m.damaged.iter().map(|(f, _)| f.as_str()).collect();
+        eprintln!(
+            "not copied: {} damaged entries of {} (their checksum does not match; a run computes them again): {}",
+            m.damaged.len(),
+            from.into_iter().collect::<Vec<_>>().join(", "),
+            short_hashes(&hashes)
+        );
+    }
     Ok(0)
 }

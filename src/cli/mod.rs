@@ -176,7 +176,9 @@ pub(super) fn open_cache(flag: Option<&std::path::Path>) -> Result<Cache, CmdErr
 /// the user's to fix (exit 2).
 pub(super) fn cache_error(e: CacheError) -> CmdError {
     match e {
-        CacheError::Foreign { .. } | CacheError::Io { .. } => CmdError::Input(e.to_string()),
+        CacheError::Foreign { .. } | CacheError::ForeignLog { .. } | CacheError::Io { .. } => {
+            CmdError::Input(e.to_string())
+        }
         other => CmdError::Other(other.to_string()),
     }
 }

@@ -54,7 +54,11 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
             ))
         })?;
     }
-    let cache = open_cache(a.cache.as_deref())?;
+    let cache = if a.cached_only {
+        read_cache(a.cache.as_deref())?
+    } else {
+        open_cache(a.cache.as_deref())?
+    };
     eprintln!("cache {}", cache.path().display());
     if a.shard.is_some() {
         // A share's cache is its task's alone: a lease left by a cancelled run of this task
@@ -81,6 +85,9 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
         sum.cases, sum.cached, sum.computed, sum.simulations, sum.failed, sum.not_run, sum.wall_time_s
     );
     println!("{note}");
+    for d in &sum.damaged {
+        eprintln!("  damaged in the cache, not served: {d}");
+    }
     // Cases over the run limits are not stored: say why here, whatever the report.
     let unrun: Vec<&String> = results
         .iter()
@@ -109,6 +116,7 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
         return Ok(0);
     }
     if report {
+        keep_fuller_report(a, &study, &results)?;
         let w = crate::study::report::write(&study, &results, &note).map_err(CmdError::Other)?;
         for l in &w.headline {
             println!("  {l}");
@@ -118,4 +126,40 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
         }
     }
     Ok(if sum.failed > 0 { 1 } else { 0 })
+}
+
+/// The cache a report-only run reads: it must exist, and is opened read-only (a mistyped
+/// path must not become an empty cache whose report replaces the real one).
+fn read_cache(flag: Option<&std::path::Path>) -> Result<crate::study::cache::Cache, CmdError> {
+    let path = crate::study::cache::path_from(flag).map_err(CmdError::Input)?;
+    if !path.is_file() {
+        return Err(CmdError::Input(format!(
+            "--cached-only reads a cache, and there is none at {}; give the cache the study ran into with --cache FILE (or $TEXOPT_CACHE)",
+            path.display()
+        )));
+    }
+    crate::study::cache::Cache::open_read_only(&path).map_err(super::cache_error)
+}
+
+/// A report in place that holds more evaluated cases than this run's is kept, unless
+/// --replace-report says otherwise.
+fn keep_fuller_report(
+    a: &crate::cli::StudyArgs,
+    study: &crate::study::Study,
+    results: &[crate::study::sweep::CaseResult],
+) -> Result<(), CmdError> {
+    if a.replace_report {
+        return Ok(());
+    }
+    let Some((path, before)) = crate::study::report::evaluated_in_place(study) else {
+        return Ok(());
+    };
+    let now = results.iter().filter(|r| r.is_some()).count();
+    if now < before {
+        return Err(CmdError::Input(format!(
+            "{} holds {before} evaluated cases and this run has {now}: the report was kept as it was; run the missing cases (without --cached-only, or with the cache that holds them), or give --replace-report to replace it",
+            path.display()
+        )));
+    }
+    Ok(())
 }

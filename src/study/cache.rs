@@ -7,6 +7,7 @@
 //! tolerances, solver, start). Value: the outcomes (or the failure and its reason) with run
 //! metadata (wall time, steps, texopt version, date).
 
+use rusqlite::config::DbConfig;
 use rusqlite::{params, Connection, OpenFlags, OptionalExtension};
 use serde::Serialize;
 use sha2::{Digest, Sha256};
@@ -77,6 +78,12 @@ pub enum CacheError {
     },
     #[error("cache {path}: {why}")]
     Io { path: String, why: String },
+    #[error("cache {path}: the write-ahead log beside it ({log}) belongs to another database ({why}); nothing was read or changed — move that log (and the -shm file beside it) away, or choose another file with --cache")]
+    ForeignLog {
+        path: String,
+        log: String,
+        why: String,
+    },
 }
 
 /// What the cache holds for one key.
@@ -84,6 +91,9 @@ pub enum CacheError {
 pub enum Entry {
     Done(Outcome),
     Failed(String),
+    /// An entry whose checksum does not match what it holds (altered after it was written):
+    /// never served; the reason says what is wrong.
+    Damaged(String),
 }
 
 /// The canonical key of an evaluation and its hash.
@@ -167,11 +177,16 @@ impl Key {
             numerics: KeyNumerics::of(numerics),
         })
         .expect("plain data serialises");
-        let hash = Sha256::digest(json.as_bytes())
+        let hash = Key::hash_of(&json);
+        Key { hash, json }
+    }
+
+    /// The hash of a key's canonical JSON (SHA-256, hex).
+    pub fn hash_of(json: &str) -> String {
+        Sha256::digest(json.as_bytes())
             .iter()
             .map(|b| format!("{b:02x}"))
-            .collect();
-        Key { hash, json }
+            .collect()
     }
 }
 
@@ -182,11 +197,18 @@ pub struct Stats {
     pub failed: usize,
     pub compute_seconds: f64,
     pub file_bytes: u64,
+    /// The entries whose checksum does not match (their hashes), and those written before
+    /// entries carried one (not checked).
+    pub damaged: Vec<String>,
+    pub unchecked: usize,
 }
 
 pub struct Cache {
     pub(super) conn: Connection,
     path: PathBuf,
+    /// Whether the file's entries carry checksums (a cache written before they did, opened
+    /// to read only, has none to check).
+    checked: bool,
 }
 
 impl Cache {
@@ -204,7 +226,7 @@ impl Cache {
                 }
             })?;
         }
-        let cache = Cache::open_with(path, true)?;
+        let cache = Cache::open_with(path, Mode::Create)?;
         if cache.conn.is_readonly(rusqlite::MAIN_DB).unwrap_or(true) {
             return Err(CacheError::Io {
                 path: cache.path.display().to_string(),
@@ -214,32 +236,43 @@ impl Cache {
         Ok(cache)
     }
 
-    /// Opens an existing cache to inspect or clear it: never creates, initialises or
+    /// Opens an existing cache to change it (clear entries): never creates, initialises or
     /// converts a file (an empty file, or another application's empty database, is refused
     /// and left as it was).
     pub fn open_existing(path: &Path) -> Result<Cache, CacheError> {
-        Cache::open_with(path, false)
+        Cache::open_with(path, Mode::Existing)
     }
 
-    fn open_with(path: &Path, create: bool) -> Result<Cache, CacheError> {
+    /// Opens an existing cache to read it only (stats, export, a report from what it holds):
+    /// a read-only connection that never creates a file, writes or checkpoints.
+    pub fn open_read_only(path: &Path) -> Result<Cache, CacheError> {
+        Cache::open_with(path, Mode::Read)
+    }
+
+    fn open_with(path: &Path, mode: Mode) -> Result<Cache, CacheError> {
         let shown = path.display().to_string();
-        if !create && !path.is_file() {
+        if mode != Mode::Create && !path.is_file() {
             return Err(CacheError::Io {
                 path: shown,
-                why: "no such file".into(),
+                why: "no such cache file".into(),
             });
         }
         check_file(path, &shown)?;
+        check_wal(path, &shown)?;
         let sql = |source| CacheError::Sqlite {
             path: shown.clone(),
             source,
         };
-        let flags = if create {
-            OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_CREATE
-        } else {
-            OpenFlags::SQLITE_OPEN_READ_WRITE
+        let flags = match mode {
+            Mode::Create => OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_CREATE,
+            Mode::Existing => OpenFlags::SQLITE_OPEN_READ_WRITE,
+            Mode::Read => OpenFlags::SQLITE_OPEN_READ_ONLY,
         };
         let conn = Connection::open_with_flags(path, flags).map_err(sql)?;
+        // Nothing is checkpointed into the file until it has passed every check below (a
+        // damaged log must not be written into it on close).
+        conn.set_db_config(DbConfig::SQLITE_DBCONFIG_NO_CKPT_ON_CLOSE, true)
+            .map_err(sql)?;
         conn.busy_timeout(std::time::Duration::from_secs(120))
             .map_err(sql)?;
         check_integrity(&conn, &shown)?;
@@ -249,44 +282,20 @@ impl Cache {
         conn.execute_batch("COMMIT").map_err(sql)?;
         let (app, tables) = seen.map_err(sql)?;
         check_identity(&conn, &shown, app, tables)?;
-        if !create && app != APPLICATION_ID {
+        if mode != Mode::Create && app != APPLICATION_ID {
             return Err(CacheError::Foreign {
                 path: shown,
                 why: "not a texopt cache (an empty file or database)".into(),
             });
         }
-        // Switching a fresh file to WAL needs it to itself for a moment; SQLite may answer
-        // "busy" at once instead of waiting, so wait here (bounded like the busy timeout).
-        let t0 = std::time::Instant::now();
-        loop {
-            match conn.pragma_update(None, "journal_mode", "WAL") {
-                Err(e)
-                    if e.sqlite_error_code() == Some(rusqlite::ErrorCode::DatabaseBusy)
-                        && t0.elapsed().as_secs() < 120 =>
-                {
-                    std::thread::sleep(std::time::Duration::from_millis(20));
-                }
-                r => break r.map_err(sql)?,
-            }
+        if mode != Mode::Read {
+            prepare_for_writing(&conn, &shown, mode, app)?;
         }
-        conn.pragma_update(None, "synchronous", "NORMAL")
-            .map_err(sql)?;
-        if app != APPLICATION_ID {
-            create_schema(&conn, &shown)?;
-        }
-        if create {
-            // Leases (see [`Cache::claim`]); a table of their own, so that caches made before
-            // keep their schema version and older texopt versions still read them.
-            conn.execute_batch(
-                "CREATE TABLE IF NOT EXISTS leases (
-                     lease TEXT PRIMARY KEY, host TEXT NOT NULL, pid INTEGER NOT NULL,
-                     taken REAL NOT NULL)",
-            )
-            .map_err(sql)?;
-        }
+        let checked = has_checksums(&conn).map_err(sql)?;
         Ok(Cache {
             conn,
             path: path.to_path_buf(),
+            checked,
         })
     }
 
@@ -301,40 +310,107 @@ impl Cache {
         }
     }
 
+    /// The entry stored for `key`, its checksum checked: an entry altered after it was
+    /// written is [`Entry::Damaged`]; an outcome of an older layout is `None` (recomputed).
     pub fn get(&self, key: &Key) -> Result<Option<Entry>, CacheError> {
-        let row: Option<(String, Option<String>, Option<String>)> = self
+        let row: Option<Stored> = self
             .conn
             .query_row(
-                "SELECT status, outcome, reason FROM evaluations WHERE hash = ?1",
+                &format!(
+                    "SELECT status, outcome, reason, {} FROM evaluations WHERE hash = ?1",
+                    self.checksum_column()
+                ),
                 [&key.hash],
-                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
+                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?)),
             )
             .optional()
             .map_err(|e| self.sql(e))?;
-        Ok(match row {
-            None => None,
-            Some((s, Some(o), _)) if s == "done" => match serde_json::from_str(&o) {
+        let Some((status, outcome, reason, sum)) = row else {
+            return Ok(None);
+        };
+        if let Some(why) = damage(
+            &key.hash,
+            &status,
+            outcome.as_deref(),
+            reason.as_deref(),
+            sum.as_deref(),
+        ) {
+            return Ok(Some(Entry::Damaged(why)));
+        }
+        Ok(match (status.as_str(), outcome) {
+            ("done", Some(o)) => match serde_json::from_str(&o) {
                 Ok(out) => Some(Entry::Done(out)),
                 Err(_) => None, // unreadable (older layout): recompute
             },
-            Some((_, _, reason)) => Some(Entry::Failed(reason.unwrap_or_default())),
+            _ => Some(Entry::Failed(reason.unwrap_or_default())),
         })
+    }
+
+    /// The checksum column, or NULL for a cache written before entries carried one.
+    fn checksum_column(&self) -> &'static str {
+        if self.checked {
+            "checksum"
+        } else {
+            "NULL"
+        }
+    }
+
+    /// The entries whose checksum does not match (their hashes, in order), and the number
+    /// written before entries carried one.
+    pub fn verify(&self) -> Result<(Vec<String>, usize), CacheError> {
+        let mut st = self
+            .conn
+            .prepare(&format!(
+                "SELECT hash, key, status, outcome, reason, {} FROM evaluations ORDER BY hash",
+                self.checksum_column()
+            ))
+            .map_err(|e| self.sql(e))?;
+        let rows = st
+            .query_map([], |r| {
+                Ok((
+                    r.get::<_, String>(0)?,
+                    r.get::<_, String>(1)?,
+                    (r.get(2)?, r.get(3)?, r.get(4)?, r.get(5)?),
+                ))
+            })
+            .map_err(|e| self.sql(e))?;
+        let (mut damaged, mut unchecked) = (Vec::new(), 0);
+        for row in rows {
+            let (hash, key, (status, outcome, reason, sum)): (String, String, Stored) =
+                row.map_err(|e| self.sql(e))?;
+            let wrong_key = Key::hash_of(&key) != hash;
+            let bad = damage(
+                &hash,
+                &status,
+                outcome.as_deref(),
+                reason.as_deref(),
+                sum.as_deref(),
+            );
+            if wrong_key || bad.is_some() {
+                damaged.push(hash);
+            } else if sum.is_none() {
+                unchecked += 1;
+            }
+        }
+        Ok((damaged, unchecked))
     }
 
     /// Stores a finished evaluation (replacing a stored failure).
     pub fn put_done(&self, key: &Key, out: &Outcome) -> Result<(), CacheError> {
+        let outcome = serde_json::to_string(out).expect("plain data");
         self.conn
             .execute(
                 "INSERT OR REPLACE INTO evaluations
-                 (hash, key, status, outcome, reason, wall_time_s, steps, texopt_version)
-                 VALUES (?1, ?2, 'done', ?3, NULL, ?4, ?5, ?6)",
+                 (hash, key, status, outcome, reason, wall_time_s, steps, texopt_version, checksum)
+                 VALUES (?1, ?2, 'done', ?3, NULL, ?4, ?5, ?6, ?7)",
                 params![
                     key.hash,
                     key.json,
-                    serde_json::to_string(out).expect("plain data"),
+                    outcome,
                     out.wall_time_s,
                     out.steps as i64,
-                    env!("CARGO_PKG_VERSION")
+                    env!("CARGO_PKG_VERSION"),
+                    checksum(&key.hash, "done", Some(&outcome), None)
                 ],
             )
             .map(|_| ())
@@ -346,14 +422,15 @@ impl Cache {
         self.conn
             .execute(
                 "INSERT OR REPLACE INTO evaluations
-                 (hash, key, status, outcome, reason, wall_time_s, steps, texopt_version)
-                 VALUES (?1, ?2, 'failed', NULL, ?3, ?4, 0, ?5)",
+                 (hash, key, status, outcome, reason, wall_time_s, steps, texopt_version, checksum)
+                 VALUES (?1, ?2, 'failed', NULL, ?3, ?4, 0, ?5, ?6)",
                 params![
                     key.hash,
                     key.json,
                     reason,
                     wall_time_s,
-                    env!("CARGO_PKG_VERSION")
+                    env!("CARGO_PKG_VERSION"),
+                    checksum(&key.hash, "failed", None, Some(reason))
                 ],
             )
             .map(|_| ())
@@ -432,17 +509,22 @@ impl Cache {
                 |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
             )
             .map_err(|e| self.sql(e))?;
+        let (damaged, unchecked) = self.verify()?;
         Ok(Stats {
             done: done as usize,
             failed: failed as usize,
             compute_seconds: secs,
             file_bytes: std::fs::metadata(&self.path).map_or(0, |m| m.len()),
+            damaged,
+            unchecked,
         })
     }
 
-    /// Every entry as JSON lines: {hash, key, status, outcome, reason, wall_time_s, steps,
-    /// texopt_version, created}.
-    pub fn export(&self, out: &mut dyn std::io::Write) -> Result<usize, CacheError> {
+    /// Every sound entry as JSON lines: {hash, key, status, outcome, reason, wall_time_s,
+    /// steps, texopt_version, created}; returns how many, and the damaged entries left out
+    /// (their hashes).
+    pub fn export(&self, out: &mut dyn std::io::Write) -> Result<(usize, Vec<String>), CacheError> {
+        let (damaged, _) = self.verify()?;
         let mut st = self
             .conn
             .prepare(
@@ -470,13 +552,19 @@ impl Cache {
         let mut n = 0;
         for row in rows {
             let v = row.map_err(|e| self.sql(e))?;
+            if v["hash"]
+                .as_str()
+                .is_some_and(|h| damaged.iter().any(|d| d == h))
+            {
+                continue;
+            }
             writeln!(out, "{v}").map_err(|e| CacheError::Io {
                 path: self.path.display().to_string(),
                 why: format!("export: {e}"),
             })?;
             n += 1;
         }
-        Ok(n)
+        Ok((n, damaged))
     }
 
     /// Deletes entries: only the failures when `failed_only`. Returns how many.
@@ -502,6 +590,180 @@ impl Cache {
             .map_err(|e| self.sql(e))?;
         Ok(rows.join("; "))
     }
+}
+
+/// A stored entry's status, outcome, reason and checksum.
+pub(super) type Stored = (String, Option<String>, Option<String>, Option<String>);
+
+/// What is wrong with a stored entry, if anything: a checksum that does not match what it
+/// holds, or a finished entry without an outcome. An entry without a checksum (written
+/// before entries carried one) is taken as it stands.
+pub(super) fn damage(
+    hash: &str,
+    status: &str,
+    outcome: Option<&str>,
+    reason: Option<&str>,
+    sum: Option<&str>,
+) -> Option<String> {
+    if status == "done" && outcome.is_none() {
+        return Some("a finished entry without its outcome".into());
+    }
+    match sum {
+        Some(s) if s != checksum(hash, status, outcome, reason) => {
+            Some("its checksum does not match what it holds (altered after it was written)".into())
+        }
+        _ => None,
+    }
+}
+
+/// How a cache file is opened.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Mode {
+    /// To store results: created (with its directory) if missing.
+    Create,
+    /// To change an existing cache.
+    Existing,
+    /// To read an existing cache only.
+    Read,
+}
+
+/// A connection that passed the checks, made ready to write: WAL journal, the schema on a
+/// fresh file, the leases table, checksums for entries written before entries carried them,
+/// and the checkpoint on close back on.
+fn prepare_for_writing(
+    conn: &Connection,
+    shown: &str,
+    mode: Mode,
+    app: i32,
+) -> Result<(), CacheError> {
+    let sql = |source| CacheError::Sqlite {
+        path: shown.to_string(),
+        source,
+    };
+    // Switching a fresh file to WAL needs it to itself for a moment; SQLite may answer
+    // "busy" at once instead of waiting, so wait here (bounded like the busy timeout).
+    let t0 = std::time::Instant::now();
+    loop {
+        match conn.pragma_update(None, "journal_mode", "WAL") {
+            Err(e)
+                if e.sqlite_error_code() == Some(rusqlite::ErrorCode::DatabaseBusy)
+                    && t0.elapsed().as_secs() < 120 =>
+            {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            r => break r.map_err(sql)?,
+        }
+    }
+    conn.pragma_update(None, "synchronous", "NORMAL")
+        .map_err(sql)?;
+    if app != APPLICATION_ID {
+        create_schema(conn, shown)?;
+    }
+    if mode == Mode::Create {
+        // Leases (see [`Cache::claim`]); a table of their own, so that caches made before
+        // keep their schema version and older texopt versions still read them.
+        conn.execute_batch(
+            "CREATE TABLE IF NOT EXISTS leases (
+                 lease TEXT PRIMARY KEY, host TEXT NOT NULL, pid INTEGER NOT NULL,
+                 taken REAL NOT NULL)",
+        )
+        .map_err(sql)?;
+    }
+    add_checksums(conn).map_err(sql)?;
+    conn.set_db_config(DbConfig::SQLITE_DBCONFIG_NO_CKPT_ON_CLOSE, false)
+        .map_err(sql)?;
+    Ok(())
+}
+
+/// The checksum of a stored entry: SHA-256 over its hash, status, outcome and reason, so that
+/// an outcome altered after it was written (a changed digit, a flipped byte) is found on
+/// every read and never served.
+pub(super) fn checksum(
+    hash: &str,
+    status: &str,
+    outcome: Option<&str>,
+    reason: Option<&str>,
+) -> String {
+    let mut h = Sha256::new();
+    for part in [Some(hash), Some(status), outcome, reason] {
+        // Each part framed by its length, so that moving bytes between parts shows.
+        let bytes = part.map_or(&[][..], str::as_bytes);
+        h.update((part.map_or(-1, |p| p.len() as i64)).to_le_bytes());
+        h.update(bytes);
+    }
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Gives the column `checksum` to a cache made before entries carried one, and a checksum
+/// to each such entry (read as it stands: there is nothing older to check it against).
+/// Older texopt versions name their columns, so they still read the file.
+fn add_checksums(conn: &Connection) -> rusqlite::Result<()> {
+    let has = has_checksums(conn)?;
+    let unchecked = || {
+        conn.query_row(
+            "SELECT count(*) FROM evaluations WHERE checksum IS NULL",
+            [],
+            |r| r.get::<_, i64>(0),
+        )
+    };
+    if has && unchecked()? == 0 {
+        return Ok(());
+    }
+    conn.execute_batch("BEGIN IMMEDIATE")?;
+    let fill = || -> rusqlite::Result<()> {
+        if !has {
+            conn.execute_batch("ALTER TABLE evaluations ADD COLUMN checksum TEXT")?;
+        }
+        let rows: Vec<(String, String, Option<String>, Option<String>)> = conn
+            .prepare(
+                "SELECT hash, status, outcome, reason FROM evaluations WHERE checksum IS NULL",
+            )?
+            .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?)))?
+            .collect::<Result<_, _>>()?;
+        for (hash, status, outcome, reason) in rows {
+            let c = checksum(&hash, &status, outcome.as_deref(), reason.as_deref());
+            conn.execute(
+                "UPDATE evaluations SET checksum = ?1 WHERE hash = ?2",
+                params![c, hash],
+            )?;
+        }
+        Ok(())
+    };
+    match fill() {
+        Ok(()) => conn.execute_batch("COMMIT"),
+        Err(e) => {
+            let _ = conn.execute_batch("ROLLBACK");
+            Err(e)
+        }
+    }
+}
+
+/// Whether the `evaluations` table has its `checksum` column.
+fn has_checksums(conn: &Connection) -> rusqlite::Result<bool> {
+    conn.query_row(
+        "SELECT count(*) FROM pragma_table_info('evaluations') WHERE name = 'checksum'",
+        [],
+        |r| r.get::<_, i64>(0).map(|n| n > 0),
+    )
+}
+
+/// A write-ahead log beside the cache that belongs to another database is refused before
+/// SQLite reads it (it would be replayed into the cache; see [`super::wal`]). Checked twice,
+/// a moment apart, so that a log another process is restarting at that instant is not taken
+/// for a foreign one.
+pub(super) fn check_wal(path: &Path, shown: &str) -> Result<(), CacheError> {
+    let Err(first) = super::wal::check(path, APPLICATION_ID) else {
+        return Ok(());
+    };
+    std::thread::sleep(std::time::Duration::from_millis(50));
+    if super::wal::check(path, APPLICATION_ID).is_ok() {
+        return Ok(());
+    }
+    Err(CacheError::ForeignLog {
+        path: shown.to_string(),
+        log: super::wal::wal_path(path).display().to_string(),
+        why: first.to_string(),
+    })
 }
 
 /// An existing file must begin as an SQLite database does; a missing one gets its directory.
@@ -660,7 +922,8 @@ fn create_schema(conn: &Connection, shown: &str) -> Result<(), CacheError> {
                  wall_time_s REAL NOT NULL,
                  steps INTEGER NOT NULL,
                  texopt_version TEXT NOT NULL,
-                 created TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now'))
+                 created TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now')),
+                 checksum TEXT
              );
              PRAGMA application_id = {APPLICATION_ID};
              PRAGMA user_version = {SCHEMA};"

@@ -8,7 +8,8 @@ use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 
 use super::cache::{
-    check_file, check_integrity, identity, Cache, CacheError, APPLICATION_ID, MODEL_VERSION,
+    check_file, check_integrity, check_wal, checksum, damage, identity, Cache, CacheError,
+    APPLICATION_ID, MODEL_VERSION,
 };
 
 /// One stored evaluation, as the `evaluations` table holds it.
@@ -23,6 +24,14 @@ struct Row {
     steps: i64,
     texopt_version: String,
     created: String,
+    /// None for an entry written before entries carried a checksum.
+    checksum: Option<String>,
+}
+
+/// An entry the cache merged into already holds.
+enum Have {
+    Sound(String, Option<String>),
+    Damaged,
 }
 
 /// What a merge did.
@@ -38,6 +47,10 @@ pub struct Merged {
     pub kept_done: usize,
     /// Entries of another model version, not copied (they would never be read).
     pub other_model: usize,
+    /// Entries whose checksum does not match what they hold (source, hash), not copied.
+    pub damaged: Vec<(String, String)>,
+    /// Damaged entries of the cache merged into, replaced by a source's sound one.
+    pub repaired: usize,
 }
 
 /// The entries of a source cache, read without writing to it (a read-only connection: no
@@ -52,6 +65,7 @@ fn read(path: &Path) -> Result<Vec<Row>, CacheError> {
         });
     }
     check_file(path, &shown)?;
+    check_wal(path, &shown)?;
     let sql = |source| CacheError::Sqlite {
         path: shown.clone(),
         source,
@@ -65,11 +79,19 @@ fn read(path: &Path) -> Result<Vec<Row>, CacheError> {
             why: "not a texopt cache".into(),
         });
     }
-    let mut st = conn
-        .prepare(
-            "SELECT hash, key, status, outcome, reason, wall_time_s, steps, texopt_version, created
-             FROM evaluations ORDER BY hash",
+    let has_checksums: bool = conn
+        .query_row(
+            "SELECT count(*) FROM pragma_table_info('evaluations') WHERE name = 'checksum'",
+            [],
+            |r| r.get::<_, i64>(0).map(|n| n > 0),
         )
+        .map_err(sql)?;
+    let mut st = conn
+        .prepare(&format!(
+            "SELECT hash, key, status, outcome, reason, wall_time_s, steps, texopt_version, created, {}
+             FROM evaluations ORDER BY hash",
+            if has_checksums { "checksum" } else { "NULL" }
+        ))
         .map_err(sql)?;
     let rows = st
         .query_map([], |r| {
@@ -83,6 +105,7 @@ fn read(path: &Path) -> Result<Vec<Row>, CacheError> {
                 steps: r.get(6)?,
                 texopt_version: r.get(7)?,
                 created: r.get(8)?,
+                checksum: r.get(9)?,
             })
         })
         .map_err(sql)?
@@ -164,30 +187,37 @@ impl Cache {
         };
         for (from, rows) in all {
             for r in rows {
+                let bad = damage(
+                    &r.hash,
+                    &r.status,
+                    r.outcome.as_deref(),
+                    r.reason.as_deref(),
+                    r.checksum.as_deref(),
+                );
+                if bad.is_some() {
+                    m.damaged.push((from.clone(), r.hash.clone()));
+                    continue;
+                }
                 if model_of(&r.key).as_deref() != Some(MODEL_VERSION) {
                     m.other_model += 1;
                     continue;
                 }
-                let have: Option<(String, Option<String>)> = self
-                    .conn
-                    .query_row(
-                        "SELECT status, outcome FROM evaluations WHERE hash = ?1",
-                        [&r.hash],
-                        |x| Ok((x.get(0)?, x.get(1)?)),
-                    )
-                    .optional()
-                    .map_err(sql)?;
+                let have = self.stored(&r.hash).map_err(sql)?;
                 match (have, r.status.as_str()) {
+                    (Some(Have::Damaged), _) => {
+                        self.insert(r).map_err(sql)?;
+                        m.repaired += 1;
+                    }
                     (None, _) => {
                         self.insert(r).map_err(sql)?;
                         m.added += 1;
                     }
-                    (Some((s, _)), "failed") if s == "done" => m.kept_done += 1,
-                    (Some((s, _)), "done") if s == "failed" => {
+                    (Some(Have::Sound(s, _)), "failed") if s == "done" => m.kept_done += 1,
+                    (Some(Have::Sound(s, _)), "done") if s == "failed" => {
                         self.insert(r).map_err(sql)?;
                         m.replaced_failures += 1;
                     }
-                    (Some((_, mine)), _) => {
+                    (Some(Have::Sound(_, mine)), _) => {
                         let theirs = r.outcome.as_deref().and_then(numbers);
                         if mine.as_deref().and_then(numbers) != theirs {
                             return Err(CacheError::Io {
@@ -206,11 +236,37 @@ impl Cache {
         Ok(m)
     }
 
+    /// What this cache holds under `hash`: a sound entry's status and outcome, or a damaged
+    /// one (replaced by the source's).
+    fn stored(&self, hash: &str) -> rusqlite::Result<Option<Have>> {
+        let row: Option<super::cache::Stored> = self
+            .conn
+            .query_row(
+                "SELECT status, outcome, reason, checksum FROM evaluations WHERE hash = ?1",
+                [hash],
+                |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?)),
+            )
+            .optional()?;
+        Ok(row.map(|(status, outcome, reason, sum)| {
+            match damage(
+                hash,
+                &status,
+                outcome.as_deref(),
+                reason.as_deref(),
+                sum.as_deref(),
+            ) {
+                Some(_) => Have::Damaged,
+                None => Have::Sound(status, outcome),
+            }
+        }))
+    }
+
     fn insert(&self, r: &Row) -> rusqlite::Result<usize> {
         self.conn.execute(
             "INSERT OR REPLACE INTO evaluations
-             (hash, key, status, outcome, reason, wall_time_s, steps, texopt_version, created)
-             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)",
+             (hash, key, status, outcome, reason, wall_time_s, steps, texopt_version, created,
+              checksum)
+             VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)",
             params![
                 r.hash,
                 r.key,
@@ -220,7 +276,13 @@ impl Cache {
                 r.wall_time_s,
                 r.steps,
                 r.texopt_version,
-                r.created
+                r.created,
+                checksum(
+                    &r.hash,
+                    &r.status,
+                    r.outcome.as_deref(),
+                    r.reason.as_deref()
+                )
             ],
         )
     }

@@ -9,5 +9,6 @@ mod operating;
 pub mod report;
 pub mod shard;
 pub mod sweep;
+mod wal;
 
 pub use file::{load, numerics_for, parse, Job, NumericsOverride, Study, StudyError};

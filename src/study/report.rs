@@ -281,6 +281,20 @@ fn caption(file: &str) -> Option<&'static str> {
     })
 }
 
+/// The study's CSV in place and how many of its cases were evaluated (done or failed), if
+/// there is one that can be read.
+pub fn evaluated_in_place(study: &Study) -> Option<(PathBuf, usize)> {
+    let path = Path::new(&study.report.dir).join(format!("{}.csv", study.name));
+    let mut r = csv::Reader::from_path(&path).ok()?;
+    let status = r.headers().ok()?.iter().position(|h| h == "status")?;
+    let n = r
+        .records()
+        .filter_map(Result::ok)
+        .filter(|rec| matches!(rec.get(status), Some("done" | "failed")))
+        .count();
+    Some((path, n))
+}
+
 fn write_csv(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {
     crate::output::atomically(path, |tmp| csv_rows(tmp, study, rows))
 }

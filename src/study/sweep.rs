@@ -49,6 +49,9 @@ pub struct Summary {
     pub not_run: usize,
     pub stopped: bool,
     pub wall_time_s: f64,
+    /// Cases whose stored entry was damaged (label and what was wrong): never served,
+    /// computed again unless the sweep is stopped.
+    pub damaged: Vec<String>,
 }
 
 /// The θ_s-free part of a case: cases equal in it share one simulation.
@@ -98,7 +101,13 @@ pub fn run(
             match c.get(k)? {
                 Some(Entry::Done(o)) => results[i] = Some(Ok(o)),
                 Some(Entry::Failed(r)) if !opt.retry_failed => results[i] = Some(Err(r)),
-                _ => {
+                other => {
+                    if let Some(Entry::Damaged(why)) = other {
+                        let hash = &k.hash[..12];
+                        summary
+                            .damaged
+                            .push(format!("{} (entry {hash}): {why}", jobs[i].case.label()));
+                    }
                     missing
                         .entry(shared_key(&jobs[i].case, &jobs[i].numerics))
                         .or_default()
