@@ -301,3 +301,51 @@ fn a_cancelled_task_resubmitted_loses_nothing_and_computes_nothing_twice() {
     assert_eq!(entries(&run.join("merged.sqlite")), after);
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn a_study_under_paths_with_quotes_dollars_and_patterns_runs_on_slurm() {
+    if !slurm_up() {
+        return;
+    }
+    // sbatch reads the #SBATCH lines (its own quoting, %-patterns in the logs' paths), bash
+    // the rest: neither may split these paths or run what is in them.
+    let payload = "a b 'q' \"dq\" $(touch PWNED) `touch BQ` #h %j %a";
+    let root = scratch("slurm-quoting");
+    let dir = root.join(format!("cwd {payload}"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("slq {payload}.toml"));
+    std::fs::write(
+        &path,
+        "[study]\nname = \"slq\"\nfidelity = \"draft\"\nuntextured = true\n\
+         [parameters]\nR = [3.2]\nl1 = [0.01, 0.03]\nper = 0.06\ndepth = [5]\n\
+         [report]\ndir = \"report\"\n",
+    )
+    .unwrap();
+    let file = path.to_str().unwrap().to_string();
+    let run = dir.join(format!("run {payload}"));
+    let (code, out, err) = texopt_in(
+        &dir,
+        &[
+            "study",
+            &file,
+            "--slurm",
+            run.to_str().unwrap(),
+            "--tasks",
+            "2",
+            "--submit",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let (array, merge) = job_ids(&out);
+    wait_for(&array, &run.join("logs"));
+    wait_for(&merge, &run.join("logs"));
+    for log in ["task-1.log", "task-2.log", "merge.log"] {
+        assert!(run.join("logs").join(log).is_file(), "{log} not in logs/");
+    }
+    assert_eq!(entries(&run.join("merged.sqlite")).len(), 3);
+    assert!(dir.join("report/slq.csv").is_file());
+    for name in ["PWNED", "BQ"] {
+        assert!(!dir.join(name).exists() && !run.join(name).exists());
+    }
+    let _ = std::fs::remove_dir_all(root);
+}

@@ -357,6 +357,7 @@ pub struct StudyArgs {
     pub shard: Option<(usize, usize)>,
     /// Write Slurm scripts into DIR instead of running: an sbatch array of --tasks shares,
     /// each into its own cache and log, and a merge-and-report job that runs after them.
+    /// The paths the scripts name cannot hold control characters, nor DIR a backslash.
     #[arg(long, value_name = "DIR")]
     pub slurm: Option<PathBuf>,
     /// Array tasks (shares) of --slurm [default: 4].
