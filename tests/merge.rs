@@ -207,16 +207,31 @@ fn a_study_run_in_shares_and_merged_reports_as_one_run() {
     )
     .unwrap();
     let f = file.to_str().unwrap();
-    // From an empty cache with --cached-only nothing runs: the summary says so and concludes
-    // nothing.
+    // --cached-only reads a cache: one that is not there is refused, not created.
     let empty = dir.join("empty.sqlite");
+    let report_only = |cache: &std::path::Path| {
+        texopt(&["study", f, "--cache", cache.to_str().unwrap(), "--cached-only"])
+    };
+    let (code, _, err) = report_only(&empty);
+    assert_eq!(code, 2, "{err}");
+    assert!(!empty.exists(), "a report-only run created a cache");
+    // From a cache that holds none of the study's cases nothing runs: the summary says so
+    // and concludes nothing.
+    let other = dir.join("other.toml");
+    std::fs::write(
+        &other,
+        "[study]\nname = \"o\"\nfidelity = \"draft\"\n[parameters]\nR = [0.5]\nl1 = [0.01]\nper = 0.06\ndepth = [2]\n[numerics]\nn1 = 64\nn2 = 4\ndt = 1.6e-3\n",
+    )
+    .unwrap();
     let (code, _, err) = texopt(&[
         "study",
-        f,
+        other.to_str().unwrap(),
         "--cache",
         empty.to_str().unwrap(),
-        "--cached-only",
+        "--no-report",
     ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = report_only(&empty);
     assert_eq!(code, 0, "{err}");
     let summary = std::fs::read_to_string(dir.join("report/s_summary.md")).unwrap();
     assert!(
