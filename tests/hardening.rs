@@ -561,3 +561,214 @@ fn a_read_only_cache_is_refused_before_computing() {
     assert!(err.contains("cannot be written"), "{err}");
     assert!(!out.contains("computed in 1"), "a case was computed: {out}");
 }
+
+/// Runs texopt in `dir` for at most `secs` seconds (killed after: work started where a
+/// refusal was due): exit code (-1 when killed) and stderr.
+fn texopt_within(dir: &Path, secs: u64, args: &[&str]) -> (i32, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_texopt"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run texopt");
+    let t0 = std::time::Instant::now();
+    let code = loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            break status.code().unwrap_or(-1);
+        }
+        if t0.elapsed().as_secs() >= secs {
+            let _ = child.kill();
+            let _ = child.wait();
+            break -1;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    let mut err = String::new();
+    if let Some(mut e) = child.stderr.take() {
+        let _ = std::io::Read::read_to_string(&mut e, &mut err);
+    }
+    (code, err)
+}
+
+/// Refused at once (exit 2, one line naming `needle`), run in `dir`.
+fn refused_at_once(dir: &Path, args: &[&str], needle: &str) {
+    let (code, err) = texopt_within(dir, 10, args);
+    assert_eq!(code, 2, "{args:?}: {err}");
+    assert!(err.contains(needle), "{args:?}: {err:?} lacks {needle:?}");
+    assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+}
+
+#[test]
+fn search_sizes_are_capped_before_any_work() {
+    let dir = scratch("hardening-search-sizes");
+    let opt = |extra: &[&str]| -> Vec<String> {
+        let mut v: Vec<String> = [
+            "optimise", "--R", "3.2", "--cache", "c.sqlite", "--out", "o",
+        ]
+        .map(String::from)
+        .to_vec();
+        v.extend(extra.iter().map(|s| s.to_string()));
+        v
+    };
+    let weights: Vec<String> = (1..=101).map(|i| format!("{}", i as f64 / 102.0)).collect();
+    let weights = weights.join(",");
+    for (extra, needle) in [
+        (
+            &["--particles", "100000000000"][..],
+            "--particles = 100000000000",
+        ),
+        (&["--particles", "1000000000"], "from 2 to 10000"),
+        (&["--particles", "1"], "--particles = 1"),
+        (&["--iterations", "100000000"], "--iterations = 100000000"),
+        (&["--iterations", "0"], "from 1 to 100000"),
+        (&["--balanced", weights.as_str()], "--balanced: 101 weights"),
+    ] {
+        let args = opt(extra);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        refused_at_once(&dir, &args, needle);
+    }
+    // A config file's sizes are named by their key.
+    std::fs::write(dir.join("cfg.toml"), "particles = 20000\n").unwrap();
+    refused_at_once(
+        &dir,
+        &opt(&["--config", "cfg.toml"])
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+        "--config cfg.toml: particles = 20000",
+    );
+    std::fs::write(dir.join("cfg.toml"), "radii = 17\n").unwrap();
+    let args = [
+        "optimise", "--R", "3.2..5", "--config", "cfg.toml", "--cache", "c.sqlite",
+    ];
+    refused_at_once(&dir, &args, "--config cfg.toml: radii = 17");
+    // cycle: the flags and the engine file's [design] keys.
+    let engine = Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/engine_gasoline.toml");
+    let text = std::fs::read_to_string(&engine).unwrap();
+    let big = text.replace("particles = 8", "particles = 100000000");
+    assert_ne!(big, text, "the engine file sets particles = 8");
+    std::fs::write(dir.join("e.toml"), big).unwrap();
+    let e = engine.to_str().unwrap();
+    for (args, needle) in [
+        (
+            vec!["cycle", "e.toml"],
+            "e.toml: [design] particles = 100000000",
+        ),
+        (
+            vec!["cycle", e, "--particles", "100000"],
+            "--particles = 100000",
+        ),
+        (
+            vec!["cycle", e, "--iterations", "100000000"],
+            "--iterations = 100000000",
+        ),
+    ] {
+        let mut args = args;
+        args.extend(["--cache", "c.sqlite", "--out", "o"]);
+        refused_at_once(&dir, &args, needle);
+    }
+    assert!(!dir.join("o").exists() && !dir.join("c.sqlite").exists());
+}
+
+#[test]
+fn a_study_cannot_raise_its_case_limit_without_bound() {
+    let dir = scratch("hardening-max-cases");
+    let p = dir.join("s.toml");
+    std::fs::write(
+        &p,
+        "[study]\nname = \"s\"\nmax_cases = 1000000000000\n[parameters]\nR = 0.8\n",
+    )
+    .unwrap();
+    refused_at_once(
+        &dir,
+        &["study", p.to_str().unwrap(), "--dry-run"],
+        "[study] max_cases = 1000000000000",
+    );
+}
+
+/// Case I at `draft` with a step of 1e-5: 6000 steps a texture period.
+fn fine_step(extra: &[&str]) -> Vec<String> {
+    let mut v: Vec<String> = [
+        "simulate",
+        "--R",
+        "0.8",
+        "--l1",
+        "0.01",
+        "--per",
+        "0.06",
+        "--depth",
+        "5",
+        "--fidelity",
+        "draft",
+        "--dt",
+        "1e-5",
+    ]
+    .map(String::from)
+    .to_vec();
+    v.extend(extra.iter().map(|s| s.to_string()));
+    v
+}
+
+#[test]
+fn snapshots_are_capped_and_counted_in_the_memory_estimate() {
+    let dir = scratch("hardening-snapshot-memory");
+    let run = |extra: &[&str], needle: &str| {
+        let args = fine_step(extra);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        refused_at_once(&dir, &args, needle);
+    };
+    run(
+        &["--snapshots", "big", "--frames", "6000"],
+        "--frames = 6000",
+    );
+    run(
+        &["--snapshots", "big", "--frames", "101"],
+        "1 to 100 frames",
+    );
+    // The recording is what puts the run over the limit: named, not the tier's mesh.
+    run(
+        &[
+            "--snapshots",
+            "big",
+            "--frames",
+            "100",
+            "--max-memory",
+            "0.01",
+        ],
+        "--frames = 100: 100 instants",
+    );
+    run(
+        &["--animate", "a.gif", "--animate-stride", "1"],
+        "--animate-stride = 1: gives 6000 animation frames",
+    );
+    assert!(std::fs::read_dir(dir.join("big")).map_or(0, |d| d.count()) == 0);
+    assert!(!dir.join("a.gif").exists());
+}
+
+#[test]
+fn the_memory_estimate_counts_the_period_stores_only_when_they_are_kept() {
+    // 6000 steps a period on 400×8: the period's states would take over their cap, so the
+    // run keeps none (a few MB in all), and 1 GiB is plenty.
+    let dir = scratch("hardening-period-stores");
+    let args = fine_step(&["--max-memory", "1", "--t-max", "0.001", "--approach", "off"]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (code, err) = texopt_within(&dir, 120, &args);
+    assert!(code == 0 || code == 1, "{err}");
+    assert!(!err.contains("--max-memory"), "{err}");
+    // A mesh the tier chose is said to be the tier's.
+    refused(
+        &["--max-memory", "0.0001"],
+        "--mesh = 400x8 (--fidelity draft's mesh)",
+    );
+}
+
+#[test]
+fn many_snapshot_frames_say_how_many_files_they_write() {
+    let dir = scratch("hardening-snapshot-files");
+    let out = dir.join("snaps");
+    let (code, _, err) = simulate(&["--snapshots", out.to_str().unwrap(), "--frames", "20"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("note: --frames 20 writes 27 files"), "{err}");
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 27);
+}

@@ -59,11 +59,11 @@ pub struct CycleArgs {
     /// Override the time step of both fidelities (units of L/U).
     #[arg(long, value_name = "DT")]
     pub dt: Option<f64>,
-    /// Particles per swarm [default: 8].
+    /// Particles per swarm, 2 to 10000 [default: 8].
     #[arg(long)]
     pub particles: Option<usize>,
-    /// Swarm iterations per search [default: 3]. Each search's best is then refined by a
-    /// local pattern search, whose evaluations come on top of the swarm's.
+    /// Swarm iterations per search, 1 to 100000 [default: 3]. Each search's best is then
+    /// refined by a local pattern search, whose evaluations come on top of the swarm's.
     #[arg(long)]
     pub iterations: Option<u64>,
     /// Random seed of the swarms [default: 1].
@@ -175,16 +175,16 @@ pub struct OptimiseArgs {
     /// Override the time step of both fidelities (units of L/U: ms at 10 m/s).
     #[arg(long, value_name = "DT")]
     pub dt: Option<f64>,
-    /// Particles per swarm [default: 8].
+    /// Particles per swarm, 2 to 10000 [default: 8].
     #[arg(long)]
     pub particles: Option<usize>,
-    /// Swarm iterations per search (each evaluates every particle) [default: 3]. Each
+    /// Swarm iterations per search (each evaluates every particle), 1 to 100000 [default: 3]. Each
     /// search's best is then refined by a local pattern search, whose evaluations come on top
     /// of the swarm's.
     #[arg(long)]
     pub iterations: Option<u64>,
-    /// Weights on friction of the balanced searches (comma-separated, each in (0, 1))
-    /// [default: 0.5].
+    /// Weights on friction of the balanced searches (comma-separated, each in (0, 1), at most
+    /// 100) [default: 0.5].
     #[arg(long, value_delimiter = ',')]
     pub balanced: Option<Vec<f64>>,
     /// Random seed of the swarms (the same seed repeats the same designs, all from the
@@ -280,8 +280,8 @@ pub struct OperatingArgs {
 /// The limits a run is checked against before it starts (time/limits.rs).
 #[derive(Args, Debug, Clone, Copy)]
 pub struct LimitArgs {
-    /// Most memory one run may take, in GiB (estimated from its mesh before it starts)
-    /// [default: 8].
+    /// Most memory one run may take, in GiB (estimated before it starts from its mesh and what
+    /// --snapshots, --animate and --series keep) [default: 8].
     #[arg(long = "max-memory", value_name = "GIB")]
     pub max_memory: Option<f64>,
     /// Most time steps one run may take up to t_max [default: 1e7].
@@ -622,14 +622,16 @@ pub struct SimulateArgs {
     /// instants marked (PNG), and each instant's fields as CSV. Runs the 2D transient.
     #[arg(long, value_name = "DIR")]
     pub snapshots: Option<PathBuf>,
-    /// Instants of the last period that --snapshots draws (the paper's figures show ten, a–j).
+    /// Instants of the last period that --snapshots draws, 1 to 100 (the paper's figures show
+    /// ten, a–j).
     #[arg(long, value_name = "N", default_value_t = crate::snapshot::DEFAULT_FRAMES, requires = "snapshots")]
     pub frames: usize,
     /// Write an animation of the last period to FILE.gif: the pressure map and the
     /// centre-line profiles as the pockets pass under the ring. Runs the 2D transient.
     #[arg(long, value_name = "FILE.gif")]
     pub animate: Option<PathBuf>,
-    /// Steps of the period between animation frames [default: about 30 frames a period].
+    /// Steps of the period between animation frames (at most 1000 frames a period) [default:
+    /// about 30 frames a period].
     #[arg(long = "animate-stride", value_name = "K", requires = "animate")]
     pub animate_stride: Option<usize>,
 }

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use super::args::{CycleArgs, CycleDesign};
-use super::optimise::{check_design_space, overrides, space_error, SpaceKeys};
+use super::optimise::{check_design_space, overrides, space_error, swarm_sizes, SpaceKeys};
 use super::{directory_can_be_made, install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::engine::Engine;
 use crate::model::operating::Validity;
@@ -113,13 +113,12 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
     let space = space(&d);
     space.validate().map_err(|e| space_error(&e))?;
     let overrides = overrides(a.mesh, a.dt, &space)?;
-    let particles = a.particles.or(d.particles).unwrap_or(8);
-    let iterations = a.iterations.or(d.iterations).unwrap_or(3);
-    if particles < 2 || iterations == 0 {
-        return Err(CmdError::Input(
-            "--particles must be ≥ 2 and --iterations ≥ 1".into(),
-        ));
-    }
+    let in_file = |key: &str| format!("{}: [design] {key}", a.file.display());
+    let (particles, iterations) = swarm_sizes(
+        (a.particles, d.particles),
+        (a.iterations, d.iterations),
+        &in_file,
+    )?;
     let out_dir = a
         .out
         .clone()

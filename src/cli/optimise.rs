@@ -97,7 +97,7 @@ fn snapshots(s: &Settings, texture: Option<Texture>, dir: &Path) -> Result<(), S
         frames: crate::snapshot::DEFAULT_FRAMES,
         animation_stride: None,
     };
-    crate::snapshot::check_request(&request, &case, &num)?;
+    crate::snapshot::check_request(&request, &case, &num).map_err(|e| e.to_string())?;
     let (_, rec) = run_recorded(&case, &num, &RunOptions::default(), request, None)?;
     let written = write_all(dir, &rec, &Context::new(&case, s.scales, &rec))?;
     eprintln!(
@@ -116,12 +116,16 @@ const MAX_RADII: usize = 16;
 /// names read well and a rerun finds its designs in the cache).
 fn radii(a: &OptimiseArgs, file: &OptimiseFile) -> Result<Vec<f64>, CmdError> {
     let count = a.radii.or(file.radii);
+    let count_name = match a.radii {
+        Some(_) => "--radii".to_string(),
+        None => config_key(a, "radii"),
+    };
     let mut v = match &a.r {
         Radii::List(v) => {
             if count.is_some() {
-                return Err(CmdError::Input(
-                    "--radii: applies to a range of radii (--R LO..HI); a list gives its radii itself".into(),
-                ));
+                return Err(CmdError::Input(format!(
+                    "{count_name}: applies to a range of radii (--R LO..HI); a list gives its radii itself"
+                )));
             }
             v.clone()
         }
@@ -134,7 +138,7 @@ fn radii(a: &OptimiseArgs, file: &OptimiseFile) -> Result<Vec<f64>, CmdError> {
             }
             if !(2..=MAX_RADII).contains(&n) {
                 return Err(CmdError::Input(format!(
-                    "--radii {n}: sample a range at 2 to {MAX_RADII} radii"
+                    "{count_name} = {n}: sample a range at 2 to {MAX_RADII} radii"
                 )));
             }
             (0..n)
@@ -186,28 +190,18 @@ fn settings(a: &OptimiseArgs, file: &OptimiseFile, r: f64) -> Result<Settings, C
     base.validate(false)?;
     let space = space(a, file);
     space.validate().map_err(|e| space_error(&e))?;
-    let particles = a.particles.or(file.particles).unwrap_or(8);
-    let iterations = a.iterations.or(file.iterations).unwrap_or(3);
-    let balanced = a
-        .balanced
-        .clone()
-        .or(file.balanced.clone())
-        .unwrap_or_else(|| vec![0.5]);
+    let in_file = |key: &str| config_key(a, key);
+    let (particles, iterations) = swarm_sizes(
+        (a.particles, file.particles),
+        (a.iterations, file.iterations),
+        &in_file,
+    )?;
+    let balanced = balanced(a, file, &in_file)?;
     let out_dir = a
         .out
         .clone()
         .or(file.out.clone())
         .unwrap_or_else(|| PathBuf::from("results/optimise"));
-    if particles < 2 || iterations == 0 {
-        return Err(CmdError::Input(
-            "--particles must be ≥ 2 and --iterations ≥ 1".into(),
-        ));
-    }
-    if let Some(w) = balanced.iter().find(|w| !(**w > 0.0 && **w < 1.0)) {
-        return Err(CmdError::Input(format!(
-            "--balanced {w}: each weight must lie strictly between 0 and 1"
-        )));
-    }
     let overrides = overrides(a.mesh, a.dt, &space)?;
     // A directory that cannot be made stops the search now, not after its simulations.
     directory_can_be_made(&out_dir).map_err(|why| {
@@ -242,6 +236,96 @@ fn settings(a: &OptimiseArgs, file: &OptimiseFile, r: f64) -> Result<Settings, C
     };
     check_corners(&settings)?;
     Ok(settings)
+}
+
+/// Most particles a swarm, iterations a search and balanced searches a run: typo guards,
+/// checked before anything runs (every particle of every iteration is a simulation; the
+/// defaults are 8, 3 and one).
+pub(super) const MAX_PARTICLES: usize = 10_000;
+pub(super) const MAX_ITERATIONS: u64 = 100_000;
+pub(super) const MAX_BALANCED: usize = 100;
+
+/// The `--config` file's key `key`, as an error names it.
+fn config_key(a: &OptimiseArgs, key: &str) -> String {
+    let file = a.config.as_deref().unwrap_or(Path::new("-"));
+    format!("--config {}: {key}", file.display())
+}
+
+/// Particles per swarm and iterations per search: each its flag's value, else the file's
+/// (named by `in_file` of its key), else the default; within [2, MAX_PARTICLES] and
+/// [1, MAX_ITERATIONS].
+pub(super) fn swarm_sizes(
+    (particles_flag, particles_file): (Option<usize>, Option<usize>),
+    (iterations_flag, iterations_file): (Option<u64>, Option<u64>),
+    in_file: &dyn Fn(&str) -> String,
+) -> Result<(usize, u64), CmdError> {
+    let particles = within(
+        (
+            particles_flag.map(|n| n as u64),
+            particles_file.map(|n| n as u64),
+        ),
+        ("--particles", "particles"),
+        in_file,
+        (2, 8, MAX_PARTICLES as u64),
+        "particles per swarm",
+    )?;
+    let iterations = within(
+        (iterations_flag, iterations_file),
+        ("--iterations", "iterations"),
+        in_file,
+        (1, 3, MAX_ITERATIONS),
+        "swarm iterations per search",
+    )?;
+    Ok((particles as usize, iterations))
+}
+
+/// A count from its flag, else its file key, else the default (`lo, default, hi`), checked
+/// to lie in lo..=hi; the error names where it came from.
+fn within(
+    (flag, file): (Option<u64>, Option<u64>),
+    (flag_name, key): (&str, &str),
+    in_file: &dyn Fn(&str) -> String,
+    (lo, default, hi): (u64, u64, u64),
+    what: &str,
+) -> Result<u64, CmdError> {
+    let (n, name) = match (flag, file) {
+        (Some(n), _) => (n, flag_name.to_string()),
+        (None, Some(n)) => (n, in_file(key)),
+        (None, None) => return Ok(default),
+    };
+    if (lo..=hi).contains(&n) {
+        Ok(n)
+    } else {
+        Err(CmdError::Input(format!(
+            "{name} = {n}: {what} must be a whole number from {lo} to {hi}"
+        )))
+    }
+}
+
+/// The weights of the balanced searches: the flag's, else the file's, else one of 0.5; at
+/// most [`MAX_BALANCED`], each strictly between 0 and 1.
+fn balanced(
+    a: &OptimiseArgs,
+    file: &OptimiseFile,
+    in_file: &dyn Fn(&str) -> String,
+) -> Result<Vec<f64>, CmdError> {
+    let (weights, name) = match (&a.balanced, &file.balanced) {
+        (Some(w), _) => (w.clone(), "--balanced".to_string()),
+        (None, Some(w)) => (w.clone(), in_file("balanced")),
+        (None, None) => return Ok(vec![0.5]),
+    };
+    if weights.is_empty() || weights.len() > MAX_BALANCED {
+        return Err(CmdError::Input(format!(
+            "{name}: {} weights; give 1 to {MAX_BALANCED} (each a balanced search)",
+            weights.len()
+        )));
+    }
+    if let Some(w) = weights.iter().find(|w| !(**w > 0.0 && **w < 1.0)) {
+        return Err(CmdError::Input(format!(
+            "{name} = {w}: each weight must lie strictly between 0 and 1"
+        )));
+    }
+    Ok(weights)
 }
 
 /// The dearest designs sit at the corners of the design space (widest cells, smallest

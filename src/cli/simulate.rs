@@ -5,6 +5,7 @@ use std::io::{IsTerminal, Write};
 use super::{flag, input_message, CmdError, SimulateArgs};
 use crate::model::case::{bad, short, CaseSpec, InputError, Texture};
 use crate::model::operating::{Operating, Physical};
+use crate::time::limits::Kept;
 use crate::time::{
     simulate_with, unresolved_depth, Approach, Numerics, Outcome, Progress, RunOptions, RunResult,
     SeriesRow, TimeScheme, Watch, DEEP_POCKET_RATIO, RESOLVED_DEEP_RATIO,
@@ -16,8 +17,77 @@ pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), String> 
     let limits = a.limits.limits().map_err(|e| match e {
         CmdError::Input(m) | CmdError::Other(m) => m,
     })?;
-    crate::time::limits::check(&case, &num, &limits).map_err(|e| input_message(&e, flag))?;
+    crate::time::limits::check(&case, &num, &limits).map_err(|e| limit_message(a, e))?;
     Ok((case, num))
+}
+
+/// A run-limit error in flag names; a mesh the tier chose says so (no --mesh was given).
+fn limit_message(a: &SimulateArgs, mut e: InputError) -> String {
+    if e.param == "mesh" && a.mesh.is_none() {
+        e.value = format!("{} (--fidelity {}'s mesh)", e.value, a.fidelity.name());
+    }
+    input_message(&e, flag)
+}
+
+/// The run with what it keeps beside it (the recording of --snapshots/--animate, the time
+/// series of --series) within --max-memory, checked before it starts; a note of the files
+/// many instants make.
+fn check_kept(
+    a: &SimulateArgs,
+    case: &CaseSpec,
+    num: &Numerics,
+    wanted: Option<&super::snapshots::Wanted>,
+) -> Result<(), CmdError> {
+    let mut kept = Vec::new();
+    if let Some(w) = wanted {
+        let m = crate::snapshot::memory(&w.request, case, num);
+        if w.dir.is_some() {
+            kept.push(Kept {
+                param: "frames",
+                value: w.request.frames.to_string(),
+                what: format!(
+                    "{} instants of the film and their pictures",
+                    w.request.frames
+                ),
+                fix: "ask for fewer".into(),
+                bytes: m.frames,
+            });
+        }
+        if let Some(stride) = w.request.animation_stride.filter(|_| m.animation > 0.0) {
+            kept.push(Kept {
+                param: "animate_stride",
+                value: stride.to_string(),
+                what: "the animation's frames".into(),
+                fix: "give a longer stride".into(),
+                bytes: m.animation,
+            });
+        }
+    }
+    if let Some(path) = &a.series {
+        let steps = crate::time::limits::estimate(case, num).steps;
+        kept.push(Kept {
+            param: "series",
+            value: path.display().to_string(),
+            what: format!("the time series of up to {} steps", short(steps)),
+            fix: "use a larger --dt or a shorter --t-max".into(),
+            bytes: steps * std::mem::size_of::<SeriesRow>() as f64,
+        });
+    }
+    let limits = a.limits.limits()?;
+    crate::time::limits::check_with(case, num, &limits, &kept)
+        .map_err(|e| CmdError::Input(limit_message(a, e)))?;
+    // More instants than the paper's ten: how many files they make, before a long run.
+    if let Some((w, dir)) = wanted.and_then(|w| w.dir.as_ref().map(|d| (w, d))) {
+        if w.request.frames > crate::snapshot::DEFAULT_FRAMES {
+            eprintln!(
+                "note: --frames {} writes {} files into {} (a CSV an instant, the history, an index and five pictures)",
+                w.request.frames,
+                crate::snapshot::files_written(w.request.frames),
+                dir.display()
+            );
+        }
+    }
+    Ok(())
 }
 
 fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
@@ -213,6 +283,7 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
         &case,
         &num,
     )?;
+    check_kept(a, &case, &num, wanted.as_ref())?;
     let transient = case.texture.is_some() || a.transient || wanted.is_some();
     if !transient {
         steady_note(a);

@@ -39,8 +39,14 @@ pub(super) fn wanted(
         frames,
         animation_stride: gif.map(|_| snapshot::animation_stride(spp, stride)),
     };
-    snapshot::check_request(&request, case, num)
-        .map_err(|e| CmdError::Input(format!("--frames/--animate-stride: {e}")))?;
+    snapshot::check_request(&request, case, num).map_err(|e| {
+        CmdError::Input(match e {
+            snapshot::RequestError::Frames { asked, .. } => format!("--frames = {asked}: {e}"),
+            snapshot::RequestError::Stride { stride, .. } => {
+                format!("--animate-stride = {stride}: {e}")
+            }
+        })
+    })?;
     if let Some(d) = dir {
         snapshot::prepare_dir(d)
             .map_err(|e| CmdError::Input(format!("--snapshots {}: {e}", d.display())))?;

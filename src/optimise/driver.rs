@@ -2,9 +2,8 @@
 //! for the ideal point, balanced ones between), the front of every searched design confirmed
 //! at the reported fidelity, and the report.
 
-use rayon::prelude::*;
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -208,12 +207,9 @@ fn searches(
             s.space.decode(&u).rounded_label()
         ));
     }
-    let balanced: Vec<_> = s
-        .balanced
-        .par_iter()
-        .enumerate()
-        .map(|(i, &w)| run(Goal::Balanced { w, ideal }, seed + 2 + i as u64))
-        .collect();
+    let balanced = side_by_side(s.jobs, &s.balanced, |i, &w| {
+        run(Goal::Balanced { w, ideal }, seed + 2 + i as u64)
+    });
     for (&w, r) in s.balanced.iter().zip(balanced) {
         let (u, c, own) = r?;
         absorb(own);
@@ -223,6 +219,37 @@ fn searches(
         ));
     }
     Ok(())
+}
+
+/// `f` of every item, at most `jobs` at once, each on a thread of its own; the results in the
+/// items' order. Why not a rayon parallel iterator: a search waits for each evaluation batch
+/// on a pool of the batch's own, and a rayon worker waiting on another pool takes up further
+/// items meanwhile, each on top of the last one's stack (a thousand balanced searches
+/// overflowed it). A plain thread just waits.
+fn side_by_side<T: Sync, R: Send>(
+    jobs: usize,
+    items: &[T],
+    f: impl Fn(usize, &T) -> R + Sync,
+) -> Vec<R> {
+    let next = AtomicUsize::new(0);
+    let results: Vec<Mutex<Option<R>>> = items.iter().map(|_| Mutex::new(None)).collect();
+    std::thread::scope(|scope| {
+        for _ in 0..jobs.clamp(1, items.len().max(1)) {
+            scope.spawn(|| {
+                while let Some((i, item)) = {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    items.get(i).map(|x| (i, x))
+                } {
+                    let r = f(i, item);
+                    *results[i].lock().expect("lock") = Some(r);
+                }
+            });
+        }
+    });
+    results
+        .into_iter()
+        .filter_map(|r| r.into_inner().expect("lock"))
+        .collect()
 }
 
 /// The designs to confirm: up to [`MAX_CONFIRM`] spread along the searched front (by f̄).
@@ -368,4 +395,40 @@ fn evaluated(s: &Settings, [log_s, log_r]: [Vec<Evaluation>; 2]) -> Vec<Evaluate
         }
     }
     evaluated
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each item waits on a pool of its own, as a search waits on its evaluation batches,
+    /// from inside a rayon pool, as `optimise` runs its searches.
+    #[test]
+    fn searches_side_by_side_run_at_most_jobs_at_once_each_on_its_own_stack() {
+        let (in_flight, most) = (AtomicUsize::new(0), AtomicUsize::new(0));
+        let items: Vec<usize> = (0..64).collect();
+        let outer = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .expect("pool");
+        let out = outer.install(|| {
+            side_by_side(2, &items, |i, &x| {
+                let now = in_flight.fetch_add(1, Ordering::SeqCst) + 1;
+                most.fetch_max(now, Ordering::SeqCst);
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(1)
+                    .build()
+                    .expect("pool");
+                let y = pool.install(|| {
+                    std::thread::sleep(std::time::Duration::from_millis(2));
+                    x * 2 + i
+                });
+                in_flight.fetch_sub(1, Ordering::SeqCst);
+                y
+            })
+        });
+        assert_eq!(out, items.iter().map(|x| 3 * x).collect::<Vec<_>>());
+        let most = most.load(Ordering::SeqCst);
+        assert!(most <= 2, "{most} items at once on 2 jobs");
+    }
 }

@@ -119,14 +119,23 @@ pub(super) fn case_line(cx: &Context) -> String {
     }
 }
 
-fn grid_of(n: usize) -> (usize, usize) {
+/// Rows and columns of panels the pictures of `n` frames have.
+pub(super) fn maps_grid(n: usize) -> (usize, usize) {
     let cols = if n > 1 { 2 } else { 1 };
     (n.div_ceil(cols), cols)
 }
 
+/// Width of the pictures of the maps (pixels), the largest pictures drawn.
+pub(super) const MAPS_WIDTH: u32 = 1300;
+
+/// Height of the pictures of the maps with `rows` rows of panels (pixels).
+pub(super) fn maps_height(rows: usize) -> u32 {
+    100 + 270 * rows as u32
+}
+
 fn maps(path: &Path, rec: &Recording, cx: &Context, field: &Field) -> Result<(), String> {
-    let (rows, cols) = grid_of(rec.frames.len());
-    let size = (1300, 100 + 270 * rows as u32);
+    let (rows, cols) = maps_grid(rec.frames.len());
+    let size = (MAPS_WIDTH, maps_height(rows));
     let root = BitMapBackend::new(path, size).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
     let title = format!(
@@ -388,8 +397,8 @@ pub(super) fn profile_panel(
 }
 
 fn profiles(path: &Path, rec: &Recording, cx: &Context) -> Result<(), String> {
-    let (rows, cols) = grid_of(rec.frames.len());
-    let root = BitMapBackend::new(path, (1300, 90 + 250 * rows as u32)).into_drawing_area();
+    let (rows, cols) = maps_grid(rec.frames.len());
+    let root = BitMapBackend::new(path, (MAPS_WIDTH, 90 + 250 * rows as u32)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
     let g = &rec.grid;
     let title = format!(

@@ -28,9 +28,27 @@ pub use write::{write_all, Written};
 /// Instants of the period drawn by default: the paper's ten (a–j, its Figs. 8–10).
 pub const DEFAULT_FRAMES: usize = 10;
 
+/// Most instants a recording draws: each is a CSV file and a panel of every picture, and
+/// the pictures of the maps grow 135 pixels a frame (100 frames: 1300 × 13,600 pixels,
+/// ≈ 53 MB to draw each).
+pub const MAX_FRAMES: usize = 100;
+
 /// Frames the animation keeps over a period unless a stride is given: enough for the pocket
 /// to move smoothly, few enough for a GIF of a few hundred kB.
 pub const ANIMATION_FRAMES: usize = 30;
+
+/// Most frames an animation keeps: two minutes of GIF at its frame delay, each frame the
+/// film's fields held in memory until the run ends.
+pub const MAX_ANIMATION_FRAMES: usize = 1000;
+
+/// Files [`write_all`] writes besides one CSV an instant: the history (CSV), the index
+/// (JSON) and the pictures (three maps, the profiles, the history).
+const OTHER_FILES: usize = 7;
+
+/// Files [`write_all`] writes for `frames` instants.
+pub fn files_written(frames: usize) -> usize {
+    frames + OTHER_FILES
+}
 
 /// The film at one step.
 #[derive(Clone, Debug)]
@@ -197,20 +215,108 @@ pub fn steps_in_period(case: &CaseSpec, num: &Numerics) -> usize {
     steps_per_period(texture_period(case), num.dt) as usize
 }
 
-/// Checks `request` against the run before it starts: at least one frame, no more frames
-/// than the period has steps.
-pub fn check_request(request: &Request, case: &CaseSpec, num: &Numerics) -> Result<(), String> {
-    let spp = steps_in_period(case, num);
-    if request.frames == 0 || request.frames > spp {
-        return Err(format!(
-            "{} frames: a texture period here takes {spp} steps, so ask for 1 to {spp} frames",
-            request.frames
-        ));
+/// A request the run cannot fill, or that would keep too much.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RequestError {
+    /// Frames outside 1..=most (the period's steps, at most [`MAX_FRAMES`]).
+    Frames {
+        asked: usize,
+        most: usize,
+        steps: usize,
+    },
+    /// A stride of 0, or one that gives more than [`MAX_ANIMATION_FRAMES`] frames.
+    Stride {
+        stride: usize,
+        frames: usize,
+        steps: usize,
+    },
+}
+
+impl std::fmt::Display for RequestError {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        match *self {
+            RequestError::Frames { most, steps, .. } => write!(
+                f,
+                "a texture period here takes {steps} steps, and at most {MAX_FRAMES} instants are drawn: ask for 1 to {most} frames"
+            ),
+            RequestError::Stride { stride: 0, .. } => {
+                write!(f, "an animation stride of 0 steps: give 1 (every step) or more")
+            }
+            RequestError::Stride { frames, steps, .. } => write!(
+                f,
+                "gives {frames} animation frames over the {steps}-step period, more than an animation keeps ({MAX_ANIMATION_FRAMES}): give a stride of at least {} steps",
+                steps.div_ceil(MAX_ANIMATION_FRAMES)
+            ),
+        }
     }
-    if request.animation_stride == Some(0) {
-        return Err("an animation stride of 0 steps: give 1 (every step) or more".into());
+}
+
+/// Checks `request` against the run before it starts: 1 to [`MAX_FRAMES`] frames, no more
+/// than the period has steps; an animation stride of at least 1 step giving at most
+/// [`MAX_ANIMATION_FRAMES`] frames.
+pub fn check_request(
+    request: &Request,
+    case: &CaseSpec,
+    num: &Numerics,
+) -> Result<(), RequestError> {
+    let steps = steps_in_period(case, num);
+    let most = steps.min(MAX_FRAMES);
+    if request.frames == 0 || request.frames > most {
+        return Err(RequestError::Frames {
+            asked: request.frames,
+            most,
+            steps,
+        });
+    }
+    if let Some(stride) = request.animation_stride {
+        let frames = if stride == 0 {
+            0
+        } else {
+            steps.div_ceil(stride)
+        };
+        if stride == 0 || frames > MAX_ANIMATION_FRAMES {
+            return Err(RequestError::Stride {
+                stride,
+                frames,
+                steps,
+            });
+        }
     }
     Ok(())
+}
+
+/// Memory a recording of `request` holds (bytes), estimated before the run as
+/// [`crate::time::limits::estimate`] estimates the run's: the drawn instants with the
+/// largest picture of them (the maps), and the animation's frames. Each frame keeps three
+/// numbers a node (p, θ, h) of the largest mesh the run may end on (a deep-pocket mesh), and
+/// the history one row a step of its longest period.
+pub fn memory(request: &Request, case: &CaseSpec, num: &Numerics) -> Memory {
+    let meshes =
+        std::iter::once((num.n1, num.n2, num.dt)).chain(num.deep.map(|d| (d.n1, d.n2, d.dt)));
+    let (nodes, steps) = meshes.fold((0.0f64, 0.0f64), |(nodes, steps), (n1, n2, dt)| {
+        let spp = steps_per_period(texture_period(case), dt);
+        (nodes.max((n1 as f64 + 1.0) * n2 as f64), steps.max(spp))
+    });
+    let frame = std::mem::size_of::<Frame>() as f64 + 3.0 * 8.0 * nodes;
+    let (rows, _) = draw::maps_grid(request.frames);
+    let picture = 3.0 * draw::MAPS_WIDTH as f64 * draw::maps_height(rows) as f64;
+    let history = steps * std::mem::size_of::<SeriesRow>() as f64;
+    let animation = request
+        .animation_stride
+        .map_or(0.0, |s| (steps / s.max(1) as f64).ceil() * frame);
+    Memory {
+        frames: request.frames as f64 * frame + picture + history,
+        animation,
+    }
+}
+
+/// What [`memory`] estimates (bytes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Memory {
+    /// The drawn instants, the largest picture of them and the period's history.
+    pub frames: f64,
+    /// The animation's frames.
+    pub animation: f64,
 }
 
 /// Runs `case` to its periodic regime as [`simulate_with`] does with `opts` (as a 2D

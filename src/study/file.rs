@@ -113,6 +113,11 @@ struct Header {
 /// 1e-9) would otherwise expand to billions of cases, in memory, before any is run.
 pub const MAX_CASES: u64 = 100_000;
 
+/// Most cases `max_cases` may allow: 1,000,000 (≈ 140 h at `fast` on two cores, a cluster's
+/// work in shares). Every case is expanded in memory before any runs (≈ 0.5 kB each), so a
+/// larger limit would let a typo fill the memory all the same.
+pub const MAX_CASES_CEILING: u64 = 1_000_000;
+
 fn max_cases() -> u64 {
     MAX_CASES
 }
@@ -276,6 +281,12 @@ fn check_header(raw: &FileToml) -> Result<(), String> {
         return Err(format!(
             "[study] name = {:?}: use letters, digits, '-' or '_' (it names the output files)",
             raw.study.name
+        ));
+    }
+    if !(1..=MAX_CASES_CEILING).contains(&raw.study.max_cases) {
+        return Err(format!(
+            "[study] max_cases = {}: must be a whole number from 1 to {MAX_CASES_CEILING}; split a larger study into several files",
+            raw.study.max_cases
         ));
     }
     let r = &raw.report;

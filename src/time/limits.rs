@@ -59,7 +59,9 @@ pub struct Cost {
 
 /// The cost of running `case` with `num`. Memory: per cell the band LU's matrix and factors,
 /// 2·(2w + 1) numbers with a band half-width w ≈ N2, and ≈ 40 numbers of fields; and what a
-/// textured run keeps from one period to the next (time/memory.rs), each store up to its cap.
+/// textured run keeps from one period to the next (time/memory.rs) as it keeps it: the
+/// period's states (and with them its factors, up to their cap) and the placed texture
+/// each only when the whole period fits its cap, none of it otherwise.
 pub fn estimate(case: &CaseSpec, num: &Numerics) -> Cost {
     let cells = num.n1 as f64 * num.n2 as f64;
     let n2 = num.n2 as f64;
@@ -67,10 +69,15 @@ pub fn estimate(case: &CaseSpec, num: &Numerics) -> Cost {
     let kept = match &case.texture {
         Some(t) => {
             let spp = steps_per_period(t.per / case.u, num.dt);
-            let store = |per_cell: f64, cap: usize| (spp * cells * per_cell).min(cap as f64);
-            store(8.0 * (2.0 * n2 + 1.0), PERIOD_FACTORS_MEMORY)
-                + store(17.0, PERIOD_GUESS_MEMORY)
-                + store(16.0, PLACED_TEXTURE_MEMORY)
+            let period = |per_cell: f64| spp * cells * per_cell;
+            let fits = |bytes: f64, cap: usize| if bytes <= cap as f64 { bytes } else { 0.0 };
+            let states = fits(period(17.0), PERIOD_GUESS_MEMORY);
+            let factors = if states > 0.0 {
+                period(8.0 * (2.0 * n2 + 1.0)).min(PERIOD_FACTORS_MEMORY as f64)
+            } else {
+                0.0
+            };
+            states + factors + fits(period(16.0), PLACED_TEXTURE_MEMORY)
         }
         None => 0.0,
     };
@@ -79,6 +86,62 @@ pub fn estimate(case: &CaseSpec, num: &Numerics) -> Cost {
         memory: cells * per_cell + kept,
         steps: (num.t_max / num.dt).ceil(),
     }
+}
+
+/// Memory an observer of a run keeps beside it (a recording, a time series), named by the
+/// input that sets it for errors.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Kept {
+    /// The input (`param`, as in [`InputError`]) and its value.
+    pub param: &'static str,
+    pub value: String,
+    /// What is kept ("100 instants of the film and their pictures") and how to keep less,
+    /// for the error.
+    pub what: String,
+    pub fix: String,
+    pub bytes: f64,
+}
+
+/// [`check`], and then the run with what its observers keep against the memory limit: over
+/// it, the error names the observer that keeps the most (the run alone fits).
+pub fn check_with(
+    case: &CaseSpec,
+    num: &Numerics,
+    limits: &Limits,
+    kept: &[Kept],
+) -> Result<(), InputError> {
+    check(case, num, limits)?;
+    let run = estimate(case, num).memory;
+    let total = run + kept.iter().map(|k| k.bytes).sum::<f64>();
+    let largest = kept.iter().max_by(|a, b| a.bytes.total_cmp(&b.bytes));
+    match largest {
+        Some(k) if total.is_nan() || total > limits.memory => Err(InputError {
+            waiver: Some(Waiver::MemoryLimit),
+            ..bad(
+                k.param,
+                &k.value,
+                format!(
+                    "{} take ≈ {} GiB beside the run's ≈ {} GiB, over the limit of {} GiB; {}",
+                    k.what,
+                    gib(k.bytes),
+                    gib(total - k.bytes),
+                    short(limits.memory / GIB),
+                    k.fix
+                ),
+            )
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// Bytes in GiB, rounded up to two significant digits (a few MB read as 0.0019, not 0).
+fn gib(bytes: f64) -> String {
+    let x = bytes / GIB;
+    if !(x.is_finite() && x > 0.0) {
+        return short(x);
+    }
+    let unit = 10f64.powf(x.log10().floor() - 1.0);
+    short((x / unit).ceil() * unit)
 }
 
 /// Checks a run's estimated cost against `limits`: the mesh (memory) and the time step
@@ -93,7 +156,7 @@ pub fn check(case: &CaseSpec, num: &Numerics, limits: &Limits) -> Result<(), Inp
                 format!("{}x{}", num.n1, num.n2),
                 format!(
                     "needs ≈ {} GiB of memory ({} cells), over the limit of {} GiB; use fewer cells",
-                    short((cost.memory / GIB * 10.0).ceil() / 10.0),
+                    gib(cost.memory),
                     short(cost.cells),
                     short(limits.memory / GIB)
                 ),
