@@ -210,7 +210,13 @@ fn a_study_run_in_shares_and_merged_reports_as_one_run() {
     // --cached-only reads a cache: one that is not there is refused, not created.
     let empty = dir.join("empty.sqlite");
     let report_only = |cache: &std::path::Path| {
-        texopt(&["study", f, "--cache", cache.to_str().unwrap(), "--cached-only"])
+        texopt(&[
+            "study",
+            f,
+            "--cache",
+            cache.to_str().unwrap(),
+            "--cached-only",
+        ])
     };
     let (code, _, err) = report_only(&empty);
     assert_eq!(code, 2, "{err}");

@@ -281,7 +281,7 @@ pub struct OperatingArgs {
 #[derive(Args, Debug, Clone, Copy)]
 pub struct LimitArgs {
     /// Most memory one run may take, in GiB (estimated before it starts from its mesh and what
-    /// --snapshots, --animate and --series keep) [default: 8].
+    /// --snapshots, --animate and --series keep; at most the machine's memory) [default: 8].
     #[arg(long = "max-memory", value_name = "GIB")]
     pub max_memory: Option<f64>,
     /// Most time steps one run may take up to t_max [default: 1e7].

@@ -116,6 +116,13 @@ impl LimitArgs {
             }
         }
         if let Some(g) = self.max_memory {
+            // A limit above what the machine has would let a run abort allocating.
+            if let Some(total) = machine_memory_gib().filter(|&t| g > t) {
+                return Err(CmdError::Input(format!(
+                    "--max-memory = {}: more than this machine's {total:.1} GiB of memory; give at most {total:.1}",
+                    crate::time::short(g)
+                )));
+            }
             l = l.with_memory_gib(g);
         }
         if let Some(n) = self.max_steps {
@@ -123,6 +130,20 @@ impl LimitArgs {
         }
         Ok(l)
     }
+}
+
+/// The machine's memory in GiB (`MemTotal` of /proc/meminfo), where it can be read.
+fn machine_memory_gib() -> Option<f64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let kib: f64 = info
+        .lines()
+        .find_map(|l| l.strip_prefix("MemTotal:"))?
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
+    Some(kib / (1024.0 * 1024.0))
 }
 
 impl OperatingArgs {
