@@ -211,3 +211,130 @@ fn a_zone_with_no_angle_inside_the_model_is_reported_in_words() {
     assert!(r["zones"][1]["change_pct"].is_number(), "{r}");
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// Refused: exit 2, nothing on stdout, a message containing every one of `says` in a first
+/// line that holds all of it (clap adds a hint line to its own errors).
+fn refused(args: &[&str], says: &[&str]) {
+    let (code, out, err) = texopt(args);
+    assert_eq!(code, 2, "{args:?}: {err}");
+    assert!(out.is_empty(), "{args:?}: {out}");
+    let first = err.lines().next().unwrap_or_default();
+    for s in says {
+        assert!(first.contains(s), "{args:?}: {s:?} not in {err}");
+    }
+    assert!(first.len() < 400, "{args:?}: {err}");
+}
+
+#[test]
+fn a_range_of_radii_that_rounding_would_merge_is_refused() {
+    // Every radius of the range rounds to 5 (3 significant digits): one radius, not 16.
+    for n in ["16", "2"] {
+        refused(
+            &["optimise", "--R", "5..5.001", "--radii", n],
+            &["--R 5..5.001", "narrower than the rounding", "--R 5"],
+        );
+    }
+    // 16 radii over 5–5.1 round to 11 distinct ones: the count that stays distinct is named.
+    refused(
+        &["optimise", "--R", "5..5.1", "--radii", "16"],
+        &["--radii 16", "only 11 distinct", "ask --radii 11"],
+    );
+    // One radius of a range: give it alone.
+    refused(
+        &["optimise", "--R", "5..5.001", "--radii", "1"],
+        &["--radii 1", "--R alone"],
+    );
+    // Absurd ends print short.
+    refused(
+        &["optimise", "--R", "8e300..5"],
+        &["--R 8e300..5", "0 < LO < HI"],
+    );
+}
+
+#[test]
+fn ranges_are_echoed_as_given() {
+    // Three dots would split as 5..0.8: refused as written.
+    refused(&["optimise", "--R", "5...8"], &["\"5...8\" has three dots"]);
+    refused(
+        &["optimise", "--R", "5", "--l1", "0.01...03"],
+        &["\"0.01...03\" has three dots"],
+    );
+}
+
+#[test]
+fn a_study_file_says_absurd_values_short() {
+    let dir = scratch("inputs-study");
+    for (line, says) in [
+        (
+            "speed = 1e300",
+            "[parameters] speed = 1e300: must lie in [0.001, 100] m/s",
+        ),
+        (
+            "ring_width = 1e-300",
+            "[parameters] ring_width = 1e-300: must lie in [0.1, 10] mm",
+        ),
+        (
+            "load = { from = 1e300, to = 1, count = 2 }",
+            "range from = 1e300 to = 1",
+        ),
+        (
+            "speed = { from = 1, to = 2, count = 1e300 }",
+            "count = 1e300 must be",
+        ),
+        (
+            "speed = { from = 1, to = 2, step = 1e-300 }",
+            "step = 1e-300 must be",
+        ),
+    ] {
+        let p = dir.join("s.toml");
+        std::fs::write(
+            &p,
+            format!(
+                "[study]\nname = \"tiny\"\nfidelity = \"draft\"\nuntextured = true\n[parameters]\nR = [3.2, 5]\nl1 = [0.01, 0.03]\nper = 0.06\ndepth = [5, 10]\n{line}\n[report]\ndir = \"rep\"\n"
+            ),
+        )
+        .unwrap();
+        refused(&["study", p.to_str().unwrap(), "--dry-run"], &[says]);
+    }
+    let p = dir.join("s.toml");
+    std::fs::write(
+        &p,
+        "[study]\nname = \"tiny\"\nroughness = 1e300\n[parameters]\nR = 5\nl1 = 0.01\nper = 0.06\ndepth = 5\n",
+    )
+    .unwrap();
+    refused(
+        &["study", p.to_str().unwrap(), "--dry-run"],
+        &["[study] roughness = 1e300:"],
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// The write-ahead log beside a cache holds recent writes until SQLite folds them into the
+/// file; while another process keeps it open it can outgrow the file: stats count both.
+#[test]
+fn cache_stats_count_the_write_ahead_log() {
+    let dir = scratch("inputs-wal");
+    let path = dir.join("c.sqlite");
+    drop(texopt::study::cache::Cache::open(&path).unwrap());
+    // A writer that keeps its connection open and does not fold its log in.
+    let conn = rusqlite::Connection::open(&path).unwrap();
+    conn.pragma_update(None, "wal_autocheckpoint", 0).unwrap();
+    conn.execute_batch(
+        "CREATE TABLE ballast (b BLOB); INSERT INTO ballast VALUES (zeroblob(3000000));",
+    )
+    .unwrap();
+    let (code, out, err) = texopt(&["cache", "stats", "--cache", path.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let line = out.lines().nth(1).unwrap_or_default();
+    // 3 MB in the log, a few kB in the file.
+    assert!(line.contains("write-ahead log"), "{out}");
+    let wal = line
+        .split(" database file, ")
+        .nth(1)
+        .and_then(|x| x.split(" write-ahead log").next())
+        .unwrap_or_default();
+    assert!(wal.ends_with("MB") && wal.starts_with('3'), "{out}");
+    assert!(line.contains(" MB on disk ("), "{out}");
+    drop(conn);
+    let _ = std::fs::remove_dir_all(dir);
+}

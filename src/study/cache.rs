@@ -181,7 +181,10 @@ pub struct Stats {
     pub done: usize,
     pub failed: usize,
     pub compute_seconds: f64,
+    /// The database file's size and its write-ahead log's beside it (bytes): the log holds
+    /// recent writes until SQLite folds them into the file, and can outgrow it.
     pub file_bytes: u64,
+    pub wal_bytes: u64,
 }
 
 pub struct Cache {
@@ -437,6 +440,11 @@ impl Cache {
             failed: failed as usize,
             compute_seconds: secs,
             file_bytes: std::fs::metadata(&self.path).map_or(0, |m| m.len()),
+            wal_bytes: {
+                let mut wal = self.path.as_os_str().to_owned();
+                wal.push("-wal");
+                std::fs::metadata(wal).map_or(0, |m| m.len())
+            },
         })
     }
 
