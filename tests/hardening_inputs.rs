@@ -6,6 +6,7 @@ mod common;
 
 use common::{scratch, texopt};
 use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// The engine of tests/cycle.rs, its zones given as `zones`.
 fn engine(zones: &str) -> String {
@@ -215,7 +216,20 @@ fn a_zone_with_no_angle_inside_the_model_is_reported_in_words() {
 /// Refused: exit 2, nothing on stdout, a message containing every one of `says` in a first
 /// line that holds all of it (clap adds a hint line to its own errors).
 fn refused(args: &[&str], says: &[&str]) {
-    let (code, out, err) = texopt(args);
+    // An output and a cache of its own, should it be taken and run.
+    static CALLS: AtomicUsize = AtomicUsize::new(0);
+    let dir = scratch(&format!(
+        "inputs-refused-{}",
+        CALLS.fetch_add(1, Ordering::Relaxed)
+    ));
+    let (out_dir, cache) = (dir.join("out"), dir.join("c.sqlite"));
+    let mut args = args.to_vec();
+    if args[0] == "optimise" {
+        args.extend(["--out", out_dir.to_str().unwrap()]);
+        args.extend(["--cache", cache.to_str().unwrap()]);
+    }
+    let (code, out, err) = texopt(&args);
+    let _ = std::fs::remove_dir_all(&dir);
     assert_eq!(code, 2, "{args:?}: {err}");
     assert!(out.is_empty(), "{args:?}: {out}");
     let first = err.lines().next().unwrap_or_default();
