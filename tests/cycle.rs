@@ -80,10 +80,10 @@ fn bad_engine_files_are_refused_with_exit_2_one_line_and_nothing_written() {
         ("per = [0.0128, 0.06]", "per = [0.0128]", "[design]"),
         ("l1 = [0.005, 0.03]", "pitch = 3", "[design]"),
         ("R_cm = 5", "R_cm = 0.05", "must exceed half the ring width"),
-        // So fast that every angle's Stribeck number is beyond the validated range.
+        // So slow that every angle's Stribeck number is below the validated range.
         (
             "rpm = 3000",
-            "rpm = 1000000",
+            "rpm = 10",
             "no crank angle of the cycle lies inside",
         ),
     ] {

@@ -314,6 +314,12 @@ fn bounds<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<(f64, f64)>, 
 
 pub(super) fn parse_range(s: &str) -> Result<(f64, f64), String> {
     let err = || format!("expected a range LO..HI of numbers, e.g. 0.0025..0.03, got {s:?}");
+    // "5...8" would split as 5..0.8: a slip of the dots, not a range to read.
+    if s.contains("...") {
+        return Err(format!(
+            "{s:?} has three dots; write a range LO..HI with two, e.g. 5..8"
+        ));
+    }
     let (a, b) = s.split_once("..").ok_or_else(err)?;
     let lo = a.trim().parse::<f64>().map_err(|_| err())?;
     let hi = b.trim().parse::<f64>().map_err(|_| err())?;

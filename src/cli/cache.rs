@@ -29,11 +29,13 @@ pub(super) fn run(a: &CacheArgs) -> Result<i32, CmdError> {
             let ok = cache.integrity_check().map_err(other)?;
             println!("cache {}", cache.path().display());
             println!(
-                "  {} evaluations done, {} failed; {:.1} s of compute stored; {} bytes; integrity: {}",
+                "  {} evaluations done, {} failed; {:.1} s of compute stored; {} on disk ({} database file, {} write-ahead log); integrity: {}",
                 s.done,
                 s.failed,
                 s.compute_seconds,
-                s.file_bytes,
+                size(s.file_bytes + s.wal_bytes),
+                size(s.file_bytes),
+                size(s.wal_bytes),
                 integrity(&ok, &s.damaged)
             );
             if s.unchecked > 0 {
@@ -112,6 +114,23 @@ fn short_hashes(hashes: &[String]) -> String {
     s.join(", ")
 }
 
+/// A size on disk: bytes below a kilobyte, else kB, MB or GB (decimal) to 3 digits or so.
+fn size(bytes: u64) -> String {
+    let b = bytes as f64;
+    match ["kB", "MB", "GB", "TB"]
+        .iter()
+        .enumerate()
+        .rev()
+        .find(|(i, _)| b >= 1e3f64.powi(*i as i32 + 1))
+    {
+        None => format!("{bytes} bytes"),
+        Some((i, unit)) => {
+            let x = b / 1e3f64.powi(i as i32 + 1);
+            format!("{x:.prec$} {unit}", prec = if x < 100.0 { 1 } else { 0 })
+        }
+    }
+}
+
 /// Removes a cache file this command created, with SQLite's journal files beside it.
 fn drop_new_cache(path: &std::path::Path) {
     for suffix in ["", "-wal", "-shm", "-journal"] {
@@ -179,4 +198,17 @@ fn merge(sources: &[std::path::PathBuf], into: &std::path::Path) -> Result<i32, 
         );
     }
     Ok(0)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn sizes_read_at_a_glance() {
+        assert_eq!(super::size(0), "0 bytes");
+        assert_eq!(super::size(999), "999 bytes");
+        assert_eq!(super::size(241_664), "242 kB");
+        assert_eq!(super::size(430_000_000), "430 MB");
+        assert_eq!(super::size(4_300_000), "4.3 MB");
+        assert_eq!(super::size(2_500_000_000), "2.5 GB");
+    }
 }

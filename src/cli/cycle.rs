@@ -7,10 +7,11 @@ use std::path::{Path, PathBuf};
 use super::args::{CycleArgs, CycleDesign};
 use super::optimise::{check_design_space, overrides, space_error, swarm_sizes, SpaceKeys};
 use super::{directory_can_be_made, install_ctrl_c, open_cache, CmdError, STOP};
-use crate::model::engine::Engine;
+use crate::model::case::short;
+use crate::model::engine::{three_digits, zone_label, Engine, STEP_RANGE_DEG};
 use crate::model::operating::Validity;
 use crate::optimise::cycle::{design_all, evaluate_liners, no_angle_inside, points, CycleSettings};
-use crate::optimise::cycle_report::{assemble, table, write};
+use crate::optimise::cycle_report::{assemble, non_finite, table, write};
 use crate::optimise::search::SwarmSettings;
 use crate::optimise::space::Space;
 use crate::time::Fidelity;
@@ -49,6 +50,11 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     }
     let (d, ev) = evaluate_liners(&s, &searched, &cache, &STOP).map_err(CmdError::Other)?;
     let r = assemble(&s, &d, &ev, t0.elapsed().as_secs_f64());
+    if let Some(bad) = non_finite(&r) {
+        return Err(CmdError::Other(format!(
+            "the report's {bad} is not a finite number; nothing printed or written"
+        )));
+    }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
     } else {
@@ -87,7 +93,10 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
     if !(roughness > 0.0 && roughness <= 10.0) {
         return Err(input(
             &a.file,
-            format!("[design] roughness_um = {roughness}: must lie in (0, 10] µm"),
+            format!(
+                "[design] roughness_um = {}: must lie in (0, 10] µm",
+                short(roughness)
+            ),
         ));
     }
     let validity = Validity {
@@ -97,19 +106,19 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
     if !(min_clearance_um.is_finite() && min_clearance_um > 0.0) {
         return Err(input(
             &a.file,
-            format!("[design] min_clearance_um = {min_clearance_um}: must be > 0 µm"),
+            format!(
+                "[design] min_clearance_um = {}: must be > 0 µm",
+                short(min_clearance_um)
+            ),
         ));
     }
-    let step = |flag: &str, v: Option<f64>, def: f64| -> Result<f64, CmdError> {
-        let x = v.unwrap_or(def);
-        if x.is_finite() && (0.5..=90.0).contains(&x) {
-            Ok(x)
-        } else {
-            Err(CmdError::Input(format!(
-                "{flag} = {x}: a crank-angle step from 0.5 to 90 degrees"
-            )))
-        }
-    };
+    let step_deg = step(&engine, "--step", a.step.or(d.step_deg), 5.0)?;
+    let design_step_deg = step(
+        &engine,
+        "--design-step",
+        a.design_step.or(d.design_step_deg),
+        20.0,
+    )?;
     let space = space(&d);
     space.validate().map_err(|e| space_error(&e))?;
     let overrides = overrides(a.mesh, a.dt, &space)?;
@@ -144,8 +153,8 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
             iterations,
             seed: a.seed.or(d.seed).unwrap_or(1),
         },
-        step_deg: step("--step", a.step.or(d.step_deg), 5.0)?,
-        design_step_deg: step("--design-step", a.design_step.or(d.design_step_deg), 20.0)?,
+        step_deg,
+        design_step_deg,
         jobs: a
             .jobs
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
@@ -154,6 +163,31 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
         out_dir: Some(out_dir),
         engine,
     })
+}
+
+/// A crank-angle step (`flag`, else the file's, else `def`): within [`STEP_RANGE_DEG`], and
+/// fine enough that some angle falls in every zone (a zone with none would have no design
+/// and no work to report).
+fn step(engine: &Engine, flag: &str, v: Option<f64>, def: f64) -> Result<f64, CmdError> {
+    let x = v.unwrap_or(def);
+    let (lo, hi) = STEP_RANGE_DEG;
+    if !(x.is_finite() && (lo..=hi).contains(&x)) {
+        return Err(CmdError::Input(format!(
+            "{flag} = {}: a crank-angle step from {lo} to {hi} degrees",
+            short(x)
+        )));
+    }
+    match engine.unsampled_zone(x) {
+        None => Ok(x),
+        Some(z) => Err(CmdError::Input(format!(
+            "{flag} = {}: no crank angle at this step falls in zone {} ({} mm), which the ring crosses in {}° of crank angle; give {flag} {} or less, or widen the zone",
+            short(x),
+            z + 1,
+            zone_label(&engine.bounds_mm, z),
+            three_digits(engine.zone_span_deg(z)),
+            engine.step_to_sample(z)
+        ))),
+    }
 }
 
 /// The design space of the `[design]` section (`optimise`'s defaults where absent).

@@ -129,25 +129,7 @@ fn radii(a: &OptimiseArgs, file: &OptimiseFile) -> Result<Vec<f64>, CmdError> {
             }
             v.clone()
         }
-        Radii::Range(lo, hi) => {
-            let n = count.unwrap_or(4);
-            if !(lo.is_finite() && hi.is_finite() && *lo > 0.0 && lo < hi) {
-                return Err(CmdError::Input(format!(
-                    "--R {lo}..{hi}: a range of radii needs 0 < LO < HI, both finite (cm)"
-                )));
-            }
-            if !(2..=MAX_RADII).contains(&n) {
-                return Err(CmdError::Input(format!(
-                    "{count_name} = {n}: sample a range at 2 to {MAX_RADII} radii"
-                )));
-            }
-            (0..n)
-                .map(|i| {
-                    let x = lo * (hi / lo).powf(i as f64 / (n - 1) as f64);
-                    format!("{x:.2e}").parse().unwrap_or(x)
-                })
-                .collect()
-        }
+        Radii::Range(lo, hi) => range_radii(*lo, *hi, count.unwrap_or(4), &count_name)?,
     };
     // Every design is weighed against the plain liner on the same ring; under a flat ring the
     // plain liner has no converging wedge and carries no load, so there is nothing to weigh
@@ -166,6 +148,59 @@ fn radii(a: &OptimiseArgs, file: &OptimiseFile) -> Result<Vec<f64>, CmdError> {
         )));
     }
     Ok(v)
+}
+
+/// `n` radii from `lo` to `hi`, geometrically spaced, ends included, rounded to 3 significant
+/// digits; a range so narrow that rounding would merge some is refused (it would design for
+/// fewer radii than asked, or for one).
+fn range_radii(lo: f64, hi: f64, n: usize, count_name: &str) -> Result<Vec<f64>, CmdError> {
+    let (lo_s, hi_s) = (short(lo), short(hi));
+    if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo < hi) {
+        return Err(CmdError::Input(format!(
+            "--R {lo_s}..{hi_s}: a range of radii needs 0 < LO < HI, both finite (cm)"
+        )));
+    }
+    if n == 1 {
+        return Err(CmdError::Input(format!(
+            "{count_name} = 1: a range is sampled at 2 to {MAX_RADII} radii; for one radius give --R alone (e.g. --R {lo_s})"
+        )));
+    }
+    if !(2..=MAX_RADII).contains(&n) {
+        return Err(CmdError::Input(format!(
+            "{count_name} = {n}: sample a range at 2 to {MAX_RADII} radii"
+        )));
+    }
+    let sample = |n: usize| -> Vec<f64> {
+        (0..n)
+            .map(|i| {
+                let x = lo * (hi / lo).powf(i as f64 / (n - 1) as f64);
+                format!("{x:.2e}").parse().unwrap_or(x)
+            })
+            .collect()
+    };
+    let distinct = |v: &[f64]| v.windows(2).all(|w| w[0] != w[1]);
+    let v = sample(n);
+    if distinct(&v) {
+        return Ok(v);
+    }
+    let kept: Vec<String> = {
+        let mut u = v.clone();
+        u.dedup();
+        u.iter().map(|r| short(*r)).collect()
+    };
+    Err(CmdError::Input(
+        match (2..n).rev().find(|&m| distinct(&sample(m))) {
+            Some(m) => format!(
+                "--R {lo_s}..{hi_s} --radii {n}: radii are rounded to 3 significant digits (as the reports name them), which leaves only {} distinct ones here ({}); ask --radii {m}, or widen the range",
+                kept.len(),
+                kept.join(", ")
+            ),
+            None => format!(
+                "--R {lo_s}..{hi_s}: the range is narrower than the rounding of radii to 3 significant digits (both ends give R = {}); give one radius (--R {}) or a wider range",
+                kept[0], kept[0]
+            ),
+        },
+    ))
 }
 
 /// The operating flags, else the config file's.

@@ -38,7 +38,7 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
                 j.case.label(),
                 j.numerics.n1,
                 j.numerics.n2,
-                j.numerics.dt
+                crate::model::case::short(j.numerics.dt)
             );
         }
         return Ok(0);

@@ -136,12 +136,73 @@ pub struct Sample {
     pub zone: usize,
 }
 
-fn positive(key: &str, v: f64) -> Result<(), EngineError> {
-    if v.is_finite() && v > 0.0 {
+/// The physical inputs of an engine file and their ranges: from a model engine's to a large
+/// four-stroke's (a value outside is a slip of the unit, not an engine). The ring's width,
+/// mass, load and the oil's viscosity are those `simulate` takes.
+const RANGES: [(&str, &str, f64, f64); 9] = [
+    ("[engine] bore_mm", "mm", 5.0, 1000.0),
+    ("[engine] stroke_mm", "mm", 5.0, 1000.0),
+    ("[engine] rod_mm", "mm", 5.0, 5000.0),
+    ("[engine] rpm", "rpm", 10.0, 30_000.0),
+    ("[ring] R_cm", "cm", 0.01, 1000.0),
+    ("[ring] width_mm", "mm", 0.1, 10.0),
+    ("[ring] mass_kg_per_m", "kg/m", 1e-5, 10.0),
+    ("[ring] elastic_load_n_per_m", "N/m", 1e-2, 1e6),
+    ("[oil] viscosity_pa_s", "Pa·s", 1e-4, 10.0),
+];
+
+/// Most zones a liner is divided into (each is a design search of minutes).
+pub const MAX_ZONES: usize = 50;
+
+/// Finest and coarsest crank-angle steps a cycle is sampled at (degrees).
+pub const STEP_RANGE_DEG: (f64, f64) = (0.5, 90.0);
+
+/// `v` finite and within `key`'s range of [`RANGES`].
+fn in_range(key: &str, v: f64) -> Result<(), EngineError> {
+    let Some(&(_, unit, lo, hi)) = RANGES.iter().find(|r| r.0 == key) else {
+        return Ok(());
+    };
+    if v.is_finite() && (lo..=hi).contains(&v) {
         Ok(())
     } else {
-        Err(err(key, short(v), "must be a finite number > 0"))
+        Err(err(
+            key,
+            short(v),
+            format!(
+                "must lie in [{}, {}] {unit}; check the unit",
+                short(lo),
+                short(hi)
+            ),
+        ))
     }
+}
+
+/// A positive number to about 3 significant digits (`0.347`, `12.5`, `180`).
+pub fn three_digits(x: f64) -> String {
+    let d = if x > 0.0 && x.is_finite() {
+        (2.0 - x.log10().floor()).clamp(0.0, 15.0) as usize
+    } else {
+        0
+    };
+    format!("{x:.d$}")
+}
+
+/// Decimals that tell the zone boundaries `bounds` (mm) apart: at least one, more where two
+/// would otherwise print alike.
+pub fn zone_decimals(bounds: &[f64]) -> usize {
+    (1..=9)
+        .find(|&d| {
+            bounds
+                .windows(2)
+                .all(|w| format!("{:.d$}", w[0]) != format!("{:.d$}", w[1]))
+        })
+        .unwrap_or(9)
+}
+
+/// Zone `z` of `bounds` as `from–to` (mm), with [`zone_decimals`].
+pub fn zone_label(bounds: &[f64], z: usize) -> String {
+    let d = zone_decimals(bounds);
+    format!("{:.d$}–{:.d$}", bounds[z], bounds[z + 1])
 }
 
 /// `xs` finite and strictly increasing.
@@ -181,15 +242,19 @@ impl Engine {
                 "use letters, digits, '-' or '_' (it names the report's files)",
             ));
         }
+        let r = &file.ring;
         for (k, v) in [
             ("[engine] bore_mm", e.bore_mm),
             ("[engine] stroke_mm", e.stroke_mm),
             ("[engine] rod_mm", e.rod_mm),
             ("[engine] rpm", e.rpm),
-            ("[ring] R_cm", file.ring.r_cm),
+            ("[ring] R_cm", r.r_cm),
+            ("[ring] width_mm", r.width_mm),
+            ("[ring] mass_kg_per_m", r.mass_kg_per_m),
+            ("[ring] elastic_load_n_per_m", r.elastic_load_n_per_m),
             ("[oil] viscosity_pa_s", file.oil.viscosity_pa_s),
         ] {
-            positive(k, v)?;
+            in_range(k, v)?;
         }
         if e.rod_mm <= 0.5 * e.stroke_mm {
             return Err(err(
@@ -205,26 +270,7 @@ impl Engine {
         let bounds_mm = Self::zone_bounds(&file.zones, e.stroke_mm)?;
         Self::check_oil(&file.oil, e.stroke_mm)?;
         let engine = Engine { file, bounds_mm };
-        // The ring's inputs, checked as the operating point checks them (a typical load).
-        let ring = &engine.file.ring;
-        let op = Operating {
-            speed_ms: 1.0,
-            load_n_per_m: ring.elastic_load_n_per_m.max(1.0),
-            viscosity_pas: engine.file.oil.viscosity_pa_s,
-            ring_width_mm: ring.width_mm,
-            ring_mass_kg_per_m: ring.mass_kg_per_m,
-            d_oil_um: 20.0,
-        };
-        positive("[ring] elastic_load_n_per_m", ring.elastic_load_n_per_m)?;
-        op.check().map_err(|e| {
-            let key = match e.param.as_str() {
-                "ring_width" => "[ring] width_mm",
-                "ring_mass" => "[ring] mass_kg_per_m",
-                "viscosity" => "[oil] viscosity_pa_s",
-                _ => "[ring] elastic_load_n_per_m",
-            };
-            err(key, e.value, e.rule)
-        })?;
+        engine.check_zone_spans()?;
         // The ring face's radius must exceed its half width (docs/model.md §2), as `simulate`
         // asks of --R.
         let half_width_cm = 0.05 * engine.file.ring.width_mm;
@@ -314,11 +360,21 @@ impl Engine {
 
     fn zone_bounds(z: &Zones, stroke: f64) -> Result<Vec<f64>, EngineError> {
         match (z.count, &z.boundaries_mm) {
-            (Some(n), None) if (1..=50).contains(&n) => {
+            (Some(n), None) if (1..=MAX_ZONES).contains(&n) => {
                 Ok((0..=n).map(|i| stroke * i as f64 / n as f64).collect())
             }
-            (Some(n), None) => Err(err("[zones] count", n, "must be 1 to 50")),
+            (Some(n), None) => Err(err("[zones] count", n, format!("must be 1 to {MAX_ZONES}"))),
             (None, Some(b)) => {
+                if b.len() > MAX_ZONES + 1 {
+                    return Err(err(
+                        "[zones] boundaries_mm",
+                        format!("{} values", b.len()),
+                        format!(
+                            "give at most {} boundaries ({MAX_ZONES} zones, as count)",
+                            MAX_ZONES + 1
+                        ),
+                    ));
+                }
                 increasing("[zones] boundaries_mm", b)?;
                 let ends = b.len() >= 2 && b[0] == 0.0 && (b[b.len() - 1] - stroke).abs() < 1e-9;
                 if !ends {
@@ -332,6 +388,73 @@ impl Engine {
             }
             _ => Err(err("[zones]", "", "give either count or boundaries_mm")),
         }
+    }
+
+    /// Every zone spans at least the finest step of crank angle, so that some step samples it.
+    fn check_zone_spans(&self) -> Result<(), EngineError> {
+        let finest = STEP_RANGE_DEG.0;
+        match (0..self.bounds_mm.len() - 1).find(|&z| self.step_to_sample(z) < finest) {
+            None => Ok(()),
+            Some(z) => Err(err(
+                "[zones] boundaries_mm",
+                format!("[… {}, {} …]", short(self.bounds_mm[z]), short(self.bounds_mm[z + 1])),
+                format!(
+                    "zone {} is crossed in {}° of crank angle, too little for the finest step ({finest}°) to be sure to sample it; widen it",
+                    z + 1,
+                    three_digits(self.zone_span_deg(z))
+                ),
+            )),
+        }
+    }
+
+    /// The crank angle of the down stroke (0–180°) at which the ring is `x` mm from top dead
+    /// centre (the position increases over it).
+    fn crank_at(&self, x: f64) -> f64 {
+        let (mut lo, mut hi) = (0.0, 180.0);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if self.position_mm(mid) < x {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        0.5 * (lo + hi)
+    }
+
+    /// The crank angle the ring takes to cross zone `z` (degrees): a zone at a dead centre is
+    /// crossed down and back up in one go, around it. Samples closer than this meet the zone.
+    pub fn zone_span_deg(&self, z: usize) -> f64 {
+        let last = self.bounds_mm.len() - 2;
+        let (a, b) = (self.bounds_mm[z], self.bounds_mm[z + 1]);
+        match (z == 0, z == last) {
+            (true, true) => 720.0,
+            (true, false) => 2.0 * self.crank_at(b),
+            (false, true) => 2.0 * (180.0 - self.crank_at(a)),
+            (false, false) => self.crank_at(b) - self.crank_at(a),
+        }
+    }
+
+    /// The first zone no sample at `step_deg` meets, if any.
+    pub fn unsampled_zone(&self, step_deg: f64) -> Option<usize> {
+        let mut met = vec![false; self.bounds_mm.len() - 1];
+        for s in self.samples(step_deg) {
+            met[s.zone] = true;
+        }
+        met.iter().position(|m| !m)
+    }
+
+    /// The largest step under which every step samples zone `z` (degrees, 3 significant
+    /// digits, rounded down): the span of [`Engine::zone_span_deg`] holds a sample of any
+    /// step shorter than it, and a step is taken as 720°/n.
+    pub fn step_to_sample(&self, z: usize) -> f64 {
+        let n = (720.0 / self.zone_span_deg(z)).floor() + 1.0;
+        let step = 720.0 / n;
+        // Rounded down to 3 significant digits; an exact power of ten divides, so that the
+        // value prints as those digits.
+        let d = (2.0 - step.log10().floor()).clamp(0.0, 15.0);
+        let p = 10f64.powf(d);
+        (step * p).floor() / p
     }
 
     /// Crank radius and rod length (mm), and the crank's angular speed (rad/s).
@@ -541,10 +664,123 @@ mod tests {
             ("d_oil_um = 20", "d_oil_um = -1", "[oil] d_oil_um"),
             ("R_cm = 5", "", "file"),
             ("R_cm = 5", "R_cm = 0.05", "[ring] R_cm"),
+            ("count = 4", "count = 51", "[zones] count"),
         ] {
             let text = EXAMPLE.replace(from, to);
             let e = Engine::parse(&text).unwrap_err();
             assert_eq!(e.key, key, "{to}: {e}");
         }
+    }
+
+    #[test]
+    fn every_physical_input_has_a_range_and_absurd_values_print_short() {
+        for (from, to, key, says) in [
+            (
+                "bore_mm = 80",
+                "bore_mm = 1e300",
+                "[engine] bore_mm",
+                "1e300",
+            ),
+            (
+                "bore_mm = 80",
+                "bore_mm = 1e-300",
+                "[engine] bore_mm",
+                "1e-300",
+            ),
+            (
+                "stroke_mm = 86",
+                "stroke_mm = 1e300",
+                "[engine] stroke_mm",
+                "1e300",
+            ),
+            ("rod_mm = 140", "rod_mm = 1e300", "[engine] rod_mm", "1e300"),
+            ("rpm = 2000", "rpm = 1e9", "[engine] rpm", "1e9"),
+            ("rpm = 2000", "rpm = 0.001", "[engine] rpm", "0.001"),
+            ("R_cm = 5", "R_cm = 1e300", "[ring] R_cm", "1e300"),
+            (
+                "width_mm = 1.2",
+                "width_mm = 1e-300",
+                "[ring] width_mm",
+                "1e-300",
+            ),
+            (
+                "mass_kg_per_m = 0.02",
+                "mass_kg_per_m = 1e300",
+                "[ring] mass_kg_per_m",
+                "1e300",
+            ),
+            (
+                "elastic_load_n_per_m = 100",
+                "elastic_load_n_per_m = 1e-300",
+                "[ring] elastic_load_n_per_m",
+                "1e-300",
+            ),
+            (
+                "viscosity_pa_s = 0.006",
+                "viscosity_pa_s = 1e300",
+                "[oil] viscosity_pa_s",
+                "1e300",
+            ),
+            (
+                "d_oil_um = 20",
+                "d_oil_um = 1e300",
+                "[oil] d_oil_um",
+                "1e300",
+            ),
+        ] {
+            let text = EXAMPLE.replace(from, to);
+            let e = Engine::parse(&text).unwrap_err();
+            let m = e.to_string();
+            assert_eq!(e.key, key, "{to}: {m}");
+            assert!(m.contains(says) && m.len() < 120, "{to}: {m}");
+        }
+    }
+
+    #[test]
+    fn zones_are_capped_and_each_wide_enough_for_the_finest_step() {
+        let bounds = |b: &str| EXAMPLE.replace("count = 4", &format!("boundaries_mm = {b}"));
+        let many: Vec<String> = (0..=51)
+            .map(|i| format!("{}", 86.0 * i as f64 / 51.0))
+            .collect();
+        let e = Engine::parse(&bounds(&format!("[{}]", many.join(", ")))).unwrap_err();
+        assert_eq!(e.key, "[zones] boundaries_mm", "{e}");
+        assert!(e.to_string().contains("at most 51 boundaries"), "{e}");
+        // 0.1 µm at top dead centre, 1 µm mid-stroke: crossed in well under half a degree.
+        for b in ["[0, 0.0001, 86]", "[0, 40, 40.001, 86]"] {
+            let e = Engine::parse(&bounds(b)).unwrap_err();
+            assert!(e.to_string().contains("finest step"), "{b}: {e}");
+        }
+        // 1 µm at top dead centre is crossed down and back up in 0.7°: accepted, and no
+        // step coarser than that is sure to sample it.
+        let e = Engine::parse(&bounds("[0, 0.001, 86]")).unwrap();
+        let span = e.zone_span_deg(0);
+        assert!(span > 0.6 && span < 0.8, "{span}");
+        assert_eq!(e.unsampled_zone(45.0), Some(0));
+        assert_eq!(e.unsampled_zone(5.0), Some(0));
+        let step = e.step_to_sample(0);
+        assert!(step <= span && step >= 0.5, "{step}");
+        assert_eq!(e.unsampled_zone(step), None);
+        // Every zone of every layout is sampled by its suggested step and any finer one.
+        let e = Engine::parse(&bounds("[0, 0.5, 10, 43, 43.6, 85.9, 86]")).unwrap();
+        for z in 0..6 {
+            let s = e.step_to_sample(z);
+            for k in 0..40 {
+                let step = s * (1.0 - k as f64 / 80.0);
+                if step >= 0.5 {
+                    assert!(
+                        !e.samples(step).iter().all(|x| x.zone != z),
+                        "zone {z} at {step}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn zone_labels_tell_distinct_boundaries_apart() {
+        assert_eq!(zone_label(&[0.0, 20.25, 40.5], 0), "0.0–20.2");
+        assert_eq!(zone_label(&[0.0, 0.001, 81.0], 0), "0.000–0.001");
+        assert_eq!(zone_label(&[0.0, 0.001, 81.0], 1), "0.001–81.000");
+        assert_eq!(zone_label(&[0.0, 40.0, 40.04, 81.0], 1), "40.00–40.04");
     }
 }

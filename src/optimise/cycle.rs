@@ -493,6 +493,17 @@ pub fn evaluate_liners(
 ) -> Result<(Designs, Evaluated), String> {
     let mut pts = points(s, s.step_deg);
     plain_and_exclude(s, &mut pts, s.report_fidelity, cache, stop)?;
+    if pts.iter().all(|p| p.excluded.is_some()) {
+        return Err(no_angle_inside(&pts));
+    }
+    // A zone with no angle inside the model at the report's step has nothing to confirm its
+    // design on: it keeps the plain liner.
+    let weighed: Vec<bool> = (0..d.zones.len())
+        .map(|z| {
+            pts.iter()
+                .any(|p| p.sample.zone == z && p.excluded.is_none())
+        })
+        .collect();
     let run = |pick: &dyn Fn(usize) -> Option<Texture>| -> Result<Runs, String> {
         let inside: Vec<&Point> = pts.iter().filter(|p| p.excluded.is_none()).collect();
         let tex: Vec<Option<Texture>> = inside.iter().map(|p| pick(p.sample.zone)).collect();
@@ -512,6 +523,9 @@ pub fn evaluate_liners(
     // Per zone: (texture, runs) of the least feasible work.
     let choice: Vec<(Option<Texture>, &Runs)> = (0..zones)
         .map(|z| {
+            if !weighed[z] {
+                return (None, &plain);
+            }
             [
                 (d.zones[z].clone(), &own),
                 (d.uniform.clone(), &uniform),
@@ -534,7 +548,8 @@ pub fn evaluate_liners(
             searched: t.clone(),
             change_pct: t.as_ref().and_then(|_| {
                 let w = feasible_work(s, &pts, runs, zone)?;
-                Some(100.0 * (w / feasible_work(s, &pts, &plain, zone)? - 1.0))
+                let p = feasible_work(s, &pts, &plain, zone).filter(|p| *p > 0.0)?;
+                Some(100.0 * (w / p - 1.0))
             }),
             kept,
         };

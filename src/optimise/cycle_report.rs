@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::cycle::{Confirmation, CycleSettings, Designs, Evaluated};
 use crate::model::case::Texture;
+use crate::model::engine::zone_label;
 use crate::plot::{self, Chart, Scale, Series, Style};
 
 #[derive(Clone, Debug, Serialize)]
@@ -20,12 +21,13 @@ pub struct ZoneRow {
     pub texture: Option<Texture>,
     pub angles_inside: usize,
     pub angles_excluded: usize,
-    /// Friction work per unit circumferential length over the cycle (J/m), plain and zoned.
-    pub work_plain_j_per_m: f64,
-    pub work_zoned_j_per_m: f64,
-    pub change_pct: f64,
-    /// Least clearance of the zoned liner over the zone's angles (µm).
-    pub c_min_um: f64,
+    /// Friction work per unit circumferential length over the cycle (J/m), plain and zoned;
+    /// none where no angle of the zone is inside the model.
+    pub work_plain_j_per_m: Option<f64>,
+    pub work_zoned_j_per_m: Option<f64>,
+    pub change_pct: Option<f64>,
+    /// Least clearance of the zoned liner over the zone's angles (µm), if it has a run.
+    pub c_min_um: Option<f64>,
     /// The zone's own searched design at the report's fidelity and step.
     pub searched: Confirmation,
 }
@@ -37,8 +39,10 @@ pub struct LinerRow {
     /// Mean friction power over the cycle, per unit length (W/m) and for the ring (W).
     pub mean_power_w_per_m: f64,
     pub ring_power_w: f64,
-    pub change_pct: f64,
-    pub c_min_um: f64,
+    /// Against the plain liner; none if the plain liner has no work to compare with.
+    pub change_pct: Option<f64>,
+    /// Least clearance over the angles with a run (µm), if any.
+    pub c_min_um: Option<f64>,
     /// Angles inside the model where the liner's run failed (its work leaves them out).
     pub failed_angles: usize,
 }
@@ -88,19 +92,21 @@ const LINERS: [&str; 3] = ["plain liner", "uniform best", "zoned"];
 pub fn assemble(s: &CycleSettings, d: &Designs, ev: &Evaluated, wall: f64) -> CycleReport {
     let e = &s.engine.file.engine;
     let pts = &ev.points;
+    // (+ 0.0: an empty sum is -0.0, which would print as "-0.0".)
     let work = |i: usize, zone: Option<usize>| -> f64 {
         pts.iter()
             .zip(&ev.liners[i])
             .filter(|(p, _)| zone.is_none_or(|z| p.sample.zone == z))
             .filter_map(|(p, r)| r.as_ref().map(|(_, f)| f * p.distance_m))
-            .sum()
+            .sum::<f64>()
+            + 0.0
     };
-    let least = |i: usize, zone: Option<usize>| -> f64 {
+    let least = |i: usize, zone: Option<usize>| -> Option<f64> {
         pts.iter()
             .zip(&ev.liners[i])
             .filter(|(p, _)| zone.is_none_or(|z| p.sample.zone == z))
             .filter_map(|(_, r)| r.as_ref().map(|(o, _)| o.c_min))
-            .fold(f64::INFINITY, f64::min)
+            .min_by(f64::total_cmp)
     };
     let zones = (0..d.zones.len())
         .map(|z| {
@@ -110,6 +116,7 @@ pub fn assemble(s: &CycleSettings, d: &Designs, ev: &Evaluated, wall: f64) -> Cy
                 .count();
             let all = pts.iter().filter(|p| p.sample.zone == z).count();
             let (wp, wz) = (work(0, Some(z)), work(2, Some(z)));
+            let weighed = inside > 0;
             ZoneRow {
                 zone: z + 1,
                 from_mm: s.engine.bounds_mm[z],
@@ -117,9 +124,9 @@ pub fn assemble(s: &CycleSettings, d: &Designs, ev: &Evaluated, wall: f64) -> Cy
                 texture: d.zones[z].clone(),
                 angles_inside: inside,
                 angles_excluded: all - inside,
-                work_plain_j_per_m: wp,
-                work_zoned_j_per_m: wz,
-                change_pct: 100.0 * (wz / wp - 1.0),
+                work_plain_j_per_m: weighed.then_some(wp),
+                work_zoned_j_per_m: weighed.then_some(wz),
+                change_pct: change_pct(wz, wp).filter(|_| weighed),
                 c_min_um: least(2, Some(z)),
                 searched: ev.confirmed[z].clone(),
             }
@@ -136,7 +143,7 @@ pub fn assemble(s: &CycleSettings, d: &Designs, ev: &Evaluated, wall: f64) -> Cy
                 work_j_per_m: w,
                 mean_power_w_per_m: w / cycle_s,
                 ring_power_w: w / cycle_s * circumference,
-                change_pct: 100.0 * (w / w0 - 1.0),
+                change_pct: change_pct(w, w0),
                 c_min_um: least(i, None),
                 failed_angles: pts
                     .iter()
@@ -185,15 +192,99 @@ pub fn assemble(s: &CycleSettings, d: &Designs, ev: &Evaluated, wall: f64) -> Cy
     }
 }
 
+/// The change of `w` against `reference` (%), if there is a reference to compare with.
+fn change_pct(w: f64, reference: f64) -> Option<f64> {
+    (reference > 0.0).then(|| 100.0 * (w / reference - 1.0))
+}
+
+/// The first number of the report that is not finite, named (`zones[2].change_pct`): none
+/// may reach a table or a file (JSON would write it as null, a table as NaN).
+pub fn non_finite(r: &CycleReport) -> Option<String> {
+    let mut named: Vec<(String, f64)> = vec![
+        ("rpm".into(), r.rpm),
+        ("stroke_mm".into(), r.stroke_mm),
+        ("bore_mm".into(), r.bore_mm),
+        ("min_clearance_um".into(), r.min_clearance_um),
+        ("excluded_cycle_fraction".into(), r.excluded_cycle_fraction),
+        (
+            "excluded_sliding_fraction".into(),
+            r.excluded_sliding_fraction,
+        ),
+        ("wall_time_s".into(), r.wall_time_s),
+    ];
+    let opt = |v: &mut Vec<(String, f64)>, name: String, x: Option<f64>| {
+        if let Some(x) = x {
+            v.push((name, x));
+        }
+    };
+    let confirmed = |v: &mut Vec<(String, f64)>, name: String, c: &Confirmation| {
+        opt(v, format!("{name}.change_pct"), c.change_pct);
+    };
+    confirmed(&mut named, "uniform_searched".into(), &r.uniform_searched);
+    for (k, z) in r.zones.iter().enumerate() {
+        let n = |f: &str| format!("zones[{k}].{f}");
+        named.push((n("from_mm"), z.from_mm));
+        named.push((n("to_mm"), z.to_mm));
+        opt(&mut named, n("work_plain_j_per_m"), z.work_plain_j_per_m);
+        opt(&mut named, n("work_zoned_j_per_m"), z.work_zoned_j_per_m);
+        opt(&mut named, n("change_pct"), z.change_pct);
+        opt(&mut named, n("c_min_um"), z.c_min_um);
+        confirmed(&mut named, n("searched"), &z.searched);
+    }
+    for (k, l) in r.liners.iter().enumerate() {
+        let n = |f: &str| format!("liners[{k}].{f}");
+        named.push((n("work_j_per_m"), l.work_j_per_m));
+        named.push((n("mean_power_w_per_m"), l.mean_power_w_per_m));
+        named.push((n("ring_power_w"), l.ring_power_w));
+        opt(&mut named, n("change_pct"), l.change_pct);
+        opt(&mut named, n("c_min_um"), l.c_min_um);
+    }
+    for (k, x) in r.samples.iter().enumerate() {
+        let n = |f: &str| format!("samples[{k}].{f}");
+        for (f, v) in [
+            ("crank_deg", x.crank_deg),
+            ("position_mm", x.position_mm),
+            ("speed_ms", x.speed_ms),
+            ("load_n_per_m", x.load_n_per_m),
+            ("stribeck", x.stribeck),
+            ("d_oil_um", x.d_oil_um),
+        ] {
+            named.push((n(f), v));
+        }
+        for i in 0..3 {
+            opt(
+                &mut named,
+                n(&format!("force_n_per_m[{i}]")),
+                x.force_n_per_m[i],
+            );
+            opt(&mut named, n(&format!("c_min_um[{i}]")), x.c_min_um[i]);
+        }
+    }
+    named
+        .into_iter()
+        .find(|(_, x)| !x.is_finite())
+        .map(|(name, x)| format!("{name} = {x}"))
+}
+
+/// An optional number in a table, or a dash.
+fn or_dash(x: Option<f64>, f: impl Fn(f64) -> String) -> String {
+    x.map_or("—".into(), f)
+}
+
 fn texture_label(t: &Option<Texture>) -> String {
     t.as_ref()
         .map_or("plain liner".into(), Texture::rounded_label)
 }
 
-/// A searched design and what the report's fidelity and step made of it.
-fn searched(c: &Confirmation) -> String {
+/// A searched design and what the report's fidelity and step made of it (`weighed`: its
+/// zone has angles inside the model there).
+fn searched(c: &Confirmation, weighed: bool) -> String {
     match (&c.searched, c.change_pct) {
         (None, _) => "none beat the plain liner".into(),
+        (Some(t), _) if !weighed => format!(
+            "{}: no angle inside the model here to weigh it on, not kept",
+            texture_label(&Some(t.clone()))
+        ),
         (Some(t), Some(x)) => format!(
             "{}: {x:+.1} %{}",
             texture_label(&Some(t.clone())),
@@ -244,41 +335,63 @@ pub fn table(r: &CycleReport) -> String {
     );
     let _ = writeln!(s, "| zone | from–to (mm) | texture | angles in / out | work plain (J/m) | work zoned (J/m) | change | least C_min (µm) | its search's design: change here |");
     let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
-    for z in &r.zones {
+    let bounds: Vec<f64> = r
+        .zones
+        .iter()
+        .map(|z| z.from_mm)
+        .chain(r.zones.last().map(|z| z.to_mm))
+        .collect();
+    for (k, z) in r.zones.iter().enumerate() {
         let _ = writeln!(
             s,
-            "| {} | {:.1}–{:.1} | {} | {} / {} | {:.4} | {:.4} | {:+.1} % | {:.3} | {} |",
+            "| {} | {} | {} | {} / {} | {} | {} | {} | {} | {} |",
             z.zone,
-            z.from_mm,
-            z.to_mm,
+            zone_label(&bounds, k),
             texture_label(&z.texture),
             z.angles_inside,
             z.angles_excluded,
-            z.work_plain_j_per_m,
-            z.work_zoned_j_per_m,
-            z.change_pct,
-            z.c_min_um,
-            searched(&z.searched)
+            or_dash(z.work_plain_j_per_m, |x| format!("{x:.4}")),
+            or_dash(z.work_zoned_j_per_m, |x| format!("{x:.4}")),
+            or_dash(z.change_pct, |x| format!("{x:+.1} %")),
+            or_dash(z.c_min_um, |x| format!("{x:.3}")),
+            searched(&z.searched, z.angles_inside > 0)
+        );
+    }
+    let unweighed: Vec<String> = r
+        .zones
+        .iter()
+        .filter(|z| z.angles_inside == 0)
+        .map(|z| z.zone.to_string())
+        .collect();
+    if !unweighed.is_empty() {
+        let (zone, has) = match unweighed.len() {
+            1 => ("zone", "its"),
+            _ => ("zones", "their"),
+        };
+        let _ = writeln!(
+            s,
+            "\nNo angle of {zone} {} lies inside the model at this step (the CSV says why): {has} liner stays plain and adds no work.",
+            unweighed.join(", ")
         );
     }
     let _ = writeln!(
         s,
         "\nuniform best: {} (its search's design: {})\n",
         texture_label(&r.uniform),
-        searched(&r.uniform_searched)
+        searched(&r.uniform_searched, true)
     );
     let _ = writeln!(s, "| liner | work (J/m per cycle) | mean power (W/m) | ring (W) | change | least C_min (µm) | failed angles |");
     let _ = writeln!(s, "|---|---|---|---|---|---|---|");
     for l in &r.liners {
         let _ = writeln!(
             s,
-            "| {} | {:.4} | {:.2} | {:.2} | {:+.1} % | {:.3} | {} |",
+            "| {} | {:.4} | {:.2} | {:.2} | {} | {} | {} |",
             l.liner,
             l.work_j_per_m,
             l.mean_power_w_per_m,
             l.ring_power_w,
-            l.change_pct,
-            l.c_min_um,
+            or_dash(l.change_pct, |x| format!("{x:+.1} %")),
+            or_dash(l.c_min_um, |x| format!("{x:.3}")),
             l.failed_angles
         );
     }
@@ -447,4 +560,60 @@ fn liner_plot(path: &Path, r: &CycleReport) -> Result<(), String> {
         },
         &series,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_number_that_is_not_finite_is_named_before_anything_is_printed() {
+        let none = Confirmation {
+            searched: None,
+            change_pct: None,
+            kept: false,
+        };
+        let mut r = CycleReport {
+            name: "t".into(),
+            rpm: 3000.0,
+            stroke_mm: 81.0,
+            bore_mm: 79.0,
+            step_deg: 5.0,
+            design_step_deg: 20.0,
+            search_fidelity: "draft".into(),
+            report_fidelity: "fast".into(),
+            min_clearance_um: 0.9,
+            uniform: None,
+            uniform_searched: none.clone(),
+            zones: vec![ZoneRow {
+                zone: 1,
+                from_mm: 0.0,
+                to_mm: 81.0,
+                texture: None,
+                angles_inside: 0,
+                angles_excluded: 1,
+                work_plain_j_per_m: None,
+                work_zoned_j_per_m: None,
+                change_pct: None,
+                c_min_um: None,
+                searched: none,
+            }],
+            liners: vec![],
+            excluded_cycle_fraction: 1.0,
+            excluded_sliding_fraction: 1.0,
+            samples: vec![],
+            wall_time_s: 1.0,
+        };
+        assert_eq!(non_finite(&r), None);
+        let t = table(&r);
+        assert!(!t.contains("NaN") && !t.contains("inf"), "{t}");
+        r.zones[0].change_pct = Some(f64::NAN);
+        assert_eq!(non_finite(&r).as_deref(), Some("zones[0].change_pct = NaN"));
+        r.zones[0].change_pct = None;
+        r.zones[0].c_min_um = Some(f64::INFINITY);
+        assert_eq!(non_finite(&r).as_deref(), Some("zones[0].c_min_um = inf"));
+        // The change of a liner or zone with nothing to compare with is none, not NaN.
+        assert_eq!(change_pct(0.0, 0.0), None);
+        assert_eq!(change_pct(1.5, 1.0), Some(50.0));
+    }
 }

@@ -196,11 +196,14 @@ pub struct Stats {
     pub done: usize,
     pub failed: usize,
     pub compute_seconds: f64,
+    /// The database file's size and its write-ahead log's beside it (bytes): the log holds
+    /// recent writes until SQLite folds them into the file, and can outgrow it.
     pub file_bytes: u64,
     /// The entries whose checksum does not match (their hashes), and those written before
     /// entries carried one (not checked).
     pub damaged: Vec<String>,
     pub unchecked: usize,
+    pub wal_bytes: u64,
 }
 
 pub struct Cache {
@@ -517,6 +520,11 @@ impl Cache {
             file_bytes: std::fs::metadata(&self.path).map_or(0, |m| m.len()),
             damaged,
             unchecked,
+            wal_bytes: {
+                let mut wal = self.path.as_os_str().to_owned();
+                wal.push("-wal");
+                std::fs::metadata(wal).map_or(0, |m| m.len())
+            },
         })
     }
 

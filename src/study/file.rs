@@ -25,7 +25,7 @@ use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use crate::model::case::{CaseSpec, InputError, Texture, Waiver};
+use crate::model::case::{short, CaseSpec, InputError, Texture, Waiver};
 use crate::model::operating::{Operating, Scales, Validity, RANGES};
 use crate::solve::Method;
 use crate::time::{Fidelity, Numerics};
@@ -261,7 +261,8 @@ fn validity(raw: &FileToml) -> Result<Validity, String> {
     if let Some(r) = raw.study.roughness {
         if !(r.is_finite() && r > 0.0 && r <= 10.0) {
             return Err(format!(
-                "[study] roughness = {r}: give the composite RMS roughness in (0, 10] µm"
+                "[study] roughness = {}: give the composite RMS roughness in (0, 10] µm",
+                short(r)
             ));
         }
         v.roughness_um = r;
@@ -293,7 +294,8 @@ fn check_header(raw: &FileToml) -> Result<(), String> {
     if !(r.small_r_max.is_finite() && r.large_r_min.is_finite() && r.small_r_max < r.large_r_min) {
         return Err(format!(
             "[report] small_r_max = {} must be below large_r_min = {}",
-            r.small_r_max, r.large_r_min
+            short(r.small_r_max),
+            short(r.large_r_min)
         ));
     }
     // The table is a file of the report directory: a plain name, never a path out of it.
@@ -395,7 +397,10 @@ fn exclusive(values: &BTreeMap<String, Values>) -> Result<(), String> {
         if let Some(Values::List(v)) = values.get(name) {
             if let Some(x) = v.iter().find(|x| !(**x > 0.0 && (lo..=hi).contains(*x))) {
                 return Err(format!(
-                    "[parameters] {name} = {x}: must lie in [{lo}, {hi}] {unit}; check the unit"
+                    "[parameters] {name} = {}: must lie in [{}, {}] {unit}; check the unit",
+                    short(*x),
+                    short(lo),
+                    short(hi)
                 ));
             }
         }
@@ -717,7 +722,9 @@ fn range(key: &str, t: &toml::Table) -> Result<Vec<f64>, String> {
     };
     if !(from.is_finite() && to.is_finite()) || from > to {
         return Err(format!(
-            "[parameters] {key}: range from = {from} to = {to} is empty or inverted; need from ≤ to"
+            "[parameters] {key}: range from = {} to = {} is empty or inverted; need from ≤ to",
+            short(from),
+            short(to)
         ));
     }
     let log = match t.get("spacing").map(|v| v.as_str()) {
@@ -747,7 +754,8 @@ fn range(key: &str, t: &toml::Table) -> Result<Vec<f64>, String> {
     if let Some(c) = get("count")? {
         if !(c >= 1.0 && c.fract() == 0.0 && c as usize <= MAX_VALUES) {
             return Err(format!(
-                "[parameters] {key}: count = {c} must be a whole number from 1 to {MAX_VALUES}"
+                "[parameters] {key}: count = {} must be a whole number from 1 to {MAX_VALUES}",
+                short(c)
             ));
         }
         let n = c as usize;
@@ -769,7 +777,8 @@ fn range(key: &str, t: &toml::Table) -> Result<Vec<f64>, String> {
     } else if let Some(step) = get("step")? {
         if step.is_nan() || step <= 0.0 || ((to - from) / step) as usize > MAX_VALUES {
             return Err(format!(
-                "[parameters] {key}: step = {step} must be > 0 and give at most {MAX_VALUES} values"
+                "[parameters] {key}: step = {} must be > 0 and give at most {MAX_VALUES} values",
+                short(step)
             ));
         }
         let n = ((to - from) / step + 1e-9).floor() as usize;
@@ -777,7 +786,8 @@ fn range(key: &str, t: &toml::Table) -> Result<Vec<f64>, String> {
     } else if let Some(f) = get("factor")? {
         if f.is_nan() || f <= 1.0 || from <= 0.0 || (to / from).ln() / f.ln() > MAX_VALUES as f64 {
             return Err(format!(
-                "[parameters] {key}: factor = {f} needs factor > 1 and from > 0"
+                "[parameters] {key}: factor = {} needs factor > 1 and from > 0",
+                short(f)
             ));
         }
         let mut x = from;
