@@ -66,6 +66,11 @@ fn memory_is_estimated_and_bounded_before_anything_is_allocated() {
     // The limit is the user's to set, both ways.
     refused(&["--max-memory", "0.001"], "over the limit of 0.001 GiB");
     refused(&["--max-memory", "-1"], "--max-memory = -1");
+    // A limit above the machine's memory would let a run abort allocating.
+    refused(
+        &["--mesh", "3000x3000", "--max-memory", "100000"],
+        "more than this machine's",
+    );
     // A design space whose widest, finest corner is over the limit is refused before the
     // search starts.
     let (code, _, err) = texopt(&["optimise", "--R", "5", "--free-width", "0.1..100"]);

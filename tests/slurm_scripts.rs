@@ -273,6 +273,15 @@ fn a_path_the_scripts_cannot_hold_is_refused_before_anything_is_written() {
         assert!(!cwd.join(dir).exists());
     }
     assert!(!cwd.join("back\\slash").exists());
+    // A cache of one's own has no place beside the tasks' caches: refused, not ignored.
+    let (code, _, err) = run_in(
+        &cwd,
+        None,
+        &["study", f, "--slurm", "sl", "--cache", "c.sqlite"],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--cache"), "{err}");
+    assert!(!cwd.join("sl").exists() && !cwd.join("c.sqlite").exists());
 
     // The study file's path, and the working directory a relative DIR is under.
     let odd = cwd.join("study\nfile.toml");

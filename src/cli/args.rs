@@ -335,8 +335,9 @@ pub struct StudyArgs {
     pub jobs: Option<usize>,
     #[command(flatten)]
     pub limits: LimitArgs,
-    /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
-    #[arg(long, value_name = "FILE")]
+    /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite]. Not with --slurm, whose
+    /// tasks keep their caches in DIR/caches and merge them into DIR/merged.sqlite.
+    #[arg(long, value_name = "FILE", conflicts_with = "slurm")]
     pub cache: Option<PathBuf>,
     /// Simulate again the cases the cache holds as failed.
     #[arg(long)]

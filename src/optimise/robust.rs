@@ -140,7 +140,12 @@ pub fn robust(
     let mut reports = Vec::new();
     for (i, s) in per_r.iter().enumerate() {
         if first.progress {
-            eprintln!("== R = {} cm ({} of {}) ==", s.base.r, i + 1, per_r.len());
+            eprintln!(
+                "== R = {} cm ({} of {}) ==",
+                crate::time::short(s.base.r),
+                i + 1,
+                per_r.len()
+            );
         }
         reports.push(optimise(s, cache, stop)?);
     }
