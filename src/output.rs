@@ -55,14 +55,36 @@ fn destination(path: &Path) -> Result<Destination, String> {
 /// system is atomic), named for this process, and ending like `path` (plotters picks the
 /// image format from the extension).
 fn temporary(path: &Path) -> PathBuf {
-    let name = path
+    temporary_as(path, path)
+}
+
+/// The temporary file beside `target` that ends like `named` (a link's name gives the format
+/// when its target's name has none).
+fn temporary_as(target: &Path, named: &Path) -> PathBuf {
+    let name = target
         .file_name()
         .map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
-    let tmp = match name.rsplit_once('.') {
-        Some((stem, ext)) => format!(".{stem}.tmp-{}.{ext}", std::process::id()),
+    let stem = name
+        .rsplit_once('.')
+        .map_or(name.as_str(), |(stem, _)| stem);
+    let tmp = match named.extension() {
+        Some(ext) => format!(
+            ".{stem}.tmp-{}.{}",
+            std::process::id(),
+            ext.to_string_lossy()
+        ),
         None => format!(".{name}.tmp-{}", std::process::id()),
     };
-    path.with_file_name(tmp)
+    target.with_file_name(tmp)
+}
+
+/// The text of the regular file at `path` (links followed), or None: a device or FIFO is
+/// never read (a FIFO would wait for a writer), nor is what cannot be read.
+pub fn read_regular(path: &Path) -> Option<String> {
+    match destination(path).ok()? {
+        Destination::Regular(p) => std::fs::read_to_string(p).ok(),
+        Destination::Special(_) => None,
+    }
 }
 
 /// Runs `write` on a temporary file and renames it to `path` if it succeeds; otherwise
@@ -84,7 +106,7 @@ fn replace<T>(
     target: &Path,
     write: impl FnOnce(&Path) -> Result<T, String>,
 ) -> Result<T, String> {
-    let tmp = temporary(target);
+    let tmp = temporary_as(target, path);
     let result = write(&tmp).and_then(|v| {
         std::fs::rename(&tmp, target).map_err(|e| format!("cannot move it into place: {e}"))?;
         Ok(v)
@@ -236,6 +258,16 @@ mod tests {
             .file_type()
             .is_symlink());
         assert_eq!(std::fs::read_to_string(&target).unwrap(), "new\n");
+        // A link whose target's name has no extension: the link's name gives the format.
+        let bare = d.join("bare");
+        let png = d.join("picture.png");
+        std::os::unix::fs::symlink("bare", &png).unwrap();
+        atomically(&png, |tmp| {
+            assert_eq!(tmp.extension().unwrap(), "png", "{}", tmp.display());
+            std::fs::write(tmp, "image").map_err(|e| e.to_string())
+        })
+        .unwrap();
+        assert_eq!(std::fs::read_to_string(&bare).unwrap(), "image");
         // A dangling link makes its target.
         let dangling = d.join("dangling.json");
         std::os::unix::fs::symlink(d.join("made.json"), &dangling).unwrap();
@@ -292,6 +324,20 @@ mod tests {
             1,
             "a temporary was left"
         );
+    }
+
+    #[test]
+    fn only_a_regular_file_is_read_back() {
+        let d = dir("read");
+        let fifo = d.join("pipe.csv");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if made.is_ok_and(|s| s.success()) {
+            assert_eq!(read_regular(&fifo), None); // and no wait for a writer
+        }
+        let f = d.join("f.csv");
+        std::fs::write(&f, "x").unwrap();
+        std::os::unix::fs::symlink("f.csv", d.join("l.csv")).unwrap();
+        assert_eq!(read_regular(&d.join("l.csv")).as_deref(), Some("x"));
     }
 
     #[test]

@@ -283,6 +283,68 @@ fn damage_two(cache: &Path) -> (String, String, f64) {
     (h1.clone(), h2.clone(), f)
 }
 
+/// Each way an entry can be damaged, applied to the entry `hash` (SQL on the open file).
+const DAMAGES: [(&str, &str); 8] = [
+    ("a digit of the outcome", "UPDATE evaluations SET outcome = replace(outcome, '\"f_mean\":0.', '\"f_mean\":0.0') WHERE hash = ?1"),
+    ("the checksum removed", "UPDATE evaluations SET checksum = NULL, outcome = replace(outcome, '\"f_mean\":0.', '\"f_mean\":0.0') WHERE hash = ?1"),
+    ("bytes that are not UTF-8", "UPDATE evaluations SET outcome = CAST(X'7B22665F6D65616E223AFF7D' AS TEXT) WHERE hash = ?1"),
+    ("the outcome as a BLOB", "UPDATE evaluations SET outcome = CAST(outcome AS BLOB) WHERE hash = ?1"),
+    ("the key altered", "UPDATE evaluations SET key = replace(key, '\"model\"', '\"modeI\"') WHERE hash = ?1"),
+    ("the wall time altered", "UPDATE evaluations SET wall_time_s = 1e300 WHERE hash = ?1"),
+    ("the status altered", "UPDATE evaluations SET status = 'failed' WHERE hash = ?1"),
+    ("the steps as text", "UPDATE evaluations SET steps = 'many' WHERE hash = ?1"),
+];
+
+#[test]
+fn every_kind_of_damage_is_named_never_served_and_computed_again() {
+    let d = scratch("files-damages");
+    let study = small_study(&d);
+    let clean = d.join("clean.sqlite");
+    assert_eq!(run_study(&study, &clean, &["--no-report"]).0, 0);
+    let c = rusqlite::Connection::open(&clean).unwrap();
+    let hash: String = c
+        .query_row(
+            "SELECT hash FROM evaluations WHERE key LIKE '%\"texture\":null%'",
+            [],
+            |r| r.get(0),
+        )
+        .unwrap();
+    drop(c);
+    for (what, sql) in DAMAGES {
+        let cache = d.join("damaged.sqlite");
+        std::fs::copy(&clean, &cache).unwrap();
+        let c = rusqlite::Connection::open(&cache).unwrap();
+        assert_eq!(c.execute(sql, [&hash]).unwrap(), 1, "{what}");
+        drop(c);
+        let (code, out, err) = texopt(&["cache", "stats", "--cache", s(&cache)]);
+        assert_eq!(code, 1, "{what}: {out}{err}");
+        assert!(
+            err.contains(&hash[..12]) && !out.contains("e300"),
+            "{what}: {out}{err}"
+        );
+        let (code, _, err) = texopt(&["cache", "export", "--cache", s(&cache)]);
+        assert_eq!(code, 0, "{what}: {err}");
+        assert!(err.contains("left out 1 damaged"), "{what}: {err}");
+        let (code, _, err) = run_study(&study, &cache, &["--cached-only", "--no-report"]);
+        assert_eq!(code, 0, "{what}: {err}");
+        assert!(err.contains("damaged in the cache"), "{what}: {err}");
+        let into = d.join("into.sqlite");
+        let _ = std::fs::remove_file(&into);
+        let (code, out, err) = texopt(&["cache", "merge", s(&cache), "--into", s(&into)]);
+        assert_eq!(code, 0, "{what}: {err}");
+        assert!(
+            out.contains("2 entries added") && err.contains("not copied: 1"),
+            "{what}: {out}{err}"
+        );
+        let (code, out, err) = run_study(&study, &cache, &["--no-report"]);
+        assert_eq!(code, 0, "{what}: {err}");
+        assert!(out.contains("1 computed"), "{what}: {out}");
+        let (code, out, _) = texopt(&["cache", "stats", "--cache", s(&cache)]);
+        assert_eq!(code, 0, "{what}");
+        assert!(out.contains("integrity: ok"), "{what}: {out}");
+    }
+}
+
 #[test]
 fn a_damaged_entry_is_reported_and_never_served() {
     let d = scratch("files-damaged");
@@ -327,4 +389,73 @@ fn a_damaged_entry_is_reported_and_never_served() {
         .unwrap();
     let v: serde_json::Value = serde_json::from_str(&o).unwrap();
     assert_eq!(v["f_mean"].as_f64().unwrap(), f);
+}
+
+#[test]
+fn a_log_without_its_cache_is_refused_and_kept() {
+    let d = scratch("files-orphan");
+    let study = small_study(&d);
+    let cache = d.join("new.sqlite");
+    plant_foreign_log(&d, &cache);
+    let wal = snapshot_wal(&cache);
+    for args in [
+        vec!["study", s(&study), "--cache", s(&cache), "--no-report"],
+        vec![
+            "cache",
+            "merge",
+            s(&d.join("other.sqlite")),
+            "--into",
+            s(&cache),
+        ],
+    ] {
+        let (code, _, err) = texopt(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains("does not exist"), "{args:?}: {err}");
+        assert!(!cache.exists(), "{args:?} made the cache");
+        assert_eq!(snapshot_wal(&cache), wal, "{args:?} changed the log");
+    }
+}
+
+fn snapshot_wal(cache: &Path) -> Vec<u8> {
+    let mut wal = cache.as_os_str().to_owned();
+    wal.push("-wal");
+    std::fs::read(wal).unwrap()
+}
+
+#[test]
+fn a_fifo_where_the_report_goes_is_written_not_read() {
+    let d = scratch("files-fifo-report");
+    let study = small_study(&d);
+    let cache = d.join("c.sqlite");
+    assert_eq!(run_study(&study, &cache, &["--no-report"]).0, 0);
+    std::fs::create_dir_all(d.join("rep")).unwrap();
+    let fifo = d.join("rep/small.csv");
+    assert!(std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+    };
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_texopt"))
+        .args(["study", s(&study), "--cache", s(&cache), "--cached-only"])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let t0 = std::time::Instant::now();
+    let status = loop {
+        if let Some(st) = child.try_wait().unwrap() {
+            break st;
+        }
+        if t0.elapsed().as_secs() > 60 {
+            let _ = child.kill();
+            panic!("the study waited on the FIFO");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    assert!(status.success());
+    assert_eq!(reader.join().unwrap().lines().count(), 4);
 }

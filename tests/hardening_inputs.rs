@@ -100,9 +100,9 @@ fn a_zone_no_crank_angle_samples_is_refused_with_the_step_it_needs() {
         &tiny,
         &["--step", "0.5"],
         &[
-            "--design-step = 30",
+            "[design] design_step_deg = 30",
             "zone 1",
-            "--design-step 0.703 or less",
+            "[design] design_step_deg 0.703 or less",
         ],
     );
     // A zone too narrow for the finest step, and more zones than `count` takes.
@@ -263,6 +263,53 @@ fn a_range_of_radii_that_rounding_would_merge_is_refused() {
         &["optimise", "--R", "8e300..5"],
         &["--R 8e300..5", "0 < LO < HI"],
     );
+    refused(
+        &["optimise", "--R", "5..1e300"],
+        &["--R 5..1e300", "at most at 10000 cm"],
+    );
+    // A list whose radii are one radius to the digits reports name them by.
+    for list in ["3.2,5,5.0000001", "5,5"] {
+        refused(
+            &["optimise", "--R", list],
+            &["--R", "one radius", "distinct"],
+        );
+    }
+}
+
+#[test]
+fn sizes_and_positions_have_ranges_on_every_path() {
+    refused(
+        &["optimise", "--R", "5", "--l1", "0.02..1e300"],
+        &["--l1 = 0.02..1e300", "at most at 100 cm"],
+    );
+    refused(
+        &["optimise", "--R", "5", "--depth", "1e-300..1e300"],
+        &["--depth", "1000 µm"],
+    );
+    // A plain liner has no texture to place: a phase given is said to be unused.
+    let (code, _, err) = texopt(&["simulate", "--R", "0.8", "--phase", "1e300"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("--phase") && err.contains("not used"), "{err}");
+    refused(
+        &["simulate", "--R", "0.8", "--max-steps", "1e300"],
+        &["--max-steps = 1e300", "at most 1e10"],
+    );
+    let dir = scratch("inputs-design");
+    let base = engine("count = 2");
+    // A whole number given as an absurd float is quoted back short.
+    let text = base.replace("count = 2", "count = 1e300");
+    cycle_refused(&dir, &text, &[], &["1e300", "expected usize"]);
+    let text = base.replace("[design]\n", "[design]\nmin_clearance_um = 1e300\n");
+    cycle_refused(
+        &dir,
+        &text,
+        &[],
+        &["[design] min_clearance_um = 1e300", "(0, 100] µm"],
+    );
+    // A step from the file is named by its key.
+    let text = base.replace("[design]\n", "[design]\ndesign_step_deg = 0\n");
+    cycle_refused(&dir, &text, &[], &["[design] design_step_deg = 0"]);
+    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]

@@ -81,13 +81,8 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
     let d: CycleDesign = toml::Value::Table(engine.file.design.clone())
         .try_into()
         .map_err(|e: toml::de::Error| {
-            let text = e.to_string();
-            let lines: Vec<&str> = text
-                .lines()
-                .map(str::trim)
-                .filter(|l| !l.is_empty())
-                .collect();
-            input(&a.file, format!("[design] {}", lines.join(" ")))
+            let why = crate::model::case::one_line(&e.to_string());
+            input(&a.file, format!("[design] {why}"))
         })?;
     let roughness = d.roughness_um.unwrap_or(Validity::default().roughness_um);
     if !(roughness > 0.0 && roughness <= 10.0) {
@@ -103,19 +98,36 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
         roughness_um: roughness,
     };
     let min_clearance_um = d.min_clearance_um.unwrap_or(validity.clearance_limit_um());
-    if !(min_clearance_um.is_finite() && min_clearance_um > 0.0) {
+    if !(min_clearance_um.is_finite() && min_clearance_um > 0.0 && min_clearance_um <= 100.0) {
         return Err(input(
             &a.file,
             format!(
-                "[design] min_clearance_um = {}: must be > 0 µm",
+                "[design] min_clearance_um = {}: must lie in (0, 100] µm (a film above 100 µm is no ring's)",
                 short(min_clearance_um)
             ),
         ));
     }
-    let step_deg = step(&engine, "--step", a.step.or(d.step_deg), 5.0)?;
+    // A step is named where it came from: the flag, else the engine file's key.
+    let named = |flag: Option<f64>, file: Option<f64>, name: &'static str, key: &'static str| match (
+        flag, file,
+    ) {
+        (None, Some(_)) => key,
+        _ => name,
+    };
+    let step_deg = step(
+        &engine,
+        named(a.step, d.step_deg, "--step", "[design] step_deg"),
+        a.step.or(d.step_deg),
+        5.0,
+    )?;
     let design_step_deg = step(
         &engine,
-        "--design-step",
+        named(
+            a.design_step,
+            d.design_step_deg,
+            "--design-step",
+            "[design] design_step_deg",
+        ),
         a.design_step.or(d.design_step_deg),
         20.0,
     )?;

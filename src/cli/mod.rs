@@ -126,6 +126,13 @@ impl LimitArgs {
             l = l.with_memory_gib(g);
         }
         if let Some(n) = self.max_steps {
+            // 1e10 steps are weeks of computing at the fastest step; more is a typo.
+            if n > 1e10 {
+                return Err(CmdError::Input(format!(
+                    "--max-steps = {}: at most 1e10 steps (weeks of computing); give a smaller limit",
+                    crate::time::short(n)
+                )));
+            }
             l.steps = n;
         }
         Ok(l)

@@ -110,6 +110,8 @@ fn snapshots(s: &Settings, texture: Option<Texture>, dir: &Path) -> Result<(), S
 
 /// Most radii one run designs for (each is a full optimisation).
 const MAX_RADII: usize = 16;
+/// The largest face radius designed for (cm): 100 m, flat to any film.
+const MAX_R_CM: f64 = 1e4;
 
 /// The radii of `--R`: one, a list (sorted, repeats dropped), or a range sampled at
 /// `--radii` geometrically spaced values rounded to 3 significant digits (so that the file
@@ -139,8 +141,26 @@ fn radii(a: &OptimiseArgs, file: &OptimiseFile) -> Result<Vec<f64>, CmdError> {
             "--R = inf: the optimiser weighs each texture against the plain liner, which under a flat ring carries no load (no converging wedge); give a finite face radius, or simulate textured flat rings with `texopt simulate --R inf`".into(),
         ));
     }
+    if let Some(r) = v.iter().find(|r| **r > MAX_R_CM) {
+        return Err(CmdError::Input(format!(
+            "--R = {}: above {} cm a ring is flat to the film (its crown over the ring's width is far below any film), and the plain liner it is weighed against carries no load; give a face radius up to {} cm",
+            short(*r),
+            short(MAX_R_CM),
+            short(MAX_R_CM)
+        )));
+    }
     v.sort_by(f64::total_cmp);
-    v.dedup();
+    // Reports and file names give radii to 3 significant digits: two radii alike to those
+    // digits would be designed twice under one name.
+    if let Some(w) = v
+        .windows(2)
+        .find(|w| format!("{:.2e}", w[0]) == format!("{:.2e}", w[1]))
+    {
+        return Err(CmdError::Input(format!(
+            "--R: {} and {} are one radius to the 3 significant digits reports name radii by; give distinct radii",
+            w[0], w[1]
+        )));
+    }
     if v.len() > MAX_RADII {
         return Err(CmdError::Input(format!(
             "--R: {} radii; give at most {MAX_RADII}",
@@ -158,6 +178,13 @@ fn range_radii(lo: f64, hi: f64, n: usize, count_name: &str) -> Result<Vec<f64>,
     if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo < hi) {
         return Err(CmdError::Input(format!(
             "--R {lo_s}..{hi_s}: a range of radii needs 0 < LO < HI, both finite (cm)"
+        )));
+    }
+    if hi > MAX_R_CM {
+        return Err(CmdError::Input(format!(
+            "--R {lo_s}..{hi_s}: above {} cm a ring is flat to the film, and the plain liner it is weighed against carries no load; end the range at most at {} cm",
+            short(MAX_R_CM),
+            short(MAX_R_CM)
         )));
     }
     if n == 1 {
@@ -424,12 +451,7 @@ fn config(a: &OptimiseArgs) -> Result<OptimiseFile, CmdError> {
         CmdError::Input(format!(
             "--config {}: {}",
             p.display(),
-            e.to_string()
-                .lines()
-                .map(str::trim)
-                .filter(|l| !l.is_empty())
-                .collect::<Vec<_>>()
-                .join(" ")
+            crate::model::case::one_line(&e.to_string())
         ))
     })
 }

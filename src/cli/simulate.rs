@@ -255,6 +255,7 @@ fn steady_note(a: &SimulateArgs) {
         (a.time_scheme.is_some(), "--time-scheme"),
         (a.approach.is_some(), "--approach"),
         (a.mesh.is_some(), "--mesh's N2"),
+        (a.phase != 0.0, "--phase"),
     ]
     .into_iter()
     .filter_map(|(given, name)| given.then_some(name))

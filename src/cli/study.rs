@@ -151,14 +151,17 @@ fn keep_fuller_report(
     if a.replace_report {
         return Ok(());
     }
-    let Some((path, before)) = crate::study::report::evaluated_in_place(study) else {
+    let Some(before) = crate::study::report::in_place(study) else {
         return Ok(());
     };
-    let now = results.iter().filter(|r| r.is_some()).count();
-    if now < before {
+    let evaluated = results.iter().filter(|r| r.is_some()).count();
+    let done = results.iter().filter(|r| matches!(r, Some(Ok(_)))).count();
+    if before.holds_more_than(done, evaluated) {
         return Err(CmdError::Input(format!(
-            "{} holds {before} evaluated cases and this run has {now}: the report was kept as it was; run the missing cases (without --cached-only, or with the cache that holds them), or give --replace-report to replace it",
-            path.display()
+            "{} holds {} cases done ({} evaluated) and this run has {done} ({evaluated}): the report was kept as it was; run the missing cases (without --cached-only, or with the cache that holds them), or give --replace-report to replace it",
+            before.path.display(),
+            before.done,
+            before.evaluated
         )));
     }
     Ok(())

@@ -244,6 +244,37 @@ pub fn short(x: f64) -> String {
     }
 }
 
+/// A file reader's message on one line, with every number of more than 15 digits written
+/// short (a TOML parser quotes `1e300` back with its 301 digits).
+pub fn one_line(msg: &str) -> String {
+    let joined = msg
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ");
+    let mut out = String::with_capacity(joined.len());
+    let mut run = String::new();
+    let flush = |run: &mut String, out: &mut String| {
+        let digits = run.chars().filter(char::is_ascii_digit).count();
+        match run.parse::<f64>() {
+            Ok(x) if digits > 15 => out.push_str(&short(x)),
+            _ => out.push_str(run),
+        }
+        run.clear();
+    };
+    for c in joined.chars() {
+        if c.is_ascii_digit() || (c == '.' && !run.is_empty()) {
+            run.push(c);
+        } else {
+            flush(&mut run, &mut out);
+            out.push(c);
+        }
+    }
+    flush(&mut run, &mut out);
+    out
+}
+
 /// `v` must be finite and positive.
 pub fn positive(param: &str, v: f64) -> Result<(), InputError> {
     if v.is_finite() && v > 0.0 {
@@ -375,6 +406,22 @@ mod radius {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn file_messages_are_one_line_with_numbers_short() {
+        let big = format!(
+            "invalid type: floating point `{}`, expected usize\n  |\n",
+            "1".to_string() + &"0".repeat(300) + ".0"
+        );
+        assert_eq!(
+            one_line(&big),
+            "invalid type: floating point `1e300`, expected usize |"
+        );
+        assert_eq!(
+            one_line("line 3, column 7: 0.5 and 12.25"),
+            "line 3, column 7: 0.5 and 12.25"
+        );
+    }
+
     use super::*;
 
     #[test]

@@ -224,15 +224,8 @@ impl Engine {
     /// Reads and checks an engine file's text; errors name the key (`file` names the file in
     /// a syntax error).
     pub fn parse(text: &str) -> Result<Engine, EngineError> {
-        let file: EngineFile = toml::from_str(text).map_err(|e| {
-            let text = e.to_string();
-            let msg: Vec<&str> = text
-                .lines()
-                .map(str::trim)
-                .filter(|l| !l.is_empty())
-                .collect();
-            err("file", "", msg.join(" "))
-        })?;
+        let file: EngineFile = toml::from_str(text)
+            .map_err(|e| err("file", "", crate::model::case::one_line(&e.to_string())))?;
         let e = &file.engine;
         let plain_name = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
         if e.name.is_empty() || !e.name.chars().all(plain_name) {

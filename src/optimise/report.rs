@@ -291,7 +291,7 @@ fn last_period(
         rows: Vec<SeriesRow>,
     }
     let key = crate::study::cache::Key::of(case, num).hash;
-    if let Ok(text) = std::fs::read_to_string(path) {
+    if let Some(text) = crate::output::read_regular(path) {
         if let Ok(k) = serde_json::from_str::<Kept>(&text) {
             if k.key == key {
                 return Ok(k.rows);

@@ -264,6 +264,15 @@ impl Space {
                     "a range LO..HI needs 0 < LO ≤ HI",
                 ));
             }
+            // A pocket or period beyond 100 cm, or a depth beyond 1000 µm, is not a texture
+            // of a liner.
+            let (most, what) = match name {
+                "depth" => (1e3, "a depth range ends at most at 1000 µm"),
+                _ => (1e2, "a length range ends at most at 100 cm"),
+            };
+            if hi > most {
+                return Err(bad(name, range((lo, hi)), what));
+            }
         }
         let c = &self.cons;
         if !(c.w_min.is_finite() && c.w_min >= 0.0) {

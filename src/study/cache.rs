@@ -13,6 +13,7 @@ use serde::Serialize;
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 
+use super::entry::{self, checksum, Checked, Covered, Raw};
 use crate::model::case::CaseSpec;
 use crate::solve::Method;
 use crate::time::{Approach, Numerics, Outcome, Start, TimeScheme};
@@ -266,6 +267,7 @@ impl Cache {
             path: shown.clone(),
             source,
         };
+        let log = super::wal::wal_path(path);
         let flags = match mode {
             Mode::Create => OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_CREATE,
             Mode::Existing => OpenFlags::SQLITE_OPEN_READ_WRITE,
@@ -278,7 +280,17 @@ impl Cache {
             .map_err(sql)?;
         conn.busy_timeout(std::time::Duration::from_secs(120))
             .map_err(sql)?;
-        check_integrity(&conn, &shown)?;
+        check_integrity(&conn, &shown).map_err(|e| match e {
+            // SQLite reads the file through its log: either may be what is damaged.
+            CacheError::Foreign { path, why } if log.is_file() => CacheError::Foreign {
+                path,
+                why: format!(
+                    "{why}, as read through the write-ahead log beside it ({}); if that log came from another database, move it (and the -shm file) away and try again",
+                    log.display()
+                ),
+            },
+            other => other,
+        })?;
         // What the file holds, read in one snapshot (another process may be creating it).
         conn.execute_batch("BEGIN").map_err(sql)?;
         let seen = identity(&conn);
@@ -316,86 +328,54 @@ impl Cache {
     /// The entry stored for `key`, its checksum checked: an entry altered after it was
     /// written is [`Entry::Damaged`]; an outcome of an older layout is `None` (recomputed).
     pub fn get(&self, key: &Key) -> Result<Option<Entry>, CacheError> {
-        let row: Option<Stored> = self
+        let raw = self
             .conn
             .query_row(
                 &format!(
-                    "SELECT status, outcome, reason, {} FROM evaluations WHERE hash = ?1",
-                    self.checksum_column()
+                    "SELECT {} FROM evaluations WHERE hash = ?1",
+                    entry::columns(self.checked)
                 ),
                 [&key.hash],
-                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?)),
+                Raw::read,
             )
             .optional()
             .map_err(|e| self.sql(e))?;
-        let Some((status, outcome, reason, sum)) = row else {
+        let Some(raw) = raw else {
             return Ok(None);
         };
-        if let Some(why) = damage(
-            &key.hash,
-            &status,
-            outcome.as_deref(),
-            reason.as_deref(),
-            sum.as_deref(),
-        ) {
+        if let Some(why) = raw.damage(self.checked) {
             return Ok(Some(Entry::Damaged(why)));
         }
-        Ok(match (status.as_str(), outcome) {
+        Ok(match (raw.status.as_str(), raw.outcome) {
             ("done", Some(o)) => match serde_json::from_str(&o) {
                 Ok(out) => Some(Entry::Done(out)),
                 Err(_) => None, // unreadable (older layout): recompute
             },
-            _ => Some(Entry::Failed(reason.unwrap_or_default())),
+            _ => Some(Entry::Failed(raw.reason.unwrap_or_default())),
         })
     }
 
-    /// The checksum column, or NULL for a cache written before entries carried one.
-    fn checksum_column(&self) -> &'static str {
-        if self.checked {
-            "checksum"
-        } else {
-            "NULL"
-        }
-    }
-
-    /// The entries whose checksum does not match (their hashes, in order), and the number
-    /// written before entries carried one.
-    pub fn verify(&self) -> Result<(Vec<String>, usize), CacheError> {
+    /// Every entry as stored, in hash order, with what is wrong with it (if anything).
+    fn entries(&self) -> Result<Vec<Checked>, CacheError> {
         let mut st = self
             .conn
             .prepare(&format!(
-                "SELECT hash, key, status, outcome, reason, {} FROM evaluations ORDER BY hash",
-                self.checksum_column()
+                "SELECT {} FROM evaluations ORDER BY created, hash",
+                entry::columns(self.checked)
             ))
             .map_err(|e| self.sql(e))?;
         let rows = st
-            .query_map([], |r| {
-                Ok((
-                    r.get::<_, String>(0)?,
-                    r.get::<_, String>(1)?,
-                    (r.get(2)?, r.get(3)?, r.get(4)?, r.get(5)?),
-                ))
-            })
+            .query_map([], Raw::read)
+            .map_err(|e| self.sql(e))?
+            .collect::<Result<Vec<_>, _>>()
             .map_err(|e| self.sql(e))?;
-        let (mut damaged, mut unchecked) = (Vec::new(), 0);
-        for row in rows {
-            let (hash, key, (status, outcome, reason, sum)): (String, String, Stored) =
-                row.map_err(|e| self.sql(e))?;
-            let wrong_key = Key::hash_of(&key) != hash;
-            let bad = damage(
-                &hash,
-                &status,
-                outcome.as_deref(),
-                reason.as_deref(),
-                sum.as_deref(),
-            );
-            if wrong_key || bad.is_some() {
-                damaged.push(hash);
-            } else if sum.is_none() {
-                unchecked += 1;
-            }
-        }
-        Ok((damaged, unchecked))
+        Ok(rows
+            .into_iter()
+            .map(|r| {
+                let bad = r.damage(self.checked);
+                (r, bad)
+            })
+            .collect())
     }
 
     /// Stores a finished evaluation (replacing a stored failure).
@@ -413,7 +393,16 @@ impl Cache {
                     out.wall_time_s,
                     out.steps as i64,
                     env!("CARGO_PKG_VERSION"),
-                    checksum(&key.hash, "done", Some(&outcome), None)
+                    checksum(&Covered {
+                        hash: &key.hash,
+                        key: &key.json,
+                        status: "done",
+                        outcome: Some(&outcome),
+                        reason: None,
+                        wall_time_s: out.wall_time_s,
+                        steps: out.steps as i64,
+                        texopt_version: env!("CARGO_PKG_VERSION"),
+                    })
                 ],
             )
             .map(|_| ())
@@ -433,7 +422,16 @@ impl Cache {
                     reason,
                     wall_time_s,
                     env!("CARGO_PKG_VERSION"),
-                    checksum(&key.hash, "failed", None, Some(reason))
+                    checksum(&Covered {
+                        hash: &key.hash,
+                        key: &key.json,
+                        status: "failed",
+                        outcome: None,
+                        reason: Some(reason),
+                        wall_time_s,
+                        steps: 0,
+                        texopt_version: env!("CARGO_PKG_VERSION"),
+                    })
                 ],
             )
             .map(|_| ())
@@ -502,76 +500,63 @@ impl Cache {
             .map_err(|e| self.sql(e))
     }
 
+    /// Counts of the sound entries, the damaged ones named, and the file's sizes.
     pub fn stats(&self) -> Result<Stats, CacheError> {
-        let (done, failed, secs): (i64, i64, f64) = self
-            .conn
-            .query_row(
-                "SELECT coalesce(sum(status = 'done'), 0), coalesce(sum(status = 'failed'), 0),
-                        coalesce(sum(wall_time_s), 0.0) FROM evaluations",
-                [],
-                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
-            )
-            .map_err(|e| self.sql(e))?;
-        let (damaged, unchecked) = self.verify()?;
-        Ok(Stats {
-            done: done as usize,
-            failed: failed as usize,
-            compute_seconds: secs,
+        let mut st = Stats {
             file_bytes: std::fs::metadata(&self.path).map_or(0, |m| m.len()),
-            damaged,
-            unchecked,
-            wal_bytes: {
-                let mut wal = self.path.as_os_str().to_owned();
-                wal.push("-wal");
-                std::fs::metadata(wal).map_or(0, |m| m.len())
-            },
-        })
+            wal_bytes: std::fs::metadata(super::wal::wal_path(&self.path)).map_or(0, |m| m.len()),
+            ..Stats::default()
+        };
+        for (r, bad) in self.entries()? {
+            if bad.is_some() {
+                st.damaged.push(r.hash);
+                continue;
+            }
+            if r.checksum.is_none() {
+                st.unchecked += 1;
+            }
+            match r.status.as_str() {
+                "done" => st.done += 1,
+                _ => st.failed += 1,
+            }
+            st.compute_seconds += r.wall_time_s;
+        }
+        st.damaged.sort();
+        Ok(st)
     }
 
     /// Every sound entry as JSON lines: {hash, key, status, outcome, reason, wall_time_s,
     /// steps, texopt_version, created}; returns how many, and the damaged entries left out
     /// (their hashes).
     pub fn export(&self, out: &mut dyn std::io::Write) -> Result<(usize, Vec<String>), CacheError> {
-        let (damaged, _) = self.verify()?;
-        let mut st = self
-            .conn
-            .prepare(
-                "SELECT hash, key, status, outcome, reason, wall_time_s, steps, texopt_version, created
-                 FROM evaluations ORDER BY created, hash",
-            )
-            .map_err(|e| self.sql(e))?;
-        let rows = st
-            .query_map([], |r| {
-                let key: String = r.get(1)?;
-                let outcome: Option<String> = r.get(3)?;
-                Ok(serde_json::json!({
-                    "hash": r.get::<_, String>(0)?,
-                    "key": serde_json::from_str::<serde_json::Value>(&key).unwrap_or(serde_json::Value::String(key)),
-                    "status": r.get::<_, String>(2)?,
-                    "outcome": outcome.and_then(|o| serde_json::from_str::<serde_json::Value>(&o).ok()),
-                    "reason": r.get::<_, Option<String>>(4)?,
-                    "wall_time_s": r.get::<_, f64>(5)?,
-                    "steps": r.get::<_, i64>(6)?,
-                    "texopt_version": r.get::<_, String>(7)?,
-                    "created": r.get::<_, String>(8)?,
-                }))
-            })
-            .map_err(|e| self.sql(e))?;
-        let mut n = 0;
-        for row in rows {
-            let v = row.map_err(|e| self.sql(e))?;
-            if v["hash"]
-                .as_str()
-                .is_some_and(|h| damaged.iter().any(|d| d == h))
-            {
+        let json = |t: &str| {
+            serde_json::from_str::<serde_json::Value>(t)
+                .unwrap_or_else(|_| serde_json::Value::String(t.to_string()))
+        };
+        let (mut n, mut damaged) = (0, Vec::new());
+        for (r, bad) in self.entries()? {
+            if bad.is_some() {
+                damaged.push(r.hash);
                 continue;
             }
+            let v = serde_json::json!({
+                "hash": r.hash,
+                "key": json(&r.key),
+                "status": r.status,
+                "outcome": r.outcome.as_deref().map(json),
+                "reason": r.reason,
+                "wall_time_s": r.wall_time_s,
+                "steps": r.steps,
+                "texopt_version": r.texopt_version,
+                "created": r.created,
+            });
             writeln!(out, "{v}").map_err(|e| CacheError::Io {
                 path: self.path.display().to_string(),
                 why: format!("export: {e}"),
             })?;
             n += 1;
         }
+        damaged.sort();
         Ok((n, damaged))
     }
 
@@ -597,30 +582,6 @@ impl Cache {
             .collect::<Result<_, _>>()
             .map_err(|e| self.sql(e))?;
         Ok(rows.join("; "))
-    }
-}
-
-/// A stored entry's status, outcome, reason and checksum.
-pub(super) type Stored = (String, Option<String>, Option<String>, Option<String>);
-
-/// What is wrong with a stored entry, if anything: a checksum that does not match what it
-/// holds, or a finished entry without an outcome. An entry without a checksum (written
-/// before entries carried one) is taken as it stands.
-pub(super) fn damage(
-    hash: &str,
-    status: &str,
-    outcome: Option<&str>,
-    reason: Option<&str>,
-    sum: Option<&str>,
-) -> Option<String> {
-    if status == "done" && outcome.is_none() {
-        return Some("a finished entry without its outcome".into());
-    }
-    match sum {
-        Some(s) if s != checksum(hash, status, outcome, reason) => {
-            Some("its checksum does not match what it holds (altered after it was written)".into())
-        }
-        _ => None,
     }
 }
 
@@ -683,59 +644,44 @@ fn prepare_for_writing(
     Ok(())
 }
 
-/// The checksum of a stored entry: SHA-256 over its hash, status, outcome and reason, so that
-/// an outcome altered after it was written (a changed digit, a flipped byte) is found on
-/// every read and never served.
-pub(super) fn checksum(
-    hash: &str,
-    status: &str,
-    outcome: Option<&str>,
-    reason: Option<&str>,
-) -> String {
-    let mut h = Sha256::new();
-    for part in [Some(hash), Some(status), outcome, reason] {
-        // Each part framed by its length, so that moving bytes between parts shows.
-        let bytes = part.map_or(&[][..], str::as_bytes);
-        h.update((part.map_or(-1, |p| p.len() as i64)).to_le_bytes());
-        h.update(bytes);
-    }
-    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
-}
-
 /// Gives the column `checksum` to a cache made before entries carried one, and a checksum
-/// to each such entry (read as it stands: there is nothing older to check it against).
-/// Older texopt versions name their columns, so they still read the file.
+/// to each such entry that is sound otherwise (read as it stands: there is nothing older to
+/// check it against), then marks the cache as checked: from then on an entry without a
+/// checksum is damaged. Older texopt versions name their columns, so they still read it.
 fn add_checksums(conn: &Connection) -> rusqlite::Result<()> {
-    let has = has_checksums(conn)?;
-    let unchecked = || {
-        conn.query_row(
-            "SELECT count(*) FROM evaluations WHERE checksum IS NULL",
-            [],
-            |r| r.get::<_, i64>(0),
-        )
-    };
-    if has && unchecked()? == 0 {
+    if has_checksums(conn)? {
         return Ok(());
     }
     conn.execute_batch("BEGIN IMMEDIATE")?;
     let fill = || -> rusqlite::Result<()> {
-        if !has {
+        if has_checksums(conn)? {
+            return Ok(()); // another process did it meanwhile
+        }
+        let column: i64 = conn.query_row(
+            "SELECT count(*) FROM pragma_table_info('evaluations') WHERE name = 'checksum'",
+            [],
+            |r| r.get(0),
+        )?;
+        if column == 0 {
             conn.execute_batch("ALTER TABLE evaluations ADD COLUMN checksum TEXT")?;
         }
-        let rows: Vec<(String, String, Option<String>, Option<String>)> = conn
-            .prepare(
-                "SELECT hash, status, outcome, reason FROM evaluations WHERE checksum IS NULL",
-            )?
-            .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?)))?
+        let rows: Vec<Raw> = conn
+            .prepare(&format!(
+                "SELECT {} FROM evaluations WHERE checksum IS NULL",
+                entry::columns(true)
+            ))?
+            .query_map([], Raw::read)?
             .collect::<Result<_, _>>()?;
-        for (hash, status, outcome, reason) in rows {
-            let c = checksum(&hash, &status, outcome.as_deref(), reason.as_deref());
+        for r in rows.iter().filter(|r| r.damage(false).is_none()) {
             conn.execute(
                 "UPDATE evaluations SET checksum = ?1 WHERE hash = ?2",
-                params![c, hash],
+                params![r.computed_checksum(), r.hash],
             )?;
         }
-        Ok(())
+        conn.execute_batch(
+            "CREATE TABLE IF NOT EXISTS meta (name TEXT PRIMARY KEY, value TEXT NOT NULL);
+             INSERT OR REPLACE INTO meta VALUES ('checksums', 'every entry');",
+        )
     };
     match fill() {
         Ok(()) => conn.execute_batch("COMMIT"),
@@ -746,10 +692,18 @@ fn add_checksums(conn: &Connection) -> rusqlite::Result<()> {
     }
 }
 
-/// Whether the `evaluations` table has its `checksum` column.
-fn has_checksums(conn: &Connection) -> rusqlite::Result<bool> {
+/// Whether the cache's entries carry checksums (every entry, since the mark was set).
+pub(super) fn has_checksums(conn: &Connection) -> rusqlite::Result<bool> {
+    let meta: i64 = conn.query_row(
+        "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = 'meta'",
+        [],
+        |r| r.get(0),
+    )?;
+    if meta == 0 {
+        return Ok(false);
+    }
     conn.query_row(
-        "SELECT count(*) FROM pragma_table_info('evaluations') WHERE name = 'checksum'",
+        "SELECT count(*) FROM meta WHERE name = 'checksums'",
         [],
         |r| r.get::<_, i64>(0).map(|n| n > 0),
     )
@@ -760,6 +714,15 @@ fn has_checksums(conn: &Connection) -> rusqlite::Result<bool> {
 /// a moment apart, so that a log another process is restarting at that instant is not taken
 /// for a foreign one.
 pub(super) fn check_wal(path: &Path, shown: &str) -> Result<(), CacheError> {
+    let log = super::wal::wal_path(path);
+    if !path.exists() && std::fs::symlink_metadata(&log).is_ok() {
+        // SQLite would take a log it finds beside a new file as the file's own, or delete it.
+        return Err(CacheError::ForeignLog {
+            path: shown.to_string(),
+            log: log.display().to_string(),
+            why: "the cache file it would belong to does not exist".into(),
+        });
+    }
     let Err(first) = super::wal::check(path, APPLICATION_ID) else {
         return Ok(());
     };

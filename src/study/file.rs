@@ -219,16 +219,9 @@ pub fn parse(text: &str, file: &str) -> Result<Study, StudyError> {
         file: file.to_string(),
         message,
     };
-    let raw: FileToml = toml::from_str(text).map_err(|e| {
-        let msg = e.to_string();
-        // toml's message spans several lines (a source excerpt); keep it on one.
-        err(msg
-            .lines()
-            .filter(|l| !l.trim().is_empty())
-            .map(str::trim)
-            .collect::<Vec<_>>()
-            .join(" "))
-    })?;
+    // toml's message spans several lines (a source excerpt); kept on one.
+    let raw: FileToml =
+        toml::from_str(text).map_err(|e| err(crate::model::case::one_line(&e.to_string())))?;
     check_header(&raw).map_err(&err)?;
     let validity = validity(&raw).map_err(&err)?;
     let (values, textures) = parameter_values(&raw.parameters).map_err(&err)?;

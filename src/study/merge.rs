@@ -4,29 +4,13 @@
 //! merge changes nothing, and merging the same file twice changes nothing the second time.
 
 use rusqlite::{params, Connection, OpenFlags, OptionalExtension};
-use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 
 use super::cache::{
-    check_file, check_integrity, check_wal, checksum, damage, identity, Cache, CacheError,
+    check_file, check_integrity, check_wal, has_checksums, identity, Cache, CacheError,
     APPLICATION_ID, MODEL_VERSION,
 };
-
-/// One stored evaluation, as the `evaluations` table holds it.
-#[derive(Clone, Debug)]
-struct Row {
-    hash: String,
-    key: String,
-    status: String,
-    outcome: Option<String>,
-    reason: Option<String>,
-    wall_time_s: f64,
-    steps: i64,
-    texopt_version: String,
-    created: String,
-    /// None for an entry written before entries carried a checksum.
-    checksum: Option<String>,
-}
+use super::entry::{self, Checked, Raw};
 
 /// An entry the cache merged into already holds.
 enum Have {
@@ -56,7 +40,7 @@ pub struct Merged {
 /// The entries of a source cache, read without writing to it (a read-only connection: no
 /// journal mode is set, nothing is created). A file that is not a texopt cache, or damaged,
 /// is refused and left untouched.
-fn read(path: &Path) -> Result<Vec<Row>, CacheError> {
+fn read(path: &Path) -> Result<Vec<Checked>, CacheError> {
     let shown = path.display().to_string();
     if !path.is_file() {
         return Err(CacheError::Io {
@@ -79,56 +63,25 @@ fn read(path: &Path) -> Result<Vec<Row>, CacheError> {
             why: "not a texopt cache".into(),
         });
     }
-    let has_checksums: bool = conn
-        .query_row(
-            "SELECT count(*) FROM pragma_table_info('evaluations') WHERE name = 'checksum'",
-            [],
-            |r| r.get::<_, i64>(0).map(|n| n > 0),
-        )
-        .map_err(sql)?;
+    let checked = has_checksums(&conn).map_err(sql)?;
     let mut st = conn
         .prepare(&format!(
-            "SELECT hash, key, status, outcome, reason, wall_time_s, steps, texopt_version, created, {}
-             FROM evaluations ORDER BY hash",
-            if has_checksums { "checksum" } else { "NULL" }
+            "SELECT {} FROM evaluations ORDER BY hash",
+            entry::columns(checked)
         ))
         .map_err(sql)?;
     let rows = st
-        .query_map([], |r| {
-            Ok(Row {
-                hash: r.get(0)?,
-                key: r.get(1)?,
-                status: r.get(2)?,
-                outcome: r.get(3)?,
-                reason: r.get(4)?,
-                wall_time_s: r.get(5)?,
-                steps: r.get(6)?,
-                texopt_version: r.get(7)?,
-                created: r.get(8)?,
-                checksum: r.get(9)?,
-            })
-        })
+        .query_map([], Raw::read)
         .map_err(sql)?
         .collect::<Result<Vec<_>, _>>()
         .map_err(sql)?;
-    // A key whose hash is not its SHA-256 was altered after it was written.
-    if let Some(r) = rows.iter().find(|r| hash(&r.key) != r.hash) {
-        return Err(CacheError::Foreign {
-            path: shown,
-            why: format!(
-                "the cache file is damaged (entry {} does not match its key)",
-                &r.hash[..r.hash.len().min(12)]
-            ),
-        });
-    }
-    Ok(rows)
-}
-
-fn hash(key: &str) -> String {
-    Sha256::digest(key.as_bytes())
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
+    Ok(rows
+        .into_iter()
+        .map(|r| {
+            let bad = r.damage(checked);
+            (r, bad)
+        })
+        .collect())
 }
 
 /// The model version a key was computed with.
@@ -179,21 +132,14 @@ impl Cache {
         }
     }
 
-    fn copy(&self, all: &[(String, Vec<Row>)]) -> Result<Merged, CacheError> {
+    fn copy(&self, all: &[(String, Vec<Checked>)]) -> Result<Merged, CacheError> {
         let mut m = Merged::default();
         let sql = |e| CacheError::Sqlite {
             path: self.path().display().to_string(),
             source: e,
         };
         for (from, rows) in all {
-            for r in rows {
-                let bad = damage(
-                    &r.hash,
-                    &r.status,
-                    r.outcome.as_deref(),
-                    r.reason.as_deref(),
-                    r.checksum.as_deref(),
-                );
+            for (r, bad) in rows {
                 if bad.is_some() {
                     m.damaged.push((from.clone(), r.hash.clone()));
                     continue;
@@ -239,29 +185,24 @@ impl Cache {
     /// What this cache holds under `hash`: a sound entry's status and outcome, or a damaged
     /// one (replaced by the source's).
     fn stored(&self, hash: &str) -> rusqlite::Result<Option<Have>> {
-        let row: Option<super::cache::Stored> = self
+        let raw = self
             .conn
             .query_row(
-                "SELECT status, outcome, reason, checksum FROM evaluations WHERE hash = ?1",
+                &format!(
+                    "SELECT {} FROM evaluations WHERE hash = ?1",
+                    entry::columns(true)
+                ),
                 [hash],
-                |x| Ok((x.get(0)?, x.get(1)?, x.get(2)?, x.get(3)?)),
+                Raw::read,
             )
             .optional()?;
-        Ok(row.map(|(status, outcome, reason, sum)| {
-            match damage(
-                hash,
-                &status,
-                outcome.as_deref(),
-                reason.as_deref(),
-                sum.as_deref(),
-            ) {
-                Some(_) => Have::Damaged,
-                None => Have::Sound(status, outcome),
-            }
+        Ok(raw.map(|r| match r.damage(true) {
+            Some(_) => Have::Damaged,
+            None => Have::Sound(r.status, r.outcome),
         }))
     }
 
-    fn insert(&self, r: &Row) -> rusqlite::Result<usize> {
+    fn insert(&self, r: &Raw) -> rusqlite::Result<usize> {
         self.conn.execute(
             "INSERT OR REPLACE INTO evaluations
              (hash, key, status, outcome, reason, wall_time_s, steps, texopt_version, created,
@@ -277,12 +218,7 @@ impl Cache {
                 r.steps,
                 r.texopt_version,
                 r.created,
-                checksum(
-                    &r.hash,
-                    &r.status,
-                    r.outcome.as_deref(),
-                    r.reason.as_deref()
-                )
+                r.computed_checksum()
             ],
         )
     }

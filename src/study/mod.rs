@@ -3,6 +3,7 @@
 
 pub mod bench;
 pub mod cache;
+mod entry;
 pub mod file;
 pub mod merge;
 mod operating;

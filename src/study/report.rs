@@ -281,18 +281,44 @@ fn caption(file: &str) -> Option<&'static str> {
     })
 }
 
-/// The study's CSV in place and how many of its cases were evaluated (done or failed), if
-/// there is one that can be read.
-pub fn evaluated_in_place(study: &Study) -> Option<(PathBuf, usize)> {
+/// What the study's CSV in place holds: its cases done and its cases evaluated (done or
+/// failed), if there is a regular file that can be read.
+pub struct InPlace {
+    pub path: PathBuf,
+    pub done: usize,
+    pub evaluated: usize,
+}
+
+impl InPlace {
+    /// Whether a report of `done` cases done and `evaluated` evaluated holds less than this
+    /// one: fewer cases done, or fewer evaluated (a failure turned into "not run").
+    pub fn holds_more_than(&self, done: usize, evaluated: usize) -> bool {
+        done < self.done || evaluated < self.evaluated
+    }
+}
+
+/// The report in place (see [`InPlace`]).
+pub fn in_place(study: &Study) -> Option<InPlace> {
     let path = Path::new(&study.report.dir).join(format!("{}.csv", study.name));
-    let mut r = csv::Reader::from_path(&path).ok()?;
+    let text = crate::output::read_regular(&path)?;
+    let mut r = csv::Reader::from_reader(text.as_bytes());
     let status = r.headers().ok()?.iter().position(|h| h == "status")?;
-    let n = r
-        .records()
-        .filter_map(Result::ok)
-        .filter(|rec| matches!(rec.get(status), Some("done" | "failed")))
-        .count();
-    Some((path, n))
+    let (mut done, mut evaluated) = (0, 0);
+    for rec in r.records().filter_map(Result::ok) {
+        match rec.get(status) {
+            Some("done") => {
+                done += 1;
+                evaluated += 1;
+            }
+            Some("failed") => evaluated += 1,
+            _ => {}
+        }
+    }
+    Some(InPlace {
+        path,
+        done,
+        evaluated,
+    })
 }
 
 fn write_csv(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {
@@ -836,4 +862,26 @@ fn table1(study: &Study, rows: &[&Row], radii: &[f64]) -> String {
         study.validity.roughness_um
     );
     md
+}
+
+#[cfg(test)]
+mod in_place_tests {
+    use super::InPlace;
+
+    #[test]
+    fn a_report_with_fewer_cases_done_or_evaluated_holds_less() {
+        let before = InPlace {
+            path: "r.csv".into(),
+            done: 10,
+            evaluated: 10,
+        };
+        assert!(!before.holds_more_than(10, 10));
+        assert!(
+            before.holds_more_than(5, 10),
+            "failures in place of results"
+        );
+        assert!(before.holds_more_than(10, 9));
+        assert!(before.holds_more_than(0, 0));
+        assert!(!before.holds_more_than(12, 12));
+    }
 }
