@@ -306,6 +306,11 @@ fn sizes_and_positions_have_ranges_on_every_path() {
         &[],
         &["[design] min_clearance_um = 1e300", "(0, 100] µm"],
     );
+    // The design space's inputs are named by the file's keys, not by optimise's flags.
+    let text = base.replace("[design]\n", "[design]\nw_min = -1\n");
+    cycle_refused(&dir, &text, &[], &["[design] w_min = -1 µm"]);
+    let text = base.replace("l1 = [0.005, 0.03]", "l1 = [0.03, 0.005]");
+    cycle_refused(&dir, &text, &[], &["[design] l1 = 0.03..0.005"]);
     // A step from the file is named by its key.
     let text = base.replace("[design]\n", "[design]\ndesign_step_deg = 0\n");
     cycle_refused(&dir, &text, &[], &["[design] design_step_deg = 0"]);

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use super::args::{CycleArgs, CycleDesign};
-use super::optimise::{check_design_space, overrides, space_error, swarm_sizes, SpaceKeys};
+use super::optimise::{check_design_space, overrides, space_error_named, swarm_sizes, SpaceKeys};
 use super::{directory_can_be_made, install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::case::short;
 use crate::model::engine::{three_digits, zone_label, Engine, STEP_RANGE_DEG};
@@ -132,7 +132,20 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
         20.0,
     )?;
     let space = space(&d);
-    space.validate().map_err(|e| space_error(&e))?;
+    // The design space is the engine file's: its errors name the file's keys.
+    space
+        .validate()
+        .map_err(|e| {
+            space_error_named(&e, |p| match p {
+                "width" => "[design] free_width".into(),
+                "constraints" => "[design] constraints".into(),
+                other => format!("[design] {other}"),
+            })
+        })
+        .map_err(|e| match e {
+            CmdError::Input(m) => input(&a.file, m),
+            other => other,
+        })?;
     let overrides = overrides(a.mesh, a.dt, &space)?;
     let in_file = |key: &str| format!("{}: [design] {key}", a.file.display());
     let (particles, iterations) = swarm_sizes(

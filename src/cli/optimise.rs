@@ -510,6 +510,15 @@ impl SpaceKeys {
 
 /// A design-space error in flag names (the free width across sliding is `--free-width`).
 pub(super) fn space_error(e: &InputError) -> CmdError {
+    space_error_named(e, |p| match p {
+        "width" => "--free-width".into(),
+        "constraints" => "constraints".into(),
+        other => flag(other),
+    })
+}
+
+/// A design space's error, its inputs named by `name` (flags, or a file's keys).
+pub(super) fn space_error_named(e: &InputError, name: impl Fn(&str) -> String) -> CmdError {
     // The least wall is given in µm (the space holds cm): said in the unit it was given in.
     let in_um;
     let e = match e.value.parse::<f64>() {
@@ -523,11 +532,7 @@ pub(super) fn space_error(e: &InputError) -> CmdError {
         }
         _ => e,
     };
-    CmdError::Input(input_message(e, |p| match p {
-        "width" => "--free-width".into(),
-        "constraints" => "constraints".into(),
-        other => flag(other),
-    }))
+    CmdError::Input(input_message(e, name))
 }
 
 /// `--mesh` and `--dt` as the numerics' overrides, checked before any search (`--dt` against
