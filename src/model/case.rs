@@ -236,6 +236,11 @@ pub fn short(x: f64) -> String {
     }
     let sci = format!("{x:.5e}");
     match sci.split_once('e') {
+        // Between 1 and 10 the exponent says nothing (`5.0000000000001` reads `5`, not `5e0`).
+        Some((mantissa, "0")) => mantissa
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+            .to_string(),
         Some((mantissa, exp)) if mantissa.contains('.') => {
             let m = mantissa.trim_end_matches('0').trim_end_matches('.');
             format!("{m}e{exp}")

@@ -254,7 +254,8 @@ fn merged_note(s: &mut String, r: &Report) {
         );
         return;
     }
-    let short = |t: &Texture| format!("{}/{}/{}/{} µm", t.l1, t.l2, t.per, t.depth);
+    // As the tables name designs: 4 decimals in cm, 1 in µm (full doubles read as noise).
+    let short = |t: &Texture| format!("{:.4}/{:.4}/{:.4}/{:.1} µm", t.l1, t.l2, t.per, t.depth);
     let _ = writeln!(
         s,
         "merged {} front design{} into thicker-walled ones with f̄ within {:.2} % and C_min within {:.2} % (the errors of fidelity {}; list in the JSON's \"merged\"):",
