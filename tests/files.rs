@@ -459,3 +459,38 @@ fn a_fifo_where_the_report_goes_is_written_not_read() {
     assert!(status.success());
     assert_eq!(reader.join().unwrap().lines().count(), 4);
 }
+
+#[test]
+fn a_cache_written_before_entries_carried_checksums_keeps_its_results() {
+    let d = scratch("files-legacy");
+    let study = small_study(&d);
+    let cache = d.join("c.sqlite");
+    assert_eq!(run_study(&study, &cache, &["--no-report"]).0, 0);
+    // The file as a texopt without checksums left it.
+    let c = rusqlite::Connection::open(&cache).unwrap();
+    c.execute_batch("ALTER TABLE evaluations DROP COLUMN checksum; DROP TABLE meta;")
+        .unwrap();
+    drop(c);
+    let (code, out, _) = texopt(&["cache", "stats", "--cache", s(&cache)]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("3 entries written before entries carried checksums"),
+        "{out}"
+    );
+    // A run that writes to it gives every entry its checksum and computes nothing again.
+    let (code, out, err) = run_study(&study, &cache, &["--no-report"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("3 from the cache, 0 computed"), "{out}");
+    let (code, out, _) = texopt(&["cache", "stats", "--cache", s(&cache)]);
+    assert_eq!(code, 0, "{out}");
+    assert!(
+        out.contains("integrity: ok") && !out.contains("before entries"),
+        "{out}"
+    );
+    // From then on an entry without a checksum is damaged.
+    let c = rusqlite::Connection::open(&cache).unwrap();
+    c.execute("UPDATE evaluations SET checksum = NULL WHERE rowid = 1", [])
+        .unwrap();
+    drop(c);
+    assert_eq!(texopt(&["cache", "stats", "--cache", s(&cache)]).0, 1);
+}

@@ -645,7 +645,7 @@ fn prepare_for_writing(
 }
 
 /// Gives the column `checksum` to a cache made before entries carried one, and a checksum
-/// to each such entry that is sound otherwise (read as it stands: there is nothing older to
+/// to each entry that is sound otherwise (read as it stands: there is nothing older to
 /// check it against), then marks the cache as checked: from then on an entry without a
 /// checksum is damaged. Older texopt versions name their columns, so they still read it.
 fn add_checksums(conn: &Connection) -> rusqlite::Result<()> {
@@ -665,17 +665,24 @@ fn add_checksums(conn: &Connection) -> rusqlite::Result<()> {
         if column == 0 {
             conn.execute_batch("ALTER TABLE evaluations ADD COLUMN checksum TEXT")?;
         }
+        // Before the mark, no checksum in the file is trusted: each is written anew.
         let rows: Vec<Raw> = conn
-            .prepare(&format!(
-                "SELECT {} FROM evaluations WHERE checksum IS NULL",
-                entry::columns(true)
-            ))?
+            .prepare(&format!("SELECT {} FROM evaluations", entry::columns(true)))?
             .query_map([], Raw::read)?
             .collect::<Result<_, _>>()?;
-        for r in rows.iter().filter(|r| r.damage(false).is_none()) {
+        for r in rows {
+            let unsummed = Raw {
+                checksum: None,
+                ..r
+            };
+            // An entry damaged otherwise keeps no checksum: after the mark it reads as damaged.
+            let sum = unsummed
+                .damage(false)
+                .is_none()
+                .then(|| unsummed.computed_checksum());
             conn.execute(
                 "UPDATE evaluations SET checksum = ?1 WHERE hash = ?2",
-                params![r.computed_checksum(), r.hash],
+                params![sum, unsummed.hash],
             )?;
         }
         conn.execute_batch(
