@@ -1,7 +1,7 @@
 //! Studies on a real Slurm (a single node: `ci/slurm-up.sh`, which `.ci/run` starts and
 //! points these tests at with `TEXOPT_SLURM=1` and `SLURM_CONF`). Without it they say so and
 //! pass: the other tests of sharding and merging need no cluster (tests/study.rs, and the
-//! unit tests of study::shard and study::merge).
+//! unit tests of study::shard and study::cache_merge).
 
 mod common;
 

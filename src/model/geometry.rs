@@ -108,10 +108,6 @@ impl Liner {
         }
     }
 
-    pub fn is_textured(&self) -> bool {
-        self.pocket.is_some()
-    }
-
     /// Texture depth h_L(x1 − u t, x2) in µm (eq. 15) at liner-frame position `x_liner`.
     pub fn depth_um(&self, x_liner_cm: f64, x2_cm: f64) -> f64 {
         match &self.pocket {

@@ -7,8 +7,8 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
+use super::front_merge::merge;
 use super::goal::{pareto, Goal};
-use super::merge::merge;
 use super::report::{row, write, Evaluated, Report, Row};
 use super::search::{refine, search, Evaluation, Evaluator, Search, SwarmSettings};
 use super::space::Space;

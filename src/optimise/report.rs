@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::driver::Settings;
-use super::merge::Merged;
+use super::front_merge::Merged;
 use super::space::{depth_ratio, wall, Space};
 use crate::model::case::{CaseSpec, Texture};
 use crate::plot::{self, Chart, Scale, Series, Style};
@@ -61,7 +61,7 @@ pub struct Report {
     /// The confirmed Pareto front (plain liner included when on it), by increasing f̄.
     pub front: Vec<Row>,
     /// Front designs left out because a thicker-walled one on the front has the same f̄ and
-    /// C_min within the reported tier's errors ([`super::merge`]), and how many.
+    /// C_min within the reported tier's errors ([`super::front_merge`]), and how many.
     pub merged_count: usize,
     pub merged: Vec<Merged>,
     /// Whether a texture beats the plain liner's friction by more than the fidelity error.

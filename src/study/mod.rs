@@ -3,9 +3,9 @@
 
 pub mod bench;
 pub mod cache;
+pub mod cache_merge;
 mod entry;
 pub mod file;
-pub mod merge;
 mod operating;
 pub mod report;
 pub mod shard;

@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::characteristic::MAX_COURANT;
 use crate::model::case::{bad, positive, CaseSpec, InputError, PAPER_RING_WIDTH};
-use crate::solve::{Method, Tolerance};
+use crate::solve::Method;
 
 /// Numerical fidelity and run control.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -180,11 +180,6 @@ impl Numerics {
         if let Some(dt) = self.characteristic_dt(case) {
             self.dt = dt;
         }
-    }
-
-    /// The film-solver settings these numerics ask for.
-    pub fn film_tolerance(&self) -> Tolerance {
-        Tolerance::default()
     }
 
     /// Raises N2 where the pocket would span fewer than `cells` cells across.
