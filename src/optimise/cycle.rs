@@ -51,7 +51,82 @@ pub struct Point {
     pub scales: Scales,
     pub distance_m: f64,
     /// Why the angle is outside the hydrodynamic model, if it is.
-    pub excluded: Option<String>,
+    pub excluded: Option<Exclusion>,
+}
+
+/// Why an angle of the cycle is outside the hydrodynamic model. Its words (`Display`) go into
+/// the reports; its [`kind`](Exclusion::kind) is what the report counts.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Exclusion {
+    /// Slower than [`SPEED_FLOOR`] × the mean piston speed (`floor`, m/s).
+    DeadCentre { speed_ms: f64, floor_ms: f64 },
+    /// Speed or load change by `change` (a fraction) while the oil crosses the ring.
+    NotQuasiSteady { change: f64 },
+    /// A Stribeck number outside [`VALIDATED_STRIBECK`].
+    Stribeck {
+        stribeck: f64,
+        speed_ms: f64,
+        load_n_per_m: f64,
+    },
+    /// An operating input out of its range.
+    Inputs(String),
+    /// The plain liner runs below the least clearance there.
+    PlainBelowLimit(String),
+    /// The plain liner's run failed there.
+    PlainFailed(String),
+}
+
+impl std::fmt::Display for Exclusion {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Exclusion::DeadCentre { speed_ms, floor_ms } => write!(
+                f,
+                "speed {speed_ms:.2} m/s below {SPEED_FLOOR} × the mean piston speed ({floor_ms:.2} m/s): near a dead centre"
+            ),
+            Exclusion::NotQuasiSteady { change } => write!(
+                f,
+                "not quasi-steady: speed or load change by {:.0} % while the oil crosses the ring (limit {:.0} %)",
+                100.0 * change,
+                100.0 * QUASI_STEADY
+            ),
+            Exclusion::Stribeck {
+                stribeck,
+                speed_ms,
+                load_n_per_m,
+            } => {
+                let (lo, hi) = VALIDATED_STRIBECK;
+                write!(
+                    f,
+                    "Stribeck number {stribeck:.2e} outside {lo:e}..{hi:e} (speed {speed_ms:.2} m/s, load {load_n_per_m:.0} N/m)"
+                )
+            }
+            Exclusion::Inputs(why) => write!(f, "{why}"),
+            Exclusion::PlainBelowLimit(why) => write!(f, "plain liner: {why}"),
+            Exclusion::PlainFailed(why) => write!(f, "plain liner failed: {why}"),
+        }
+    }
+}
+
+impl Exclusion {
+    /// The kind, as the report counts exclusions.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Exclusion::DeadCentre { .. } => "slow near a dead centre",
+            Exclusion::NotQuasiSteady { .. } => {
+                "with speed or load changing too fast for a quasi-steady film"
+            }
+            Exclusion::Stribeck { .. } => "with the Stribeck number outside the validated range",
+            Exclusion::PlainFailed(_) => "where the plain liner's run failed",
+            Exclusion::PlainBelowLimit(_) => "where the plain liner runs below the least clearance",
+            Exclusion::Inputs(_) => "with inputs out of range",
+        }
+    }
+}
+
+impl serde::Serialize for Exclusion {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
 }
 
 /// The evaluation of one liner at the points: per point, the outcome and its friction force
@@ -100,15 +175,15 @@ fn excluded_before(
     op: &crate::model::operating::Operating,
     sample: &Sample,
     s: &CycleSettings,
-) -> Option<String> {
+) -> Option<Exclusion> {
     let e = &s.engine;
     let crank = &e.file.engine;
     let floor = SPEED_FLOOR * 2.0 * crank.stroke_mm * 1e-3 * crank.rpm / 60.0;
     if op.speed_ms < floor {
-        return Some(format!(
-            "speed {:.2} m/s below {SPEED_FLOOR} × the mean piston speed ({floor:.2} m/s): near a dead centre",
-            op.speed_ms
-        ));
+        return Some(Exclusion::DeadCentre {
+            speed_ms: op.speed_ms,
+            floor_ms: floor,
+        });
     }
     // Relative rates of change per second, by central differences over ±0.05° of crank.
     let (h, omega) = (0.05f64, crank.rpm * std::f64::consts::PI / 30.0);
@@ -125,40 +200,20 @@ fn excluded_before(
         .max(((w1 - w0) / dt / op.load_n_per_m).abs());
     let crossing = 2.0 * e.file.ring.width_mm * 1e-3 / op.speed_ms;
     if rate * crossing > QUASI_STEADY {
-        return Some(format!(
-            "not quasi-steady: speed or load change by {:.0} % while the oil crosses the ring (limit {:.0} %)",
-            100.0 * rate * crossing,
-            100.0 * QUASI_STEADY
-        ));
+        return Some(Exclusion::NotQuasiSteady {
+            change: rate * crossing,
+        });
     }
     let st = op.stribeck();
     let (lo, hi) = VALIDATED_STRIBECK;
     if !(lo..=hi).contains(&st) {
-        return Some(format!(
-            "Stribeck number {st:.2e} outside {lo:e}..{hi:e} (speed {:.2} m/s, load {:.0} N/m)",
-            op.speed_ms, op.load_n_per_m
-        ));
+        return Some(Exclusion::Stribeck {
+            stribeck: st,
+            speed_ms: op.speed_ms,
+            load_n_per_m: op.load_n_per_m,
+        });
     }
-    op.check().err().map(|e| format!("{e}"))
-}
-
-/// The kind of an exclusion reason, as the report counts them: read from the reasons
-/// `excluded_before` and `plain_and_exclude` write (kept beside them so that the two
-/// change together).
-pub fn exclusion_kind(why: &str) -> &'static str {
-    if why.contains("near a dead centre") {
-        "slow near a dead centre"
-    } else if why.starts_with("not quasi-steady") {
-        "with speed or load changing too fast for a quasi-steady film"
-    } else if why.starts_with("Stribeck number") {
-        "with the Stribeck number outside the validated range"
-    } else if why.starts_with("plain liner failed") {
-        "where the plain liner's run failed"
-    } else if why.starts_with("plain liner") {
-        "where the plain liner runs below the least clearance"
-    } else {
-        "with inputs out of range"
-    }
+    op.check().err().map(|e| Exclusion::Inputs(format!("{e}")))
 }
 
 /// Evaluates a liner (`texture` per point: None is the plain liner) at the points that are
@@ -229,10 +284,10 @@ fn plain_and_exclude(
     for (&k, r) in idx.iter().zip(plain) {
         match r {
             Ok((o, f)) => match s.validity.outside(&pts[k].base, o.c_min) {
-                Some(why) => pts[k].excluded = Some(format!("plain liner: {why}")),
+                Some(why) => pts[k].excluded = Some(Exclusion::PlainBelowLimit(why.to_string())),
                 None => force[k] = Some(f),
             },
-            Err(why) => pts[k].excluded = Some(format!("plain liner failed: {why}")),
+            Err(why) => pts[k].excluded = Some(Exclusion::PlainFailed(why)),
         }
     }
     Ok(force)

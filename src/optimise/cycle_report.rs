@@ -57,7 +57,7 @@ pub struct SampleRow {
     pub stribeck: f64,
     pub d_oil_um: f64,
     /// Why the angle is outside the hydrodynamic model (then no number is reported).
-    pub excluded: Option<String>,
+    pub excluded: Option<super::cycle::Exclusion>,
     /// Friction force (N/m) and clearance (µm) of the plain, uniform and zoned liners.
     pub force_n_per_m: [Option<f64>; 3],
     pub c_min_um: [Option<f64>; 3],
@@ -300,12 +300,11 @@ fn searched(c: &Confirmation, weighed: bool) -> String {
 /// Why angles are outside the model, counted by kind (the per-angle reasons are in the CSV),
 /// e.g. "30 angles slow near a dead centre, 2 with the Stribeck number out of range".
 pub fn exclusion_summary(samples: &[SampleRow]) -> String {
-    let kind = super::cycle::exclusion_kind;
     let mut counts: Vec<(&str, usize)> = Vec::new();
-    for why in samples.iter().filter_map(|x| x.excluded.as_deref()) {
-        match counts.iter_mut().find(|(k, _)| *k == kind(why)) {
+    for why in samples.iter().filter_map(|x| x.excluded.as_ref()) {
+        match counts.iter_mut().find(|(k, _)| *k == why.kind()) {
             Some((_, n)) => *n += 1,
-            None => counts.push((kind(why), 1)),
+            None => counts.push((why.kind(), 1)),
         }
     }
     if counts.is_empty() {
@@ -450,7 +449,10 @@ pub fn write(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, String> {
             x.load_n_per_m.to_string(),
             x.stribeck.to_string(),
             x.d_oil_um.to_string(),
-            x.excluded.clone().unwrap_or_default(),
+            x.excluded
+                .as_ref()
+                .map(ToString::to_string)
+                .unwrap_or_default(),
         ];
         rec.extend(x.force_n_per_m.map(num));
         rec.extend(x.c_min_um.map(num));
