@@ -22,31 +22,10 @@ use texopt::study::sweep;
 use texopt::study::NumericsOverride;
 use texopt::time::{Fidelity, Limits};
 
-const ENGINE: &str = r#"
-[engine]
-name = "t"
-bore_mm = 79
-stroke_mm = 81
-rod_mm = 130
-rpm = 3000
-[ring]
-R_cm = 5
-width_mm = 1.2
-mass_kg_per_m = 0.03
-elastic_load_n_per_m = 150
-[gas]
-crank_deg = [0, 15, 60, 180, 360, 540, 690]
-pressure_bar = [15, 35, 12, 2, 0.2, 0, 8]
-[oil]
-viscosity_pa_s = 0.007
-d_oil_um = 20
-[zones]
-count = 2
-[design]
-per = [0.0128, 0.06]
-l1 = [0.005, 0.03]
-l2 = [0.005, 0.03]
-"#;
+/// The test engine with two zones.
+fn engine_text() -> String {
+    common::engine("count = 2")
+}
 
 /// The quick look's numerics: 64×4 at dt 1.6e-3 (8 steps in the shortest period).
 const QUICK: [&str; 4] = ["--mesh", "64x4", "--dt", "1.6e-3"];
@@ -87,9 +66,9 @@ fn bad_engine_files_are_refused_with_exit_2_one_line_and_nothing_written() {
             "no crank angle of the cycle lies inside",
         ),
     ] {
-        assert!(ENGINE.contains(from), "{from}");
+        assert!(engine_text().contains(from), "{from}");
         let file = dir.join("e.toml");
-        std::fs::write(&file, ENGINE.replace(from, to)).unwrap();
+        std::fs::write(&file, engine_text().replace(from, to)).unwrap();
         let out = dir.join("out");
         let cache = dir.join("c.sqlite");
         let (code, _, err) = texopt(&[
@@ -115,7 +94,7 @@ fn bad_engine_files_are_refused_with_exit_2_one_line_and_nothing_written() {
 fn the_dead_centres_are_excluded_and_carry_no_number() {
     let dir = scratch("cycle-dc");
     let file = dir.join("e.toml");
-    std::fs::write(&file, ENGINE).unwrap();
+    std::fs::write(&file, engine_text()).unwrap();
     let out = dir.join("out");
     let cache = dir.join("c.sqlite");
     let mut args = vec![
@@ -189,7 +168,7 @@ fn the_dead_centres_are_excluded_and_carry_no_number() {
 #[test]
 fn a_zone_met_at_one_operating_point_gets_the_design_of_optimise_there() {
     // The paper's operating point at R = 5, met three times in the zone.
-    let engine = Engine::parse(ENGINE).unwrap();
+    let engine = Engine::parse(&engine_text()).unwrap();
     let space = Space {
         bounds: Bounds {
             l1: (0.005, 0.03),

@@ -26,7 +26,17 @@ fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
-/// The study run into `cache`, asserted to succeed.
+/// A scratch directory for `test`, the small study in it, and a cache `name` holding the
+/// study's cases (run without a report).
+fn studied(test: &str, name: &str) -> (PathBuf, PathBuf, PathBuf) {
+    let d = scratch(test);
+    let study = small_study(&d);
+    let cache = d.join(name);
+    assert_eq!(run_study(&study, &cache, &["--no-report"]).0, 0);
+    (d, study, cache)
+}
+
+/// The study run into `cache`.
 fn run_study(study: &Path, cache: &Path, extra: &[&str]) -> (i32, String, String) {
     let mut args = vec!["study", s(study), "--cache", s(cache), "--jobs", "1"];
     args.extend_from_slice(extra);
@@ -133,10 +143,7 @@ fn plant_foreign_log(dir: &Path, cache: &Path) {
 
 #[test]
 fn a_foreign_log_is_refused_by_every_command_and_nothing_changes() {
-    let d = scratch("files-wal");
-    let study = small_study(&d);
-    let cache = d.join("c.sqlite");
-    assert_eq!(run_study(&study, &cache, &["--no-report"]).0, 0);
+    let (d, study, cache) = studied("files-wal", "c.sqlite");
     // Make the cache larger than the other database, as a real cache is.
     let c = rusqlite::Connection::open(&cache).unwrap();
     c.execute_batch("CREATE TABLE filler(x); WITH RECURSIVE n(i) AS (SELECT 1 UNION ALL SELECT i + 1 FROM n WHERE i < 2000) INSERT INTO filler SELECT randomblob(100) FROM n; PRAGMA wal_checkpoint(TRUNCATE);")
@@ -170,10 +177,7 @@ fn a_foreign_log_is_refused_by_every_command_and_nothing_changes() {
 
 #[test]
 fn a_log_left_by_a_crashed_writer_is_the_caches_own() {
-    let d = scratch("files-crash");
-    let study = small_study(&d);
-    let cache = d.join("c.sqlite");
-    assert_eq!(run_study(&study, &cache, &["--no-report"]).0, 0);
+    let (_, _, cache) = studied("files-crash", "c.sqlite");
     // A writer that ends without its checkpoint leaves committed frames in the log.
     let c = rusqlite::Connection::open(&cache).unwrap();
     c.set_db_config(
@@ -297,10 +301,7 @@ const DAMAGES: [(&str, &str); 8] = [
 
 #[test]
 fn every_kind_of_damage_is_named_never_served_and_computed_again() {
-    let d = scratch("files-damages");
-    let study = small_study(&d);
-    let clean = d.join("clean.sqlite");
-    assert_eq!(run_study(&study, &clean, &["--no-report"]).0, 0);
+    let (d, study, clean) = studied("files-damages", "clean.sqlite");
     let c = rusqlite::Connection::open(&clean).unwrap();
     let hash: String = c
         .query_row(
@@ -347,10 +348,7 @@ fn every_kind_of_damage_is_named_never_served_and_computed_again() {
 
 #[test]
 fn a_damaged_entry_is_reported_and_never_served() {
-    let d = scratch("files-damaged");
-    let study = small_study(&d);
-    let cache = d.join("c.sqlite");
-    assert_eq!(run_study(&study, &cache, &["--no-report"]).0, 0);
+    let (d, study, cache) = studied("files-damaged", "c.sqlite");
     let (h1, h2, f) = damage_two(&cache);
 
     let (code, out, err) = texopt(&["cache", "stats", "--cache", s(&cache)]);
@@ -424,10 +422,7 @@ fn snapshot_wal(cache: &Path) -> Vec<u8> {
 
 #[test]
 fn a_fifo_where_the_report_goes_is_written_not_read() {
-    let d = scratch("files-fifo-report");
-    let study = small_study(&d);
-    let cache = d.join("c.sqlite");
-    assert_eq!(run_study(&study, &cache, &["--no-report"]).0, 0);
+    let (d, study, cache) = studied("files-fifo-report", "c.sqlite");
     std::fs::create_dir_all(d.join("rep")).unwrap();
     let fifo = d.join("rep/small.csv");
     assert!(std::process::Command::new("mkfifo")
@@ -462,10 +457,7 @@ fn a_fifo_where_the_report_goes_is_written_not_read() {
 
 #[test]
 fn a_cache_written_before_entries_carried_checksums_keeps_its_results() {
-    let d = scratch("files-legacy");
-    let study = small_study(&d);
-    let cache = d.join("c.sqlite");
-    assert_eq!(run_study(&study, &cache, &["--no-report"]).0, 0);
+    let (_, study, cache) = studied("files-legacy", "c.sqlite");
     // The file as a texopt without checksums left it.
     let c = rusqlite::Connection::open(&cache).unwrap();
     c.execute_batch("ALTER TABLE evaluations DROP COLUMN checksum; DROP TABLE meta;")

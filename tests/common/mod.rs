@@ -46,3 +46,34 @@ pub fn scratch(test: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+/// A small engine file of the cycle tests, its `[zones]` given as `zones`.
+pub fn engine(zones: &str) -> String {
+    format!(
+        r#"
+[engine]
+name = "t"
+bore_mm = 79
+stroke_mm = 81
+rod_mm = 130
+rpm = 3000
+[ring]
+R_cm = 5
+width_mm = 1.2
+mass_kg_per_m = 0.03
+elastic_load_n_per_m = 150
+[gas]
+crank_deg = [0, 15, 60, 180, 360, 540, 690]
+pressure_bar = [15, 35, 12, 2, 0.2, 0, 8]
+[oil]
+viscosity_pa_s = 0.007
+d_oil_um = 20
+[zones]
+{zones}
+[design]
+per = [0.0128, 0.06]
+l1 = [0.005, 0.03]
+l2 = [0.005, 0.03]
+"#
+    )
+}
