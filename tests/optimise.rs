@@ -11,9 +11,9 @@ use std::sync::Mutex;
 
 use texopt::model::case::CaseSpec;
 use texopt::model::operating::{Scales, Validity};
+use texopt::optimise::design_report::Report;
 use texopt::optimise::driver::{optimise, Settings};
 use texopt::optimise::goal::pareto;
-use texopt::optimise::report::Report;
 use texopt::optimise::search::SwarmSettings;
 use texopt::optimise::space::{Bounds, Constraints, Space};
 use texopt::study::cache::Cache;
@@ -83,7 +83,7 @@ fn check_contracts(r: &Report) {
     }
     let pts: Vec<(f64, f64)> = r.front.iter().map(|x| (x.f_mean, x.c_min)).collect();
     assert_eq!(pareto(&pts).len(), pts.len(), "the front is non-dominated");
-    let has = |x: &texopt::optimise::report::Row| {
+    let has = |x: &texopt::optimise::design_report::Row| {
         r.front
             .iter()
             .any(|f| f.texture == x.texture && f.f_mean == x.f_mean)

@@ -9,8 +9,8 @@ use super::{
     OperatingArgs, OptimiseArgs, STOP,
 };
 use crate::model::case::{CaseSpec, InputError, Texture};
+use crate::optimise::design_report::table;
 use crate::optimise::driver::{optimise, Settings};
-use crate::optimise::report::table;
 use crate::optimise::robust::{robust, table as robust_table};
 use crate::optimise::search::SwarmSettings;
 use crate::optimise::space::{Bounds, Constraints, Space};

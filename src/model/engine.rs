@@ -13,7 +13,7 @@ use super::operating::Operating;
 #[serde(deny_unknown_fields)]
 pub struct EngineFile {
     pub engine: Crank,
-    pub ring: Ring,
+    pub ring: RingFile,
     pub gas: Gas,
     pub oil: Oil,
     pub zones: Zones,
@@ -34,10 +34,10 @@ pub struct Crank {
     pub rpm: f64,
 }
 
-/// The ring.
+/// The engine file's ring section (the dynamics' ring is `model::ring::Ring`).
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Ring {
+pub struct RingFile {
     /// Face radius R (cm).
     #[serde(rename = "R_cm")]
     pub r_cm: f64,

@@ -493,7 +493,7 @@ pub fn design_all(
 
 /// The three liners at the report's points: plain, uniform best and zoned, with the points
 /// (their exclusions settled by the plain liner).
-pub struct Evaluated {
+pub struct LinerRuns {
     pub points: Vec<Point>,
     /// Per liner (plain, uniform, zoned), per point: the outcome and force, or none.
     pub liners: [Vec<Option<(Outcome, f64)>>; 3],
@@ -545,7 +545,7 @@ pub fn evaluate_liners(
     d: &Designs,
     cache: &Mutex<Cache>,
     stop: &AtomicBool,
-) -> Result<(Designs, Evaluated), String> {
+) -> Result<(Designs, LinerRuns), String> {
     let mut pts = points(s, s.step_deg);
     plain_and_exclude(s, &mut pts, s.report_fidelity, cache, stop)?;
     if pts.iter().all(|p| p.excluded.is_some()) {
@@ -637,7 +637,7 @@ pub fn evaluate_liners(
     };
     Ok((
         designs,
-        Evaluated {
+        LinerRuns {
             points: pts,
             liners: [plain, uniform, zoned],
             confirmed,

@@ -6,7 +6,7 @@ use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::cycle::{Confirmation, CycleSettings, Designs, Evaluated};
+use super::cycle::{Confirmation, CycleSettings, Designs, LinerRuns};
 use crate::model::case::Texture;
 use crate::model::engine::zone_label;
 use crate::plot::{self, Chart, Scale, Series, Style};
@@ -89,7 +89,7 @@ pub struct CycleReport {
 const LINERS: [&str; 3] = ["plain liner", "uniform best", "zoned"];
 
 /// The report of the evaluated liners.
-pub fn assemble(s: &CycleSettings, d: &Designs, ev: &Evaluated, wall: f64) -> CycleReport {
+pub fn assemble(s: &CycleSettings, d: &Designs, ev: &LinerRuns, wall: f64) -> CycleReport {
     let e = &s.engine.file.engine;
     let pts = &ev.points;
     // (+ 0.0: an empty sum is -0.0, which would print as "-0.0".)

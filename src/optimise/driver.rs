@@ -7,9 +7,9 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
+use super::design_report::{row, write, EvaluatedDesign, Report, Row};
 use super::front_merge::merge;
 use super::goal::{pareto, Goal};
-use super::report::{row, write, Evaluated, Report, Row};
 use super::search::{refine, search, Evaluation, Evaluator, Search, SwarmSettings};
 use super::space::Space;
 use crate::model::case::{CaseSpec, Texture};
@@ -375,11 +375,11 @@ fn report(
 }
 
 /// Every evaluation of the search and the reported fidelity, for the plot and the audit.
-fn evaluated(s: &Settings, [log_s, log_r]: [Vec<Evaluation>; 2]) -> Vec<Evaluated> {
+fn evaluated(s: &Settings, [log_s, log_r]: [Vec<Evaluation>; 2]) -> Vec<EvaluatedDesign> {
     let mut evaluated = Vec::new();
     for (fid, log) in [(s.search_fidelity, log_s), (s.report_fidelity, log_r)] {
         for e in log {
-            evaluated.push(Evaluated {
+            evaluated.push(EvaluatedDesign {
                 fidelity: fid.name().into(),
                 f_mean: e.outcome.as_ref().ok().map(|o| o.f_mean),
                 c_min: e.outcome.as_ref().ok().map(|o| o.c_min),

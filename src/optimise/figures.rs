@@ -6,7 +6,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
-use super::report::{table_rows, Report, Row};
+use super::design_report::{table_rows, Report, Row};
 use crate::model::case::Texture;
 
 fn err(e: &dyn std::fmt::Display) -> String {

@@ -13,7 +13,7 @@
 
 use serde::Serialize;
 
-use super::report::Row;
+use super::design_report::Row;
 use crate::model::case::Texture;
 
 /// A design left out of the table because a thicker-walled one gives the same f̄ and C_min.

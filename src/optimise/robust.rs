@@ -14,11 +14,11 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 use std::time::Instant;
 
+use super::design_report::Report;
 use super::driver::{
     evaluator, optimise, plain, Settings, REFINE_ITERS, REFINE_MIN_STEP, REFINE_STEP,
 };
 use super::goal::FAILED_COST;
-use super::report::Report;
 use super::search::{refine, swarm, Evaluator, SwarmSettings};
 use super::space::Space;
 use crate::model::case::{CaseSpec, Texture};

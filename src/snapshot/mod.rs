@@ -23,7 +23,7 @@ use crate::time::{
 };
 
 pub use animate::animate;
-pub use write::{write_all, Written};
+pub use write::{write_all, SnapshotFiles};
 
 /// Instants of the period drawn by default: the paper's ten (a–j, its Figs. 8–10).
 pub const DEFAULT_FRAMES: usize = 10;

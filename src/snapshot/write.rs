@@ -36,13 +36,13 @@ pub(super) fn shown_columns(rec: &Recording, cx: &Context) -> std::ops::RangeInc
 }
 
 /// The files written.
-pub struct Written {
+pub struct SnapshotFiles {
     pub dir: PathBuf,
     pub files: Vec<PathBuf>,
 }
 
 /// Writes every snapshot file of `rec` into `dir` (which [`super::prepare_dir`] checked).
-pub fn write_all(dir: &Path, rec: &Recording, cx: &Context) -> Result<Written, String> {
+pub fn write_all(dir: &Path, rec: &Recording, cx: &Context) -> Result<SnapshotFiles, String> {
     let u = Units::of(cx);
     let mut files = Vec::new();
     for (k, f) in rec.frames.iter().enumerate() {
@@ -57,7 +57,7 @@ pub fn write_all(dir: &Path, rec: &Recording, cx: &Context) -> Result<Written, S
     crate::output::write(&path, index_json(rec, cx, &u).to_string() + "\n")?;
     files.push(path);
     files.extend(draw::pictures(dir, rec, cx)?);
-    Ok(Written {
+    Ok(SnapshotFiles {
         dir: dir.to_path_buf(),
         files,
     })

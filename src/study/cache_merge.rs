@@ -20,7 +20,7 @@ enum Have {
 
 /// What a merge did.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Merged {
+pub struct MergeCounts {
     /// Entries copied in (new keys).
     pub added: usize,
     /// Entries already there with the same outcome (or the same failure).
@@ -102,7 +102,7 @@ impl Cache {
     /// Copies every evaluation of `sources` into this cache (see the module). Refused, with
     /// nothing written: a source that is not a texopt cache or is damaged, a source that is
     /// this cache, and two different outcomes under one key.
-    pub fn merge(&self, sources: &[PathBuf]) -> Result<Merged, CacheError> {
+    pub fn merge(&self, sources: &[PathBuf]) -> Result<MergeCounts, CacheError> {
         let me = self.path().canonicalize().ok();
         let mut all = Vec::new();
         for p in sources {
@@ -132,8 +132,8 @@ impl Cache {
         }
     }
 
-    fn copy(&self, all: &[(String, Vec<Checked>)]) -> Result<Merged, CacheError> {
-        let mut m = Merged::default();
+    fn copy(&self, all: &[(String, Vec<Checked>)]) -> Result<MergeCounts, CacheError> {
+        let mut m = MergeCounts::default();
         let sql = |e| CacheError::Sqlite {
             path: self.path().display().to_string(),
             source: e,

@@ -6,7 +6,7 @@ pub mod cache;
 pub mod cache_merge;
 mod entry;
 pub mod file;
-mod operating;
+mod operating_figures;
 pub mod report;
 pub mod shard;
 pub mod sweep;

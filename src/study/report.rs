@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use crate::model::case::{CaseSpec, Texture};
 use crate::plot::{self, Chart, Note, Scale, Series, Style};
 use crate::study::file::{Job, Study};
-use crate::study::operating::{figures, Point};
+use crate::study::operating_figures::{figures, Point};
 use crate::study::sweep::CaseResult;
 use crate::time::Outcome;
 
@@ -66,14 +66,18 @@ fn texture_label(t: &Texture) -> String {
 }
 
 /// Files written by `write`.
-pub struct Written {
+pub struct ReportFiles {
     pub files: Vec<PathBuf>,
     /// The headline lines (also in the summary file).
     pub headline: Vec<String>,
 }
 
 /// Writes the report of a finished study into `study.report.dir`.
-pub fn write(study: &Study, results: &[CaseResult], wall_note: &str) -> Result<Written, String> {
+pub fn write(
+    study: &Study,
+    results: &[CaseResult],
+    wall_note: &str,
+) -> Result<ReportFiles, String> {
     let dir = Path::new(&study.report.dir);
     std::fs::create_dir_all(dir)
         .map_err(|e| format!("cannot create the report directory {}: {e}", dir.display()))?;
@@ -188,7 +192,7 @@ pub fn write(study: &Study, results: &[CaseResult], wall_note: &str) -> Result<W
         crate::output::write(&p, table1(study, &main, &radii))?;
         files.push(p);
     }
-    Ok(Written { files, headline })
+    Ok(ReportFiles { files, headline })
 }
 
 /// The summary file: the run, the compute behind it, the cases, the headline, the failures.

@@ -72,11 +72,11 @@ pub struct Report {
     pub simulations: usize,
     pub wall_time_s: f64,
     /// Every evaluated design: (fidelity, texture, f̄, C_min, feasible) for the plot and audit.
-    pub evaluated: Vec<Evaluated>,
+    pub evaluated: Vec<EvaluatedDesign>,
 }
 
 #[derive(Clone, Debug, Serialize)]
-pub struct Evaluated {
+pub struct EvaluatedDesign {
     pub fidelity: String,
     pub texture: Texture,
     pub f_mean: Option<f64>,
