@@ -43,6 +43,17 @@ fn run_study(study: &Path, cache: &Path, extra: &[&str]) -> (i32, String, String
     texopt(&args)
 }
 
+/// A FIFO made at `path` and a thread that reads it to the end.
+fn fifo_with_reader(path: &Path) -> std::thread::JoinHandle<String> {
+    assert!(std::process::Command::new("mkfifo")
+        .arg(path)
+        .status()
+        .unwrap()
+        .success());
+    let fifo = path.to_path_buf();
+    std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+}
+
 /// The bytes of a cache and of its log, if any.
 fn snapshot(cache: &Path) -> (Vec<u8>, Option<Vec<u8>>) {
     let mut wal = cache.as_os_str().to_owned();
@@ -83,21 +94,9 @@ fn outputs_follow_links_and_write_through_devices_and_fifos() {
     let target = d.join("series-target.csv");
     let link = d.join("series.csv");
     std::os::unix::fs::symlink(&target, &link).unwrap();
-    let (code, _, err) = texopt(&[
-        "simulate",
-        "--R",
-        "0.8",
-        "--l1",
-        "0.01",
-        "--per",
-        "0.06",
-        "--depth",
-        "5",
-        "--fidelity",
-        "draft",
-        "--series",
-        s(&link),
-    ]);
+    let mut args = common::case_one_draft().to_vec();
+    args.extend(["--series", s(&link)]);
+    let (code, _, err) = texopt(&args);
     assert_eq!(code, 0, "{err}");
     assert!(std::fs::symlink_metadata(&link)
         .unwrap()
@@ -111,15 +110,7 @@ fn outputs_follow_links_and_write_through_devices_and_fifos() {
     let cache = d.join("c.sqlite");
     assert_eq!(run_study(&study, &cache, &["--no-report"]).0, 0);
     let fifo = d.join("export.jsonl");
-    assert!(std::process::Command::new("mkfifo")
-        .arg(&fifo)
-        .status()
-        .unwrap()
-        .success());
-    let reader = {
-        let fifo = fifo.clone();
-        std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
-    };
+    let reader = fifo_with_reader(&fifo);
     let (code, _, err) = texopt(&["cache", "export", "--cache", s(&cache), "--out", s(&fifo)]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(reader.join().unwrap().lines().count(), 3);
@@ -425,15 +416,7 @@ fn a_fifo_where_the_report_goes_is_written_not_read() {
     let (d, study, cache) = studied("files-fifo-report", "c.sqlite");
     std::fs::create_dir_all(d.join("rep")).unwrap();
     let fifo = d.join("rep/small.csv");
-    assert!(std::process::Command::new("mkfifo")
-        .arg(&fifo)
-        .status()
-        .unwrap()
-        .success());
-    let reader = {
-        let fifo = fifo.clone();
-        std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
-    };
+    let reader = fifo_with_reader(&fifo);
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_texopt"))
         .args(["study", s(&study), "--cache", s(&cache), "--cached-only"])
         .stdout(std::process::Stdio::null())

@@ -19,19 +19,7 @@ impl Drop for Unmount {
 
 /// The base case of these tests, a quick Case I at `draft`, with extra flags.
 fn simulate(extra: &[&str]) -> (i32, String, String) {
-    let mut args = vec![
-        "simulate",
-        "--R",
-        "0.8",
-        "--l1",
-        "0.01",
-        "--per",
-        "0.06",
-        "--depth",
-        "5",
-        "--fidelity",
-        "draft",
-    ];
+    let mut args = common::case_one_draft().to_vec();
     args.extend_from_slice(extra);
     texopt(&args)
 }
@@ -694,25 +682,9 @@ fn a_study_cannot_raise_its_case_limit_without_bound() {
 
 /// Case I at `draft` with a step of 1e-5: 6000 steps a texture period.
 fn fine_step(extra: &[&str]) -> Vec<String> {
-    let mut v: Vec<String> = [
-        "simulate",
-        "--R",
-        "0.8",
-        "--l1",
-        "0.01",
-        "--per",
-        "0.06",
-        "--depth",
-        "5",
-        "--fidelity",
-        "draft",
-        "--dt",
-        "1e-5",
-    ]
-    .map(String::from)
-    .to_vec();
-    v.extend(extra.iter().map(|s| s.to_string()));
-    v
+    let base = common::case_one_draft();
+    let all = base.iter().chain(&["--dt", "1e-5"]).chain(extra);
+    all.map(|s| s.to_string()).collect()
 }
 
 #[test]

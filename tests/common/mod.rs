@@ -21,6 +21,23 @@ pub fn conformal() -> CaseSpec {
     CaseSpec::paper(51.2).with_texture(Texture::circular(0.01, 0.06, 5.0))
 }
 
+/// `simulate` of Case I at `draft`: the quick run the command-line tests start from.
+pub fn case_one_draft() -> [&'static str; 11] {
+    [
+        "simulate",
+        "--R",
+        "0.8",
+        "--l1",
+        "0.01",
+        "--per",
+        "0.06",
+        "--depth",
+        "5",
+        "--fidelity",
+        "draft",
+    ]
+}
+
 /// |a − b| / |b|.
 pub fn rel(a: f64, b: f64) -> f64 {
     ((a - b) / b).abs()
