@@ -145,6 +145,28 @@ fn job_ids(stdout: &str) -> (String, String) {
     (id_after("array"), id_after("merge-and-report"))
 }
 
+/// `texopt study FILE --slurm RUN --tasks N --submit` in `dir`, then waits for the array and
+/// the merge job to end.
+fn submit_and_wait(dir: &Path, file: &str, run: &Path, tasks: usize) {
+    let tasks = tasks.to_string();
+    let (code, out, err) = texopt_in(
+        dir,
+        &[
+            "study",
+            file,
+            "--slurm",
+            run.to_str().unwrap(),
+            "--tasks",
+            &tasks,
+            "--submit",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let (array, merge) = job_ids(&out);
+    wait_for(&array, &run.join("logs"));
+    wait_for(&merge, &run.join("logs"));
+}
+
 #[test]
 fn a_study_on_slurm_gives_the_local_report_and_cache_bit_for_bit() {
     if !slurm_up() {
@@ -158,22 +180,7 @@ fn a_study_on_slurm_gives_the_local_report_and_cache_bit_for_bit() {
     );
     let run = dir.join("run");
     let t0 = Instant::now();
-    let (code, out, err) = texopt_in(
-        &dir,
-        &[
-            "study",
-            &file,
-            "--slurm",
-            run.to_str().unwrap(),
-            "--tasks",
-            "3",
-            "--submit",
-        ],
-    );
-    assert_eq!(code, 0, "{err}");
-    let (array, merge) = job_ids(&out);
-    wait_for(&array, &run.join("logs"));
-    wait_for(&merge, &run.join("logs"));
+    submit_and_wait(&dir, &file, &run, 3);
     let on_slurm = t0.elapsed().as_secs_f64();
     let csv = dir.join("report/sl12.csv");
     let slurm_csv = csv_without_wall_time(&csv);
@@ -323,22 +330,7 @@ fn a_study_under_paths_with_quotes_dollars_and_patterns_runs_on_slurm() {
     .unwrap();
     let file = path.to_str().unwrap().to_string();
     let run = dir.join(format!("run {payload}"));
-    let (code, out, err) = texopt_in(
-        &dir,
-        &[
-            "study",
-            &file,
-            "--slurm",
-            run.to_str().unwrap(),
-            "--tasks",
-            "2",
-            "--submit",
-        ],
-    );
-    assert_eq!(code, 0, "{err}");
-    let (array, merge) = job_ids(&out);
-    wait_for(&array, &run.join("logs"));
-    wait_for(&merge, &run.join("logs"));
+    submit_and_wait(&dir, &file, &run, 2);
     for log in ["task-1.log", "task-2.log", "merge.log"] {
         assert!(run.join("logs").join(log).is_file(), "{log} not in logs/");
     }
