@@ -18,6 +18,7 @@ use texopt::optimise::goal::Goal;
 use texopt::optimise::search::{refine, search, Evaluator, Search, SwarmSettings};
 use texopt::optimise::space::{Bounds, Constraints, Space};
 use texopt::study::cache::Cache;
+use texopt::study::engine_file;
 use texopt::study::sweep;
 use texopt::study::NumericsOverride;
 use texopt::time::{Fidelity, Limits};
@@ -168,7 +169,7 @@ fn the_dead_centres_are_excluded_and_carry_no_number() {
 #[test]
 fn a_zone_met_at_one_operating_point_gets_the_design_of_optimise_there() {
     // The paper's operating point at R = 5, met three times in the zone.
-    let engine = Engine::parse(&engine_text()).unwrap();
+    let (engine, _): (Engine, serde::de::IgnoredAny) = engine_file::parse(&engine_text()).unwrap();
     let space = Space {
         bounds: Bounds {
             l1: (0.005, 0.03),

@@ -14,6 +14,7 @@ use crate::optimise::cycle::{design_all, evaluate_liners, no_angle_inside, point
 use crate::optimise::cycle_report::{assemble, non_finite, table, write};
 use crate::optimise::search::SwarmSettings;
 use crate::optimise::space::Space;
+use crate::study::engine_file;
 use crate::time::Fidelity;
 
 pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
@@ -77,13 +78,8 @@ fn input(file: &Path, m: impl std::fmt::Display) -> CmdError {
 fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
     let text = std::fs::read_to_string(&a.file)
         .map_err(|e| input(&a.file, format!("cannot read the engine file: {e}")))?;
-    let engine = Engine::parse(&text).map_err(|e| input(&a.file, e))?;
-    let d: CycleDesign = toml::Value::Table(engine.file.design.clone())
-        .try_into()
-        .map_err(|e: toml::de::Error| {
-            let why = crate::model::case::one_line(&e.to_string());
-            input(&a.file, format!("[design] {why}"))
-        })?;
+    let (engine, d): (Engine, CycleDesign) =
+        engine_file::parse(&text).map_err(|e| input(&a.file, e))?;
     let roughness = d.roughness_um.unwrap_or(Validity::default().roughness_um);
     if !(roughness > 0.0 && roughness <= 10.0) {
         return Err(input(

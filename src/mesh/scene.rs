@@ -47,16 +47,13 @@ impl Scene {
         s
     }
 
-    /// Moves the texture to time t: h_L(x1 − u·t, x2) and the gap without Z (eq. 15).
+    /// Moves the texture to time t: h_L(x1 − u·t, x2) and the gap without Z, h_L plus the
+    /// ring's part (`Contact::ring_part_um`, eq. 15).
     pub fn place(&mut self, t: f64) {
         let g = &self.grid;
         for i in 0..=g.n1 {
             let x = g.x(i);
-            let ring_part = if self.gap.ring[i] {
-                self.contact.ring.sag_um(x - self.contact.x_center_cm)
-            } else {
-                self.contact.e_um
-            };
+            let ring_part = self.contact.ring_part_um(x);
             for j in 0..g.n2 {
                 let k = g.idx(i, j);
                 let hl = self.contact.liner.depth_um(x - self.u * t, g.y(j));

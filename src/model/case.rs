@@ -289,6 +289,12 @@ pub fn positive(param: &str, v: f64) -> Result<(), InputError> {
     }
 }
 
+/// Whether a ring face of radius `r_cm` spans a ring of half width `half_width_cm`: R must
+/// exceed it (docs/model.md §2; a flat ring's R is ∞, a NaN never does).
+pub fn face_spans_ring(r_cm: f64, half_width_cm: f64) -> bool {
+    r_cm > half_width_cm
+}
+
 /// Narrowest and widest ring faces accepted (cm): 0.1 to 10 mm, beyond any compression or
 /// oil-control ring (a typo in the unit, not a ring).
 pub const RING_WIDTH_RANGE: (f64, f64) = (0.01, 1.0);
@@ -306,7 +312,7 @@ impl CaseSpec {
             ));
         }
         let half = 0.5 * self.ring_width;
-        if self.r.is_nan() || self.r <= half {
+        if !face_spans_ring(self.r, half) {
             return Err(bad(
                 "R",
                 self.r,

@@ -188,14 +188,14 @@ impl Contact {
         a < x1_cm && x1_cm < b
     }
 
-    /// Part of the gap that does not depend on Z (µm), eq. (15): h_L + h_U under the ring and
-    /// h_L + e elsewhere. The full gap is this plus Z under the ring.
-    pub fn gap_without_z_um(&self, x1_cm: f64, x2_cm: f64, t: f64, u: f64) -> f64 {
-        let hl = self.liner.depth_um(x1_cm - u * t, x2_cm);
+    /// The ring's part of the gap without Z at x1 (µm), eq. (15): h_U under the ring, e
+    /// elsewhere. The gap without Z is h_L plus this (`mesh::Scene::place`); the full gap
+    /// adds Z under the ring.
+    pub fn ring_part_um(&self, x1_cm: f64) -> f64 {
         if self.under_ring(x1_cm) {
-            hl + self.ring.sag_um(x1_cm - self.x_center_cm)
+            self.ring.sag_um(x1_cm - self.x_center_cm)
         } else {
-            hl + self.e_um
+            self.e_um
         }
     }
 

@@ -1,9 +1,10 @@
-//! Many evaluations: study files expanded into cases, the persistent evaluation cache, the
-//! parallel runner through it, the study report, and the benchmark.
+//! Many evaluations: study files expanded into cases, engine files read, the persistent
+//! evaluation cache, the parallel runner through it, the study report, and the benchmark.
 
 pub mod bench;
 pub mod cache;
 pub mod cache_merge;
+pub mod engine_file;
 mod entry;
 pub mod file;
 mod operating_figures;
