@@ -8,6 +8,76 @@
 
 use std::path::{Path, PathBuf};
 
+/// What a writer reports when it fails (an I/O error, a drawing library's error, a message).
+pub type Cause = Box<dyn std::error::Error + Send + Sync>;
+
+/// An output that could not be written, or cannot be (`check_writable`).
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    #[error("cannot inspect {}: {source}", path.display())]
+    Inspect {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("cannot follow the link {}: {source}", path.display())]
+    FollowLink {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{} is a directory; give a file path", .0.display())]
+    Directory(PathBuf),
+    #[error("{} is a loop of symbolic links; give a file path", .0.display())]
+    LinkLoop(PathBuf),
+    /// Where `path` leads could not be told.
+    #[error("cannot write {}: {why}", path.display())]
+    Unresolved {
+        path: PathBuf,
+        why: Box<OutputError>,
+    },
+    /// A regular file was not replaced; `kept`: a previous file is there, as it was.
+    #[error("cannot write {}: {why}; {}", path.display(), if *kept { "the previous file was left as it was" } else { "nothing was written" })]
+    NotReplaced {
+        path: PathBuf,
+        why: Failure,
+        kept: bool,
+    },
+    /// A device or FIFO was not written through.
+    #[error("cannot write {}: {why}", path.display())]
+    NotWrittenThrough { path: PathBuf, why: Failure },
+    #[error("cannot write in the directory of {}: {source}", path.display())]
+    DirectoryNotWritable {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("cannot write to {}: {source}", path.display())]
+    SpecialNotWritable {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+/// Why an output's temporary file did not become the output.
+#[derive(Debug, thiserror::Error)]
+pub enum Failure {
+    /// The writer failed.
+    #[error("{0}")]
+    Writer(Cause),
+    #[error("cannot move it into place: {0}")]
+    Rename(std::io::Error),
+    #[error("cannot open it for writing: {0}")]
+    Open(std::io::Error),
+    /// Copying the complete temporary file into a device or FIFO failed.
+    #[error("{0}")]
+    Copy(std::io::Error),
+}
+
+/// For callers whose errors are still text.
+impl From<OutputError> for String {
+    fn from(e: OutputError) -> String {
+        e.to_string()
+    }
+}
+
 /// Where an output goes once its path is resolved.
 #[derive(Debug, Clone, PartialEq, Eq)]
 enum Destination {
@@ -19,7 +89,7 @@ enum Destination {
 
 /// Resolves `path`: symbolic links are followed (a dangling link's target is where the file
 /// will be made); what stands at the end decides how it is written.
-fn destination(path: &Path) -> Result<Destination, String> {
+fn destination(path: &Path) -> Result<Destination, OutputError> {
     let mut p = path.to_path_buf();
     for _ in 0..40 {
         let meta = match std::fs::symlink_metadata(&p) {
@@ -27,28 +97,27 @@ fn destination(path: &Path) -> Result<Destination, String> {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
                 return Ok(Destination::Regular(p))
             }
-            Err(e) => return Err(format!("cannot inspect {}: {e}", p.display())),
+            Err(source) => return Err(OutputError::Inspect { path: p, source }),
         };
         let kind = meta.file_type();
         if kind.is_symlink() {
-            let target = std::fs::read_link(&p)
-                .map_err(|e| format!("cannot follow the link {}: {e}", p.display()))?;
+            let target = match std::fs::read_link(&p) {
+                Ok(t) => t,
+                Err(source) => return Err(OutputError::FollowLink { path: p, source }),
+            };
             p = match p.parent() {
                 Some(dir) if target.is_relative() => dir.join(target),
                 _ => target,
             };
         } else if kind.is_dir() {
-            return Err(format!("{} is a directory; give a file path", p.display()));
+            return Err(OutputError::Directory(p));
         } else if kind.is_file() {
             return Ok(Destination::Regular(p));
         } else {
             return Ok(Destination::Special(p));
         }
     }
-    Err(format!(
-        "{} is a loop of symbolic links; give a file path",
-        path.display()
-    ))
+    Err(OutputError::LinkLoop(path.to_path_buf()))
 }
 
 /// The temporary file for `path`: hidden, in the same directory (a rename within one file
@@ -90,68 +159,76 @@ pub fn read_regular(path: &Path) -> Option<String> {
 /// Runs `write` on a temporary file and renames it to `path` if it succeeds; otherwise
 /// removes it and says that `path` was left untouched. A link at `path` is followed and its
 /// target replaced; a device or FIFO is written through (see the module's doc).
-pub fn atomically<T>(
+pub fn atomically<T, E: Into<Cause>>(
     path: &Path,
-    write: impl FnOnce(&Path) -> Result<T, String>,
-) -> Result<T, String> {
-    match destination(path).map_err(|why| format!("cannot write {}: {why}", path.display()))? {
+    write: impl FnOnce(&Path) -> Result<T, E>,
+) -> Result<T, OutputError> {
+    let resolved = destination(path).map_err(|why| OutputError::Unresolved {
+        path: path.to_path_buf(),
+        why: Box::new(why),
+    })?;
+    match resolved {
         Destination::Regular(target) => replace(path, &target, write),
         Destination::Special(target) => write_through(path, &target, write),
     }
 }
 
 /// The atomic write of a regular file at `target` (`path`, or the end of the link at it).
-fn replace<T>(
+fn replace<T, E: Into<Cause>>(
     path: &Path,
     target: &Path,
-    write: impl FnOnce(&Path) -> Result<T, String>,
-) -> Result<T, String> {
+    write: impl FnOnce(&Path) -> Result<T, E>,
+) -> Result<T, OutputError> {
     let tmp = temporary_as(target, path);
-    let result = write(&tmp).and_then(|v| {
-        std::fs::rename(&tmp, target).map_err(|e| format!("cannot move it into place: {e}"))?;
-        Ok(v)
-    });
+    let result = write(&tmp)
+        .map_err(|e| Failure::Writer(e.into()))
+        .and_then(|v| {
+            std::fs::rename(&tmp, target).map_err(Failure::Rename)?;
+            Ok(v)
+        });
     result.map_err(|why| {
         let _ = std::fs::remove_file(&tmp);
-        let kept = if target.exists() {
-            "the previous file was left as it was"
-        } else {
-            "nothing was written"
-        };
-        format!("cannot write {}: {why}; {kept}", path.display())
+        OutputError::NotReplaced {
+            path: path.to_path_buf(),
+            why,
+            kept: target.exists(),
+        }
     })
 }
 
 /// A device, FIFO or socket at `target`: the output is made complete in a private temporary
 /// file first (so a failed write sends nothing), then copied into `target`, which stays what
 /// it is.
-fn write_through<T>(
+fn write_through<T, E: Into<Cause>>(
     path: &Path,
     target: &Path,
-    write: impl FnOnce(&Path) -> Result<T, String>,
-) -> Result<T, String> {
+    write: impl FnOnce(&Path) -> Result<T, E>,
+) -> Result<T, OutputError> {
     let name = target
         .file_name()
         .map_or_else(|| std::ffi::OsString::from("output"), |n| n.to_os_string());
     let tmp = temporary(&std::env::temp_dir().join(name));
-    let result = write(&tmp).and_then(|v| {
-        let mut from = std::fs::File::open(&tmp).map_err(|e| e.to_string())?;
-        let mut to = std::fs::OpenOptions::new()
-            .write(true)
-            .open(target)
-            .map_err(|e| format!("cannot open it for writing: {e}"))?;
-        std::io::copy(&mut from, &mut to).map_err(|e| e.to_string())?;
-        Ok(v)
-    });
+    let result = write(&tmp)
+        .map_err(|e| Failure::Writer(e.into()))
+        .and_then(|v| {
+            let mut from = std::fs::File::open(&tmp).map_err(Failure::Copy)?;
+            let mut to = std::fs::OpenOptions::new()
+                .write(true)
+                .open(target)
+                .map_err(Failure::Open)?;
+            std::io::copy(&mut from, &mut to).map_err(Failure::Copy)?;
+            Ok(v)
+        });
     let _ = std::fs::remove_file(&tmp);
-    result.map_err(|why| format!("cannot write {}: {why}", path.display()))
+    result.map_err(|why| OutputError::NotWrittenThrough {
+        path: path.to_path_buf(),
+        why,
+    })
 }
 
 /// Writes `bytes` to `path` atomically (see [`atomically`]).
-pub fn write(path: &Path, bytes: impl AsRef<[u8]>) -> Result<(), String> {
-    atomically(path, |tmp| {
-        write_synced(tmp, bytes.as_ref()).map_err(|e| e.to_string())
-    })
+pub fn write(path: &Path, bytes: impl AsRef<[u8]>) -> Result<(), OutputError> {
+    atomically(path, |tmp| write_synced(tmp, bytes.as_ref()))
 }
 
 /// Writes and flushes to the disk (a full disk shows here, not after the rename).
@@ -166,13 +243,13 @@ fn write_synced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 pub fn write_with(
     path: &Path,
     fill: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
-) -> Result<(), String> {
+) -> Result<(), OutputError> {
     atomically(path, |tmp| {
-        let f = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
+        let f = std::fs::File::create(tmp)?;
         let mut w = std::io::BufWriter::new(f);
-        fill(&mut w).map_err(|e| e.to_string())?;
-        let f = w.into_inner().map_err(|e| e.error().to_string())?;
-        f.sync_all().map_err(|e| e.to_string())
+        fill(&mut w)?;
+        let f = w.into_inner().map_err(|e| e.into_error())?;
+        f.sync_all()
     })
 }
 
@@ -180,7 +257,7 @@ pub fn write_with(
 /// directory of the regular file it names (a probe file is made and removed there), or the
 /// device or FIFO it names can be opened for writing — so that a run does not end unable to
 /// store what it computed.
-pub fn check_writable(path: &Path) -> Result<(), String> {
+pub fn check_writable(path: &Path) -> Result<(), OutputError> {
     match destination(path)? {
         Destination::Regular(target) => {
             let probe = temporary(&target).with_extension("probe");
@@ -188,10 +265,17 @@ pub fn check_writable(path: &Path) -> Result<(), String> {
                 .map(|_| {
                     let _ = std::fs::remove_file(&probe);
                 })
-                .map_err(|e| format!("cannot write in the directory of {}: {e}", path.display()))
+                .map_err(|source| OutputError::DirectoryNotWritable {
+                    path: path.to_path_buf(),
+                    source,
+                })
         }
-        Destination::Special(target) => special_writable(&target)
-            .map_err(|e| format!("cannot write to {}: {e}", path.display())),
+        Destination::Special(target) => {
+            special_writable(&target).map_err(|source| OutputError::SpecialNotWritable {
+                path: path.to_path_buf(),
+                source,
+            })
+        }
     }
 }
 
@@ -226,6 +310,7 @@ mod tests {
             Err::<(), _>("disk full".to_string())
         })
         .unwrap_err();
+        let e = e.to_string();
         assert!(
             e.contains("disk full") && e.contains("left as it was"),
             "{e}"
@@ -264,7 +349,7 @@ mod tests {
         std::os::unix::fs::symlink("bare", &png).unwrap();
         atomically(&png, |tmp| {
             assert_eq!(tmp.extension().unwrap(), "png", "{}", tmp.display());
-            std::fs::write(tmp, "image").map_err(|e| e.to_string())
+            std::fs::write(tmp, "image")
         })
         .unwrap();
         assert_eq!(std::fs::read_to_string(&bare).unwrap(), "image");
@@ -343,12 +428,16 @@ mod tests {
     #[test]
     fn a_directory_or_a_link_loop_is_refused() {
         let d = dir("loop");
-        assert!(check_writable(&d).unwrap_err().contains("is a directory"));
+        assert!(check_writable(&d)
+            .unwrap_err()
+            .to_string()
+            .contains("is a directory"));
         let a = d.join("a");
         std::os::unix::fs::symlink("b", &a).unwrap();
         std::os::unix::fs::symlink("a", d.join("b")).unwrap();
         assert!(write(&a, "x")
             .unwrap_err()
+            .to_string()
             .contains("loop of symbolic links"));
     }
 }

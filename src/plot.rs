@@ -4,6 +4,23 @@
 use plotters::prelude::*;
 use std::path::Path;
 
+use crate::output::{Cause, OutputError};
+
+/// Why plotters could not draw a chart.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// The legend's text could not be measured.
+    #[error("legend text: {0}")]
+    Legend(Cause),
+    #[error("{0}")]
+    Draw(Cause),
+}
+
+/// plotters' error as a drawing failure.
+pub fn drawing(e: impl std::error::Error + Send + Sync + 'static) -> PlotError {
+    PlotError::Draw(Box::new(e))
+}
+
 /// One named series of (x, y) points.
 pub struct Series<'a> {
     pub name: String,
@@ -143,7 +160,7 @@ const LEGEND_SYMBOL: i32 = 30;
 const LEGEND_INSET: i32 = 5;
 
 /// The legend's size in pixels for these labels, as plotters lays it out.
-fn legend_size(names: &[&str]) -> Result<(i32, i32), String> {
+fn legend_size(names: &[&str]) -> Result<(i32, i32), PlotError> {
     let font: TextStyle = LEGEND_FONT.into_font().into();
     let mut text = MultiLineText::<_, &str>::new((0, 0), &font);
     for n in names {
@@ -151,7 +168,7 @@ fn legend_size(names: &[&str]) -> Result<(i32, i32), String> {
     }
     let (w, h) = text
         .estimate_dimension()
-        .map_err(|e| format!("legend text: {e}"))?;
+        .map_err(|e| PlotError::Legend(Box::new(e)))?;
     Ok((w + LEGEND_SYMBOL + 2 * LEGEND_MARGIN, h + 2 * LEGEND_MARGIN))
 }
 
@@ -259,7 +276,7 @@ pub struct Note {
 }
 
 /// Writes an x–y chart of the series to `path` (PNG, 900×600).
-pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), String> {
+pub fn xy(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), OutputError> {
     xy_noted(path, chart, series, &[])
 }
 
@@ -270,14 +287,13 @@ pub fn xy_noted(
     chart: &Chart,
     series: &[Series],
     notes: &[Note],
-) -> Result<(), String> {
+) -> Result<(), OutputError> {
     crate::output::atomically(path, |tmp| draw(tmp, chart, series, notes))
 }
 
-fn draw(path: &Path, chart: &Chart, series: &[Series], notes: &[Note]) -> Result<(), String> {
-    let err = |e: &dyn std::fmt::Display| e.to_string();
+fn draw(path: &Path, chart: &Chart, series: &[Series], notes: &[Note]) -> Result<(), PlotError> {
     let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(&e))?;
+    root.fill(&WHITE).map_err(drawing)?;
     let all = || series.iter().flat_map(|s| s.points.iter());
     let (x0, x1) = range(all().map(|p| p.0), chart.x_scale);
     let (y0, y1) = range(all().map(|p| p.1), chart.y_scale);
@@ -302,7 +318,7 @@ fn draw(path: &Path, chart: &Chart, series: &[Series], notes: &[Note]) -> Result
                 .x_label_formatter(&|v| label(*v, chart.x_scale, x_decades))
                 .y_label_formatter(&|v| label(*v, chart.y_scale, y_decades))
                 .draw()
-                .map_err(|e| err(&e))?;
+                .map_err(drawing)?;
             for s in series {
                 let c = palette[s.colour % palette.len()];
                 let pts = s.drawn();
@@ -311,7 +327,7 @@ fn draw(path: &Path, chart: &Chart, series: &[Series], notes: &[Note]) -> Result
                     Style::Markers => {
                         let a = ctx
                             .draw_series(pts.map(|p| Circle::new(p, 4, c.filled())))
-                            .map_err(|e| err(&e))?;
+                            .map_err(drawing)?;
                         if named {
                             a.label(s.name.clone())
                                 .legend(move |(x, y)| Circle::new((x + 10, y), 4, c.filled()));
@@ -320,7 +336,7 @@ fn draw(path: &Path, chart: &Chart, series: &[Series], notes: &[Note]) -> Result
                     Style::Rings => {
                         let a = ctx
                             .draw_series(pts.map(|p| Circle::new(p, 8, c.stroke_width(2))))
-                            .map_err(|e| err(&e))?;
+                            .map_err(drawing)?;
                         if named {
                             a.label(s.name.clone()).legend(move |(x, y)| {
                                 Circle::new((x + 10, y), 7, c.stroke_width(2))
@@ -332,7 +348,7 @@ fn draw(path: &Path, chart: &Chart, series: &[Series], notes: &[Note]) -> Result
                         let pts: Vec<_> = pts.collect();
                         let a = ctx
                             .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(w)))
-                            .map_err(|e| err(&e))?;
+                            .map_err(drawing)?;
                         if named {
                             a.label(s.name.clone()).legend(move |(x, y)| {
                                 PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(w))
@@ -342,7 +358,7 @@ fn draw(path: &Path, chart: &Chart, series: &[Series], notes: &[Note]) -> Result
                             ctx.draw_series(
                                 pts.iter().map(|&p| TriangleMarker::new(p, 6, c.filled())),
                             )
-                            .map_err(|e| err(&e))?;
+                            .map_err(drawing)?;
                         }
                     }
                     Style::Faint => {
@@ -350,7 +366,7 @@ fn draw(path: &Path, chart: &Chart, series: &[Series], notes: &[Note]) -> Result
                         let pts: Vec<_> = pts.collect();
                         let a = ctx
                             .draw_series(LineSeries::new(pts.iter().copied(), grey.stroke_width(1)))
-                            .map_err(|e| err(&e))?;
+                            .map_err(drawing)?;
                         if named {
                             a.label(s.name.clone()).legend(move |(x, y)| {
                                 PathElement::new(vec![(x, y), (x + 20, y)], grey.stroke_width(1))
@@ -359,7 +375,7 @@ fn draw(path: &Path, chart: &Chart, series: &[Series], notes: &[Note]) -> Result
                         ctx.draw_series(
                             pts.iter().map(|&p| Cross::new(p, 3, grey.stroke_width(1))),
                         )
-                        .map_err(|e| err(&e))?;
+                        .map_err(drawing)?;
                     }
                 }
             }
@@ -375,7 +391,7 @@ fn draw(path: &Path, chart: &Chart, series: &[Series], notes: &[Note]) -> Result
                     top + 12,
                 ));
                 root.draw(&Text::new(n.text.clone(), (left, top), font.clone()))
-                    .map_err(|e| err(&e))?;
+                    .map_err(drawing)?;
             }
             // The legend goes where it hides the least of what was drawn (a fixed corner
             // covered the untextured line in Fig. 6).
@@ -396,24 +412,24 @@ fn draw(path: &Path, chart: &Chart, series: &[Series], notes: &[Note]) -> Result
                 .background_style(WHITE.mix(0.8))
                 .border_style(BLACK)
                 .draw()
-                .map_err(|e| err(&e))?;
+                .map_err(drawing)?;
         }};
     }
     match (chart.x_scale, chart.y_scale) {
         (Scale::Linear, Scale::Linear) => draw!(builder
             .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(|e| err(&e))?),
+            .map_err(drawing)?),
         (Scale::Log, Scale::Linear) => draw!(builder
             .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
-            .map_err(|e| err(&e))?),
+            .map_err(drawing)?),
         (Scale::Linear, Scale::Log) => draw!(builder
             .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
-            .map_err(|e| err(&e))?),
+            .map_err(drawing)?),
         (Scale::Log, Scale::Log) => draw!(builder
             .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-            .map_err(|e| err(&e))?),
+            .map_err(drawing)?),
     }
-    root.present().map_err(|e| err(&e))?;
+    root.present().map_err(drawing)?;
     Ok(())
 }
 

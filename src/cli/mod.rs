@@ -219,7 +219,7 @@ pub(super) fn directory_can_be_made(dir: &std::path::Path) -> Result<(), String>
     loop {
         if p.exists() {
             return if p.is_dir() {
-                crate::output::check_writable(&p.join(".texopt-probe"))
+                crate::output::check_writable(&p.join(".texopt-probe")).map_err(String::from)
             } else {
                 Err(format!("{} is not a directory", p.display()))
             };

@@ -330,7 +330,7 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
         Some(w) => {
             let (r, rec) =
                 crate::snapshot::run_recorded(&case, &num, &opts, w.request, Some(&mut observe))
-                    .map_err(CmdError::Other)?;
+                    .map_err(|e| CmdError::Other(e.into()))?;
             (r, Some(rec))
         }
         None => {
@@ -439,6 +439,7 @@ fn write_series(path: &std::path::Path, rows: &[SeriesRow], ms_per_t: f64) -> Re
         }
         Ok(())
     })
+    .map_err(String::from)
 }
 
 /// The operating point and the outcomes in physical units; a run outside the hydrodynamic

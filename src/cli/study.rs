@@ -117,7 +117,8 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
     }
     if report {
         keep_fuller_report(a, &study, &results)?;
-        let w = crate::study::report::write(&study, &results, &note).map_err(CmdError::Other)?;
+        let w = crate::study::report::write(&study, &results, &note)
+            .map_err(|e| CmdError::Other(e.into()))?;
         for l in &w.headline {
             println!("  {l}");
         }

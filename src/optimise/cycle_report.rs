@@ -523,6 +523,7 @@ fn force_plot(path: &Path, r: &CycleReport) -> Result<(), String> {
         },
         &series,
     )
+    .map_err(String::from)
 }
 
 /// The liner along the stroke: each zone's pocket depth over its span (0: plain), named with
@@ -562,6 +563,7 @@ fn liner_plot(path: &Path, r: &CycleReport) -> Result<(), String> {
         },
         &series,
     )
+    .map_err(String::from)
 }
 
 #[cfg(test)]

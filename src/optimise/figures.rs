@@ -38,7 +38,7 @@ fn span(v: &[f64], least: f64) -> (f64, f64) {
 /// The front plot: changes of f̄ and C_min against the plain liner (%), the confirmed front
 /// large and labelled with the tier's errors as bars, the searched designs faint behind.
 pub fn front(path: &Path, r: &Report) -> Result<(), String> {
-    crate::output::atomically(path, |tmp| draw_front(tmp, r))
+    crate::output::atomically(path, |tmp| draw_front(tmp, r)).map_err(String::from)
 }
 
 fn draw_front(path: &Path, r: &Report) -> Result<(), String> {
@@ -221,7 +221,7 @@ pub fn cells(path: &Path, r: &Report) -> Result<(), String> {
     if designs.is_empty() {
         return Ok(());
     }
-    crate::output::atomically(path, |tmp| draw_cells(tmp, r, &designs))
+    crate::output::atomically(path, |tmp| draw_cells(tmp, r, &designs)).map_err(String::from)
 }
 
 fn draw_cells(path: &Path, r: &Report, designs: &[(String, Texture)]) -> Result<(), String> {

@@ -515,6 +515,7 @@ fn plot_f_against_r(path: &Path, r: &RobustReport) -> Result<(), String> {
         },
         &series,
     )
+    .map_err(String::from)
 }
 
 #[cfg(test)]

@@ -10,32 +10,33 @@ use super::draw::{
     case_line, colour_bar, fields, map_panel, profile_axes, profile_panel, Area, MAP_KEY,
 };
 use super::write::Units;
-use super::{Context, Recording};
+use super::{drawing, Context, Recording, SnapshotError};
+use crate::plot::PlotError;
 
 /// Time each GIF frame shows (ms).
 const FRAME_DELAY_MS: u32 = 120;
 
 /// Writes the animation of `rec` to `path` (a .gif).
-pub fn animate(path: &Path, rec: &Recording, cx: &Context) -> Result<(), String> {
+pub fn animate(path: &Path, rec: &Recording, cx: &Context) -> Result<(), SnapshotError> {
     if rec.animation.is_empty() {
-        return Err("no animation frames were recorded".into());
+        return Err(SnapshotError::NoAnimation);
     }
     crate::output::atomically(path, |tmp| {
         let root = BitMapBackend::gif(tmp, (820, 580), FRAME_DELAY_MS)
-            .map_err(|e| e.to_string())?
+            .map_err(drawing)?
             .into_drawing_area();
         let [pressure, ..] = fields(rec, cx, &rec.animation);
         let axes = profile_axes(rec, cx, &rec.animation);
         let u = Units::of(cx);
         for f in &rec.animation {
-            root.fill(&WHITE).map_err(|e| e.to_string())?;
+            root.fill(&WHITE).map_err(drawing)?;
             let (title, rest) = root.split_vertically(40);
             title
                 .draw(&Text::new(case_line(cx), (10, 4), ("sans-serif", 16)))
-                .map_err(|e| e.to_string())?;
+                .map_err(drawing)?;
             title
                 .draw(&Text::new(MAP_KEY, (10, 23), ("sans-serif", 12)))
-                .map_err(|e| e.to_string())?;
+                .map_err(drawing)?;
             let (map, profile): (Area, Area) = rest.split_vertically(290);
             let (map, bar) = map.split_horizontally(730);
             let caption = format!(
@@ -54,8 +55,9 @@ pub fn animate(path: &Path, rec: &Recording, cx: &Context) -> Result<(), String>
                 axes,
                 "centre line: p (blue, MPa), h (red, µm)",
             )?;
-            root.present().map_err(|e| e.to_string())?;
+            root.present().map_err(drawing)?;
         }
-        Ok(())
-    })
+        Ok::<(), PlotError>(())
+    })?;
+    Ok(())
 }

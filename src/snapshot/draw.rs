@@ -8,13 +8,11 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::write::{shown_columns, Units};
-use super::{label, Context, Frame, Recording};
+use super::{drawing, label, Context, Frame, Recording};
+use crate::output::OutputError;
+use crate::plot::PlotError;
 
 pub(super) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
-
-fn err(e: impl std::fmt::Display) -> String {
-    e.to_string()
-}
 
 /// A field drawn as maps: its name, unit, values per node and colour range.
 pub(super) struct Field<'a> {
@@ -83,7 +81,11 @@ pub(super) fn fields<'a>(rec: &Recording, cx: &Context, frames: &[Frame]) -> [Fi
 }
 
 /// Every picture of the recording, written into `dir`.
-pub(super) fn pictures(dir: &Path, rec: &Recording, cx: &Context) -> Result<Vec<PathBuf>, String> {
+pub(super) fn pictures(
+    dir: &Path,
+    rec: &Recording,
+    cx: &Context,
+) -> Result<Vec<PathBuf>, OutputError> {
     let mut out = Vec::new();
     for (field, file) in fields(rec, cx, &rec.frames).iter().zip([
         "maps_pressure.png",
@@ -133,11 +135,11 @@ pub(super) fn maps_height(rows: usize) -> u32 {
     100 + 270 * rows as u32
 }
 
-fn maps(path: &Path, rec: &Recording, cx: &Context, field: &Field) -> Result<(), String> {
+fn maps(path: &Path, rec: &Recording, cx: &Context, field: &Field) -> Result<(), PlotError> {
     let (rows, cols) = maps_grid(rec.frames.len());
     let size = (MAPS_WIDTH, maps_height(rows));
     let root = BitMapBackend::new(path, size).into_drawing_area();
-    root.fill(&WHITE).map_err(err)?;
+    root.fill(&WHITE).map_err(drawing)?;
     let title = format!(
         "{} over the last period ({}), {}",
         field.name,
@@ -150,9 +152,9 @@ fn maps(path: &Path, rec: &Recording, cx: &Context, field: &Field) -> Result<(),
     );
     let (top, rest) = root.split_vertically(70);
     top.draw(&Text::new(title, (20, 10), ("sans-serif", 22)))
-        .map_err(err)?;
+        .map_err(drawing)?;
     top.draw(&Text::new(MAP_KEY, (20, 40), ("sans-serif", 15)))
-        .map_err(err)?;
+        .map_err(drawing)?;
     let (panels, bar) = rest.split_horizontally(1180);
     colour_bar(&bar.margin(20, 40, 10, 10), field)?;
     let u = Units::of(cx);
@@ -165,7 +167,7 @@ fn maps(path: &Path, rec: &Recording, cx: &Context, field: &Field) -> Result<(),
         let caption = format!("({}) t = {:.4} ms", label(k), f.t * u.ms);
         map_panel(area, rec, cx, f, field, &caption)?;
     }
-    root.present().map_err(err)
+    root.present().map_err(drawing)
 }
 
 /// What the marks on a map are, under its title.
@@ -181,7 +183,7 @@ pub(super) fn map_panel(
     f: &Frame,
     field: &Field,
     caption: &str,
-) -> Result<(), String> {
+) -> Result<(), PlotError> {
     let (g, u) = (&rec.grid, Units::of(cx));
     let cols = shown_columns(rec, cx);
     let mm = u.mm_per_cm;
@@ -193,7 +195,7 @@ pub(super) fn map_panel(
         .x_label_area_size(32)
         .y_label_area_size(48)
         .build_cartesian_2d(x0..x1, 0.0..top)
-        .map_err(err)?;
+        .map_err(drawing)?;
     chart
         .configure_mesh()
         .disable_mesh()
@@ -203,7 +205,7 @@ pub(super) fn map_panel(
         .y_labels(4)
         .label_style(("sans-serif", 12))
         .draw()
-        .map_err(err)?;
+        .map_err(drawing)?;
     let (lo, hi) = field.range;
     let cells = cols.clone().flat_map(|i| (0..g.n2).map(move |j| (i, j)));
     let rect = |i: usize, j: usize| {
@@ -221,7 +223,7 @@ pub(super) fn map_panel(
     };
     chart
         .draw_series(cells.flat_map(|(i, j)| rect(i, j)))
-        .map_err(err)?;
+        .map_err(drawing)?;
     let (a, b) = cx.case.contact().ring_edges();
     for x in [a * mm, b * mm] {
         chart
@@ -231,12 +233,12 @@ pub(super) fn map_panel(
                 4,
                 WHITE.stroke_width(2),
             ))
-            .map_err(err)?;
+            .map_err(drawing)?;
     }
     for outline in pocket_outlines(cx, f, (x0, x1), mm) {
         chart
             .draw_series(LineSeries::new(outline, WHITE.stroke_width(1)))
-            .map_err(err)?;
+            .map_err(drawing)?;
     }
     Ok(())
 }
@@ -272,13 +274,13 @@ fn pocket_outlines(cx: &Context, f: &Frame, shown: (f64, f64), mm: f64) -> Vec<V
 }
 
 /// A vertical colour bar for `field`'s range with five labelled ticks.
-pub(super) fn colour_bar(area: &Area, field: &Field) -> Result<(), String> {
+pub(super) fn colour_bar(area: &Area, field: &Field) -> Result<(), PlotError> {
     let (lo, hi) = field.range;
     let mut chart = ChartBuilder::on(area)
         .y_label_area_size(0)
         .right_y_label_area_size(55)
         .build_cartesian_2d(0.0..1.0, lo..hi)
-        .map_err(err)?
+        .map_err(drawing)?
         .set_secondary_coord(0.0..1.0, lo..hi);
     chart
         .configure_mesh()
@@ -286,14 +288,14 @@ pub(super) fn colour_bar(area: &Area, field: &Field) -> Result<(), String> {
         .disable_x_axis()
         .disable_y_axis()
         .draw()
-        .map_err(err)?;
+        .map_err(drawing)?;
     chart
         .configure_secondary_axes()
         .y_desc(field.unit)
         .y_labels(6)
         .label_style(("sans-serif", 13))
         .draw()
-        .map_err(err)?;
+        .map_err(drawing)?;
     let n = 120;
     chart
         .draw_series((0..n).map(|s| {
@@ -304,7 +306,7 @@ pub(super) fn colour_bar(area: &Area, field: &Field) -> Result<(), String> {
             let c = ViridisRGB.get_color_normalized(0.5 * (ya + yb), lo, hi);
             Rectangle::new([(0.0, ya), (1.0, yb)], c.filled())
         }))
-        .map_err(err)?;
+        .map_err(drawing)?;
     Ok(())
 }
 
@@ -353,7 +355,7 @@ pub(super) fn profile_panel(
     f: &Frame,
     axes: ((f64, f64), f64, f64),
     caption: &str,
-) -> Result<(), String> {
+) -> Result<(), PlotError> {
     let ((x0, x1), p_max, h_max) = axes;
     let mut chart = ChartBuilder::on(area)
         .caption(caption, ("sans-serif", 16))
@@ -362,7 +364,7 @@ pub(super) fn profile_panel(
         .y_label_area_size(52)
         .right_y_label_area_size(46)
         .build_cartesian_2d(x0..x1, 0.0..p_max)
-        .map_err(err)?
+        .map_err(drawing)?
         .set_secondary_coord(x0..x1, 0.0..h_max);
     chart
         .configure_mesh()
@@ -372,34 +374,34 @@ pub(super) fn profile_panel(
         .y_labels(5)
         .label_style(("sans-serif", 12))
         .draw()
-        .map_err(err)?;
+        .map_err(drawing)?;
     chart
         .configure_secondary_axes()
         .y_desc("h (µm), red")
         .y_labels(5)
         .label_style(("sans-serif", 12))
         .draw()
-        .map_err(err)?;
+        .map_err(drawing)?;
     let prof = centre_profile(rec, cx, f);
     chart
         .draw_series(LineSeries::new(
             prof.iter().map(|q| (q.0, q.1)),
             BLUE.stroke_width(2),
         ))
-        .map_err(err)?;
+        .map_err(drawing)?;
     chart
         .draw_secondary_series(LineSeries::new(
             prof.iter().map(|q| (q.0, q.2)),
             RED.stroke_width(2),
         ))
-        .map_err(err)?;
+        .map_err(drawing)?;
     Ok(())
 }
 
-fn profiles(path: &Path, rec: &Recording, cx: &Context) -> Result<(), String> {
+fn profiles(path: &Path, rec: &Recording, cx: &Context) -> Result<(), PlotError> {
     let (rows, cols) = maps_grid(rec.frames.len());
     let root = BitMapBackend::new(path, (MAPS_WIDTH, 90 + 250 * rows as u32)).into_drawing_area();
-    root.fill(&WHITE).map_err(err)?;
+    root.fill(&WHITE).map_err(drawing)?;
     let g = &rec.grid;
     let title = format!(
         "p (blue) and h (red) along x1 through the pocket centres ({:.3} mm off), {}",
@@ -407,7 +409,7 @@ fn profiles(path: &Path, rec: &Recording, cx: &Context) -> Result<(), String> {
         case_line(cx)
     );
     let (top, rest) = root.split_vertically(60);
-    top.titled(&title, ("sans-serif", 17)).map_err(err)?;
+    top.titled(&title, ("sans-serif", 17)).map_err(drawing)?;
     let axes = profile_axes(rec, cx, &rec.frames);
     let u = Units::of(cx);
     for (k, (area, f)) in rest
@@ -419,12 +421,12 @@ fn profiles(path: &Path, rec: &Recording, cx: &Context) -> Result<(), String> {
         let caption = format!("({}) t = {:.4} ms, Z = {:.3} µm", label(k), f.t * u.ms, f.z);
         profile_panel(area, rec, cx, f, axes, &caption)?;
     }
-    root.present().map_err(err)
+    root.present().map_err(drawing)
 }
 
-fn history(path: &Path, rec: &Recording, cx: &Context) -> Result<(), String> {
+fn history(path: &Path, rec: &Recording, cx: &Context) -> Result<(), PlotError> {
     let root = BitMapBackend::new(path, (1000, 760)).into_drawing_area();
-    root.fill(&WHITE).map_err(err)?;
+    root.fill(&WHITE).map_err(drawing)?;
     let (top, rest) = root.split_vertically(50);
     top.titled(
         &format!(
@@ -434,7 +436,7 @@ fn history(path: &Path, rec: &Recording, cx: &Context) -> Result<(), String> {
         ),
         ("sans-serif", 18),
     )
-    .map_err(err)?;
+    .map_err(drawing)?;
     let u = Units::of(cx);
     let (z_area, f_area) = rest.split_vertically(355);
     let t: Vec<f64> = rec.history.iter().map(|r| r.t * u.ms).collect();
@@ -451,11 +453,17 @@ fn history(path: &Path, rec: &Recording, cx: &Context) -> Result<(), String> {
         &marks(|f| f.f),
         "friction coefficient f (eq. 11)",
     )?;
-    root.present().map_err(err)
+    root.present().map_err(drawing)
 }
 
 /// A curve against t (ms) with the frames' instants marked and lettered.
-fn curve(area: &Area, t: &[f64], v: &[f64], marks: &[(f64, f64)], y: &str) -> Result<(), String> {
+fn curve(
+    area: &Area,
+    t: &[f64],
+    v: &[f64],
+    marks: &[(f64, f64)],
+    y: &str,
+) -> Result<(), PlotError> {
     let (lo, hi) = v
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
@@ -468,26 +476,26 @@ fn curve(area: &Area, t: &[f64], v: &[f64], marks: &[(f64, f64)], y: &str) -> Re
         .x_label_area_size(40)
         .y_label_area_size(70)
         .build_cartesian_2d(t0..t1, (lo - pad)..(hi + pad))
-        .map_err(err)?;
+        .map_err(drawing)?;
     chart
         .configure_mesh()
         .x_desc("t (ms)")
         .y_desc(y)
         .label_style(("sans-serif", 13))
         .draw()
-        .map_err(err)?;
+        .map_err(drawing)?;
     chart
         .draw_series(LineSeries::new(
             t.iter().copied().zip(v.iter().copied()),
             BLUE.stroke_width(2),
         ))
-        .map_err(err)?;
+        .map_err(drawing)?;
     chart
         .draw_series(marks.iter().enumerate().map(|(k, &p)| {
             EmptyElement::at(p)
                 + Circle::new((0, 0), 5, RED.filled())
                 + Text::new(label(k), (-4, -22), ("sans-serif", 16))
         }))
-        .map_err(err)?;
+        .map_err(drawing)?;
     Ok(())
 }

@@ -12,14 +12,16 @@ mod draw;
 mod write;
 
 use std::collections::VecDeque;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::mesh::Grid;
 use crate::model::case::CaseSpec;
 use crate::model::operating::Scales;
+use crate::output::OutputError;
+use crate::plot::PlotError;
 use crate::time::{
     simulate_with, steps_per_period, texture_period, Numerics, Progress, RunOptions, RunResult,
-    SeriesRow, Transient, Watch,
+    SeriesRow, SolveError, Transient, Watch,
 };
 
 pub use animate::animate;
@@ -165,16 +167,15 @@ impl Recorder {
     }
 
     /// The last period recorded; an error if the run took less than a period on its mesh.
-    pub fn finish(self, dt: f64) -> Result<Recording, String> {
-        let grid = self.grid.ok_or("the run took no step to record")?;
+    pub fn finish(self, dt: f64) -> Result<Recording, SnapshotError> {
+        let grid = self.grid.ok_or(SnapshotError::NoStep)?;
         let collect = |v: Vec<Option<Frame>>| -> Option<Vec<Frame>> {
             let mut f: Vec<Frame> = v.into_iter().collect::<Option<_>>()?;
             f.sort_by(|a, b| a.t.total_cmp(&b.t));
             Some(f)
         };
-        let incomplete = "the run took less than a texture period on its own mesh";
-        let frames = collect(self.frames).ok_or(incomplete)?;
-        let animation = collect(self.animation).ok_or(incomplete)?;
+        let frames = collect(self.frames).ok_or(SnapshotError::Incomplete)?;
+        let animation = collect(self.animation).ok_or(SnapshotError::Incomplete)?;
         let history: Vec<SeriesRow> = self.history.into();
         let t_end = history.last().map_or(0.0, |r| r.t);
         Ok(Recording {
@@ -327,7 +328,7 @@ pub fn run_recorded(
     opts: &RunOptions,
     request: Request,
     mut on_window: Option<&mut dyn FnMut(&Progress)>,
-) -> Result<(RunResult, Recording), String> {
+) -> Result<(RunResult, Recording), SnapshotError> {
     let mut recorder = Recorder::new(request);
     let mut on_step = |t: &Transient| recorder.observe(t);
     let mut progress = |p: &Progress| {
@@ -343,7 +344,7 @@ pub fn run_recorded(
         transient: true,
         ..opts.clone()
     };
-    let result = simulate_with(case, num, &opts, &mut watch).map_err(|e| e.to_string())?;
+    let result = simulate_with(case, num, &opts, &mut watch)?;
     let recording = recorder.finish(result.outcome.dt)?;
     Ok((result, recording))
 }
@@ -369,25 +370,64 @@ impl<'a> Context<'a> {
 
 /// The directory for the snapshot files: created if missing, and a file must be creatable in
 /// it, checked before any simulation so that a long run does not end unable to write.
-pub fn prepare_dir(dir: &Path) -> Result<(), String> {
+pub fn prepare_dir(dir: &Path) -> Result<(), SnapshotError> {
     if dir.exists() && !dir.is_dir() {
-        return Err(format!("{} exists and is not a directory", dir.display()));
+        return Err(SnapshotError::NotADirectory(dir.to_path_buf()));
     }
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    crate::output::check_writable(&dir.join("snapshots.json"))
+    std::fs::create_dir_all(dir).map_err(|source| SnapshotError::CreateDir {
+        dir: dir.to_path_buf(),
+        source,
+    })?;
+    Ok(crate::output::check_writable(&dir.join("snapshots.json"))?)
 }
 
 /// Whether `path` can take the animation (its directory exists and is writable, the name
 /// ends in .gif).
-pub fn check_gif_path(path: &Path) -> Result<(), String> {
+pub fn check_gif_path(path: &Path) -> Result<(), SnapshotError> {
     let gif = path
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("gif"));
     if !gif {
-        return Err("the animation is a GIF: give a file name ending in .gif".into());
+        return Err(SnapshotError::NotGif);
     }
-    crate::output::check_writable(path)
+    Ok(crate::output::check_writable(path)?)
+}
+
+/// Why snapshots were not recorded or written.
+#[derive(Debug, thiserror::Error)]
+pub enum SnapshotError {
+    #[error("the run took no step to record")]
+    NoStep,
+    #[error("the run took less than a texture period on its own mesh")]
+    Incomplete,
+    #[error("no animation frames were recorded")]
+    NoAnimation,
+    #[error(transparent)]
+    Run(#[from] SolveError),
+    #[error("{} exists and is not a directory", .0.display())]
+    NotADirectory(PathBuf),
+    #[error("cannot create {}: {source}", dir.display())]
+    CreateDir {
+        dir: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("the animation is a GIF: give a file name ending in .gif")]
+    NotGif,
+    #[error(transparent)]
+    Output(#[from] OutputError),
+}
+
+/// For callers whose errors are still text.
+impl From<SnapshotError> for String {
+    fn from(e: SnapshotError) -> String {
+        e.to_string()
+    }
+}
+
+/// plotters' error in a picture.
+fn drawing(e: impl std::error::Error + Send + Sync + 'static) -> PlotError {
+    crate::plot::drawing(e)
 }
 
 #[cfg(test)]

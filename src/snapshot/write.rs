@@ -3,7 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{draw, label, Context, Recording};
+use super::{draw, label, Context, Recording, SnapshotError};
+use crate::output::OutputError;
 
 /// Units of the files: x1, x2 in mm, p in MPa, h and Z in µm, t in ms, W_h in N/m.
 pub(super) struct Units {
@@ -42,7 +43,11 @@ pub struct SnapshotFiles {
 }
 
 /// Writes every snapshot file of `rec` into `dir` (which [`super::prepare_dir`] checked).
-pub fn write_all(dir: &Path, rec: &Recording, cx: &Context) -> Result<SnapshotFiles, String> {
+pub fn write_all(
+    dir: &Path,
+    rec: &Recording,
+    cx: &Context,
+) -> Result<SnapshotFiles, SnapshotError> {
     let u = Units::of(cx);
     let mut files = Vec::new();
     for (k, f) in rec.frames.iter().enumerate() {
@@ -69,7 +74,7 @@ fn frame_csv(
     cx: &Context,
     u: &Units,
     f: &super::Frame,
-) -> Result<(), String> {
+) -> Result<(), OutputError> {
     let g = &rec.grid;
     crate::output::write_with(path, |w| {
         writeln!(w, "x1_mm,x2_mm,under_ring,p_mpa,theta,h_um")?;
@@ -92,7 +97,7 @@ fn frame_csv(
     })
 }
 
-fn history_csv(path: &Path, rec: &Recording, u: &Units) -> Result<(), String> {
+fn history_csv(path: &Path, rec: &Recording, u: &Units) -> Result<(), OutputError> {
     let frame_at = |t: f64| rec.frames.iter().position(|f| f.t == t);
     crate::output::write_with(path, |w| {
         writeln!(w, "t_ms,z_um,f,w_h_n_per_m,frame")?;

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use crate::model::case::CaseSpec;
 use crate::model::operating::Validity;
 use crate::model::units::stribeck;
+use crate::output::OutputError;
 use crate::plot::{self, Chart, Scale, Series, Style};
 
 /// One textured case of the study: its friction over the plain liner's, and whether it is
@@ -41,7 +42,7 @@ pub(super) fn figures(
     name: &str,
     points: &[Point],
     validity: &Validity,
-) -> Result<Vec<PathBuf>, String> {
+) -> Result<Vec<PathBuf>, OutputError> {
     let pts: Vec<&Point> = points.iter().filter(|p| p.case.texture.is_some()).collect();
     let distinct = |f: &dyn Fn(&CaseSpec) -> f64| {
         let mut v: Vec<f64> = pts.iter().map(|p| f(p.case)).collect();
@@ -114,7 +115,7 @@ fn draw(
     pts: &[&Point],
     x: &dyn Fn(&CaseSpec) -> f64,
     validity: &Validity,
-) -> Result<(), String> {
+) -> Result<(), OutputError> {
     let mut curves: BTreeMap<(u64, String), Vec<(f64, f64)>> = BTreeMap::new();
     let mut outside = Vec::new();
     for p in pts {

@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::model::case::{CaseSpec, Texture};
+use crate::output::OutputError;
 use crate::plot::{self, Chart, Note, Scale, Series, Style};
 use crate::study::file::{Job, Study};
 use crate::study::operating_figures::{figures, Point};
@@ -72,15 +73,36 @@ pub struct ReportFiles {
     pub headline: Vec<String>,
 }
 
+/// Why a study's report was not written.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    #[error("cannot create the report directory {}: {source}", dir.display())]
+    CreateDir {
+        dir: PathBuf,
+        source: std::io::Error,
+    },
+    #[error(transparent)]
+    Output(#[from] OutputError),
+}
+
+/// For callers whose errors are still text.
+impl From<ReportError> for String {
+    fn from(e: ReportError) -> String {
+        e.to_string()
+    }
+}
+
 /// Writes the report of a finished study into `study.report.dir`.
 pub fn write(
     study: &Study,
     results: &[CaseResult],
     wall_note: &str,
-) -> Result<ReportFiles, String> {
+) -> Result<ReportFiles, ReportError> {
     let dir = Path::new(&study.report.dir);
-    std::fs::create_dir_all(dir)
-        .map_err(|e| format!("cannot create the report directory {}: {e}", dir.display()))?;
+    std::fs::create_dir_all(dir).map_err(|source| ReportError::CreateDir {
+        dir: dir.to_path_buf(),
+        source,
+    })?;
     let mut plain: BTreeMap<String, &Outcome> = BTreeMap::new();
     for (j, r) in study.jobs.iter().zip(results) {
         if let (None, Some(Ok(o))) = (&j.case.texture, r) {
@@ -325,13 +347,12 @@ pub fn in_place(study: &Study) -> Option<InPlace> {
     })
 }
 
-fn write_csv(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {
+fn write_csv(path: &Path, study: &Study, rows: &[Row]) -> Result<(), OutputError> {
     crate::output::atomically(path, |tmp| csv_rows(tmp, study, rows))
 }
 
-fn csv_rows(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {
-    let err = |e: &dyn std::fmt::Display| e.to_string();
-    let mut w = csv::Writer::from_path(path).map_err(|e| err(&e))?;
+fn csv_rows(path: &Path, study: &Study, rows: &[Row]) -> Result<(), csv::Error> {
+    let mut w = csv::Writer::from_path(path)?;
     w.write_record([
         "R",
         "textured",
@@ -373,8 +394,7 @@ fn csv_rows(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {
         "friction_n_m",
         "power_w_m",
         "outside_model",
-    ])
-    .map_err(|e| err(&e))?;
+    ])?;
     let num = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v}"));
     for r in rows {
         let c = &r.job.case;
@@ -435,10 +455,9 @@ fn csv_rows(path: &Path, study: &Study, rows: &[Row]) -> Result<(), String> {
             num(o.map(|_| p.friction_n_per_m)),
             num(o.map(|_| p.power_w_per_m)),
             r.outside.clone().unwrap_or_default(),
-        ])
-        .map_err(|e| err(&e))?;
+        ])?;
     }
-    w.flush().map_err(|e| err(&e))
+    Ok(w.flush()?)
 }
 
 /// Per R: the textured rows' values and the plain liner's, for one operating point.
@@ -494,7 +513,7 @@ fn family(rows: &[&Row], value: &dyn Fn(&Outcome) -> f64) -> Family {
     }
 }
 
-fn fig6(path: &Path, rows: &[&Row], friction: bool, theta_s: f64) -> Result<(), String> {
+fn fig6(path: &Path, rows: &[&Row], friction: bool, theta_s: f64) -> Result<(), OutputError> {
     let fam = family(rows, &|o: &Outcome| {
         if friction {
             o.f_mean
@@ -595,7 +614,7 @@ fn envelope_notes(rows: &[&Row], env: &[(f64, f64)], friction: bool) -> Vec<Note
         .collect()
 }
 
-fn fig11(path: &Path, rows: &[Row], thetas: &[f64]) -> Result<(), String> {
+fn fig11(path: &Path, rows: &[Row], thetas: &[f64]) -> Result<(), OutputError> {
     let mut fams = Vec::new();
     for &th in thetas {
         let sel: Vec<&Row> = rows.iter().filter(|r| r.job.case.theta_s == th).collect();
