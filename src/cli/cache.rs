@@ -9,7 +9,7 @@ pub(super) fn run(a: &CacheArgs) -> Result<i32, CmdError> {
     }
     // Inspecting or clearing must not create, initialise or convert a file: a mistyped path
     // would otherwise show an empty cache as if it were the one meant.
-    let path = path_from(a.cache.as_deref()).map_err(CmdError::Input)?;
+    let path = path_from(a.cache.as_deref()).map_err(|e| CmdError::Input(e.to_string()))?;
     if !path.exists() {
         return Err(CmdError::Input(format!(
             "no cache at {}: nothing has been evaluated there yet (`texopt study` and `texopt optimise` create it); check --cache or $TEXOPT_CACHE",
@@ -142,8 +142,8 @@ fn drop_new_cache(path: &std::path::Path) {
 
 /// `texopt cache merge A B … --into C`.
 fn merge(sources: &[std::path::PathBuf], into: &std::path::Path) -> Result<i32, CmdError> {
-    let into =
-        path_from(Some(into)).map_err(|e| CmdError::Input(e.replace("--cache", "--into")))?;
+    let into = path_from(Some(into))
+        .map_err(|e| CmdError::Input(e.to_string().replace("--cache", "--into")))?;
     for s in sources {
         if !s.is_file() {
             return Err(CmdError::Input(format!(

@@ -196,7 +196,7 @@ impl OperatingArgs {
 
 /// The cache a command stores results in (created if missing, refused if not writable).
 pub(super) fn open_cache(flag: Option<&std::path::Path>) -> Result<Cache, CmdError> {
-    let path = path_from(flag).map_err(CmdError::Input)?;
+    let path = path_from(flag).map_err(|e| CmdError::Input(e.to_string()))?;
     Cache::open(&path).map_err(cache_error)
 }
 

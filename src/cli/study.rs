@@ -132,7 +132,7 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
 /// The cache a report-only run reads: it must exist, and is opened read-only (a mistyped
 /// path must not become an empty cache whose report replaces the real one).
 fn read_cache(flag: Option<&std::path::Path>) -> Result<crate::study::cache::Cache, CmdError> {
-    let path = crate::study::cache::path_from(flag).map_err(CmdError::Input)?;
+    let path = crate::study::cache::path_from(flag).map_err(|e| CmdError::Input(e.to_string()))?;
     if !path.is_file() {
         return Err(CmdError::Input(format!(
             "--cached-only reads a cache, and there is none at {}; give the cache the study ran into with --cache FILE (or $TEXOPT_CACHE)",

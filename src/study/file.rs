@@ -25,7 +25,8 @@ use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use crate::model::case::{short, CaseSpec, InputError, Texture, Waiver};
+pub use super::file_error::{Problem, TextureProblem, ValueProblem};
+use crate::model::case::{CaseSpec, InputError, Texture, Waiver};
 use crate::model::operating::{Operating, Scales, Validity, RANGES};
 use crate::solve::Method;
 use crate::time::{Fidelity, Numerics};
@@ -68,12 +69,12 @@ const SCALED: [&str; 3] = ["u", "w_ps", "mass"];
 
 const TEXTURE: [&str; 6] = ["l1", "l2", "per", "width", "depth", "phase"];
 
-/// A study file is wrong: where and how to fix it.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{file}: {message}")]
+/// A study file is wrong: which file, and what is wrong in it.
+#[derive(Debug, thiserror::Error)]
+#[error("{file}: {problem}")]
 pub struct StudyError {
     pub file: String,
-    pub message: String,
+    pub problem: Problem,
 }
 
 #[derive(Deserialize)]
@@ -208,30 +209,29 @@ pub fn load(path: &Path) -> Result<Study, StudyError> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| StudyError {
         file: file.clone(),
-        message: format!("cannot read the study file: {e}"),
+        problem: Problem::Read(e),
     })?;
     parse(&text, &file)
 }
 
 /// Parses and expands study text (`file` names it in errors).
 pub fn parse(text: &str, file: &str) -> Result<Study, StudyError> {
-    let err = |message: String| StudyError {
+    let err = |problem: Problem| StudyError {
         file: file.to_string(),
-        message,
+        problem,
     };
     // toml's message spans several lines (a source excerpt); kept on one.
-    let raw: FileToml =
-        toml::from_str(text).map_err(|e| err(crate::model::case::one_line(&e.to_string())))?;
+    let raw: FileToml = toml::from_str(text)
+        .map_err(|e| err(Problem::Toml(crate::model::case::one_line(&e.to_string()))))?;
     check_header(&raw).map_err(&err)?;
     let validity = validity(&raw).map_err(&err)?;
     let (values, textures) = parameter_values(&raw.parameters).map_err(&err)?;
     let (jobs, skipped) = expand_cases(&raw, &values, &textures).map_err(&err)?;
     if jobs.is_empty() {
-        return Err(err(format!(
-            "no valid case: all {} combinations break a rule ({}); widen the ranges",
-            skipped.values().sum::<usize>(),
-            skipped.keys().cloned().collect::<Vec<_>>().join("; ")
-        )));
+        return Err(err(Problem::NoValidCase {
+            combinations: skipped.values().sum::<usize>(),
+            rules: skipped.keys().cloned().collect(),
+        }));
     }
     let dir = match raw.report.dir.as_str() {
         "" => format!("results/{}", raw.study.name),
@@ -249,14 +249,11 @@ pub fn parse(text: &str, file: &str) -> Result<Study, StudyError> {
 }
 
 /// The `[study]` roughness, checked.
-fn validity(raw: &FileToml) -> Result<Validity, String> {
+fn validity(raw: &FileToml) -> Result<Validity, Problem> {
     let mut v = Validity::default();
     if let Some(r) = raw.study.roughness {
         if !(r.is_finite() && r > 0.0 && r <= 10.0) {
-            return Err(format!(
-                "[study] roughness = {}: give the composite RMS roughness in (0, 10] µm",
-                short(r)
-            ));
+            return Err(Problem::Roughness(r));
         }
         v.roughness_um = r;
     }
@@ -264,7 +261,7 @@ fn validity(raw: &FileToml) -> Result<Validity, String> {
 }
 
 /// The `[study]` name and the `[report]` classes.
-fn check_header(raw: &FileToml) -> Result<(), String> {
+fn check_header(raw: &FileToml) -> Result<(), Problem> {
     if raw.study.name.trim().is_empty()
         || !raw
             .study
@@ -272,24 +269,17 @@ fn check_header(raw: &FileToml) -> Result<(), String> {
             .chars()
             .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
     {
-        return Err(format!(
-            "[study] name = {:?}: use letters, digits, '-' or '_' (it names the output files)",
-            raw.study.name
-        ));
+        return Err(Problem::Name(raw.study.name.clone()));
     }
     if !(1..=MAX_CASES_CEILING).contains(&raw.study.max_cases) {
-        return Err(format!(
-            "[study] max_cases = {}: must be a whole number from 1 to {MAX_CASES_CEILING}; split a larger study into several files",
-            raw.study.max_cases
-        ));
+        return Err(Problem::MaxCases(raw.study.max_cases));
     }
     let r = &raw.report;
     if !(r.small_r_max.is_finite() && r.large_r_min.is_finite() && r.small_r_max < r.large_r_min) {
-        return Err(format!(
-            "[report] small_r_max = {} must be below large_r_min = {}",
-            short(r.small_r_max),
-            short(r.large_r_min)
-        ));
+        return Err(Problem::ReportClasses {
+            small_r_max: r.small_r_max,
+            large_r_min: r.large_r_min,
+        });
     }
     // The table is a file of the report directory: a plain name, never a path out of it.
     if let Some(t) = &r.table {
@@ -297,9 +287,7 @@ fn check_header(raw: &FileToml) -> Result<(), String> {
             .file_name()
             .is_some_and(|n| n == t.as_str());
         if t.trim().is_empty() || !plain || t == "." || t == ".." {
-            return Err(format!(
-                "[report] table = {t:?}: give a file name such as \"table1.md\" (it is written in the report directory)"
-            ));
+            return Err(Problem::Table(t.clone()));
         }
     }
     Ok(())
@@ -310,16 +298,12 @@ fn check_header(raw: &FileToml) -> Result<(), String> {
 /// `texture` axis holds their indices).
 type Parameters = (BTreeMap<String, Values>, Vec<Texture>);
 
-fn parameter_values(parameters: &toml::Table) -> Result<Parameters, String> {
+fn parameter_values(parameters: &toml::Table) -> Result<Parameters, Problem> {
     let mut values: BTreeMap<String, Values> = BTreeMap::new();
     let mut textures = Vec::new();
     for (key, v) in parameters {
         if !PARAMETERS.iter().any(|(n, _)| n == key) {
-            let names: Vec<_> = PARAMETERS.iter().map(|(n, _)| *n).collect();
-            return Err(format!(
-                "[parameters] unknown parameter {key:?}; known: {}",
-                names.join(", ")
-            ));
+            return Err(Problem::UnknownParameter(key.clone()));
         }
         if key == "texture" {
             textures = texture_list(v)?;
@@ -331,16 +315,12 @@ fn parameter_values(parameters: &toml::Table) -> Result<Parameters, String> {
     }
     exclusive(&values)?;
     if !values.contains_key("R") {
-        return Err(
-            "[parameters] R is missing: give the ring radius (cm) or a list of radii".into(),
-        );
+        return Err(Problem::MissingR);
     }
     if TEXTURE.iter().any(|k| values.contains_key(*k)) && !values.contains_key("texture") {
         for k in ["l1", "per", "depth"] {
             if !values.contains_key(k) {
-                return Err(format!(
-                    "[parameters] {k} is missing: a textured study needs l1, per and depth (l2 defaults to l1, width to per)"
-                ));
+                return Err(Problem::MissingTexture(k));
             }
         }
         values
@@ -354,14 +334,16 @@ fn parameter_values(parameters: &toml::Table) -> Result<Parameters, String> {
         if let Values::Tie(other) = v {
             match values.get(other) {
                 None => {
-                    return Err(format!(
-                        "[parameters] {k} = {other:?}: {other} is not given; tie to a parameter that has values"
-                    ))
+                    return Err(Problem::TieToNothing {
+                        key: k.clone(),
+                        other: other.clone(),
+                    })
                 }
                 Some(Values::Tie(_)) => {
-                    return Err(format!(
-                        "[parameters] {k} = {other:?}: {other} is itself a tie; tie to a parameter with values"
-                    ))
+                    return Err(Problem::TieToTie {
+                        key: k.clone(),
+                        other: other.clone(),
+                    })
                 }
                 Some(Values::List(_)) => {}
             }
@@ -372,29 +354,26 @@ fn parameter_values(parameters: &toml::Table) -> Result<Parameters, String> {
 
 /// Keys that cannot go together: chosen textures and a texture grid; scaled and physical
 /// operating parameters. Physical values outside their ranges are refused (a unit slip).
-fn exclusive(values: &BTreeMap<String, Values>) -> Result<(), String> {
+fn exclusive(values: &BTreeMap<String, Values>) -> Result<(), Problem> {
     let has = |k: &&&str| values.contains_key(**k);
     if values.contains_key("texture") {
         if let Some(k) = TEXTURE.iter().find(has) {
-            return Err(format!(
-                "[parameters] texture and {k}: give the textures either as a list (texture) or as a grid (l1, per, depth, …), not both"
-            ));
+            return Err(Problem::ListAndGrid(k));
         }
     }
     if let (Some(a), Some(b)) = (SCALED.iter().find(has), PHYSICAL.iter().find(has)) {
-        return Err(format!(
-            "[parameters] {a} and {b}: give the operating point either in scaled units (u, w_ps, mass) or in physical units (speed, load, viscosity, ring_width, ring_mass), not both"
-        ));
+        return Err(Problem::ScaledAndPhysical(a, b));
     }
     for (name, unit, lo, hi) in RANGES {
         if let Some(Values::List(v)) = values.get(name) {
             if let Some(x) = v.iter().find(|x| !(**x > 0.0 && (lo..=hi).contains(*x))) {
-                return Err(format!(
-                    "[parameters] {name} = {}: must lie in [{}, {}] {unit}; check the unit",
-                    short(*x),
-                    short(lo),
-                    short(hi)
-                ));
+                return Err(Problem::OutOfRange {
+                    name,
+                    value: *x,
+                    unit,
+                    lo,
+                    hi,
+                });
             }
         }
     }
@@ -402,29 +381,29 @@ fn exclusive(values: &BTreeMap<String, Values>) -> Result<(), String> {
 }
 
 /// `texture = [{ l1, per, depth [, l2, width, phase] }, …]`.
-fn texture_list(v: &toml::Value) -> Result<Vec<Texture>, String> {
-    let err = |m: String| format!("[parameters] texture: {m}");
+fn texture_list(v: &toml::Value) -> Result<Vec<Texture>, Problem> {
+    let err = Problem::Texture;
     let Some(list) = v.as_array().filter(|a| !a.is_empty()) else {
-        return Err(err(
-            "give a non-empty list of { l1, per, depth } tables".into()
-        ));
+        return Err(err(TextureProblem::Empty));
     };
     let mut out = Vec::new();
     for (i, item) in list.iter().enumerate() {
         let Some(t) = item.as_table() else {
-            return Err(err(format!(
-                "item {} is not a table {{ l1, per, depth }}",
-                i + 1
-            )));
+            return Err(err(TextureProblem::NotATable { item: i + 1 }));
         };
         if let Some(k) = t.keys().find(|k| !TEXTURE.contains(&k.as_str())) {
-            return Err(err(format!(
-                "item {}: unknown key {k:?}; a texture has l1, l2, per, width, depth, phase",
-                i + 1
-            )));
+            return Err(err(TextureProblem::UnknownKey {
+                item: i + 1,
+                key: k.clone(),
+            }));
         }
         let get = |k: &str| t.get(k).map(|x| number(k, x)).transpose();
-        let need = |k: &str| get(k)?.ok_or_else(|| err(format!("item {} needs {k}", i + 1)));
+        let need = |k: &'static str| {
+            get(k)?.ok_or(err(TextureProblem::Needs {
+                item: i + 1,
+                key: k,
+            }))
+        };
         let (l1, per) = (need("l1")?, need("per")?);
         out.push(Texture {
             l1,
@@ -445,7 +424,7 @@ fn expand_cases(
     raw: &FileToml,
     values: &BTreeMap<String, Values>,
     textures: &[Texture],
-) -> Result<(Vec<Job>, BTreeMap<String, usize>), String> {
+) -> Result<(Vec<Job>, BTreeMap<String, usize>), Problem> {
     let textured = TEXTURE.iter().any(|k| values.contains_key(*k)) || !textures.is_empty();
     let free: Vec<(&str, &Vec<f64>)> = PARAMETERS
         .iter()
@@ -463,13 +442,9 @@ fn expand_cases(
         .iter()
         .try_fold(1u64, |n, (_, v)| n.checked_mul(v.len() as u64))
         .filter(|n| *n <= raw.study.max_cases)
-        .ok_or_else(|| {
-            let sizes: Vec<String> = free.iter().map(|(n, v)| format!("{n}: {}", v.len())).collect();
-            format!(
-                "the parameters combine into more than {} cases ({}); narrow the lists and ranges, or raise max_cases in [study]",
-                raw.study.max_cases,
-                sizes.join(", ")
-            )
+        .ok_or_else(|| Problem::TooManyCases {
+            max_cases: raw.study.max_cases,
+            sizes: free.iter().map(|(n, v)| (*n, v.len())).collect(),
         })?;
     let mut index = vec![0usize; free.len()];
     for _ in 0..total {
@@ -495,12 +470,15 @@ fn expand_cases(
             if !seen.insert(key) {
                 continue; // the plain liner repeats across texture combinations
             }
-            match check(&case, raw.study.allow_thick_pockets) {
-                Err(rule) => *skipped.entry(rule).or_insert(0) += 1,
-                Ok(()) => {
+            match broken_rule(&case, raw.study.allow_thick_pockets) {
+                Some(rule) => *skipped.entry(rule).or_insert(0) += 1,
+                None => {
                     let numerics = numerics_for(&case, raw.study.fidelity, &raw.numerics);
                     if let Err(e) = numerics.validate(&case) {
-                        return Err(format!("[numerics] for case {}: {}", case.label(), e.rule));
+                        return Err(Problem::Numerics {
+                            case: case.label(),
+                            rule: e.rule,
+                        });
                     }
                     jobs.push(Job {
                         case,
@@ -556,9 +534,10 @@ pub fn numerics_for(case: &CaseSpec, fidelity: Fidelity, o: &NumericsOverride) -
     n
 }
 
-/// The rule a case breaks, in words that group alike cases ("2·l1 > per", "thin film").
-fn check(case: &CaseSpec, allow_thick: bool) -> Result<(), String> {
-    case.validate(allow_thick).map_err(|e: InputError| {
+/// The rule a case breaks, if any, in words that group alike cases ("2·l1 > per", "thin
+/// film"): the skipped cases are counted by it.
+fn broken_rule(case: &CaseSpec, allow_thick: bool) -> Option<String> {
+    case.validate(allow_thick).err().map(|e: InputError| {
         if e.rule.contains("overlap") {
             format!(
                 "{} too large for the period (pockets would overlap)",
@@ -620,26 +599,26 @@ enum Values {
 }
 
 /// Most values one parameter may expand to (a typo in a range should not make a million).
-const MAX_VALUES: usize = 10_000;
+pub const MAX_VALUES: usize = 10_000;
 
-fn number(key: &str, v: &toml::Value) -> Result<f64, String> {
+fn number(key: &str, v: &toml::Value) -> Result<f64, Problem> {
+    let bad = |problem| Problem::parameter(key, problem);
     match v {
         toml::Value::Float(x) if x.is_finite() || (key == "R" && *x == f64::INFINITY) => Ok(*x),
-        toml::Value::Float(x) => Err(format!(
-            "[parameters] {key}: {x} is not a finite number; write a finite value in {}",
-            unit(key)
-        )),
+        toml::Value::Float(x) => Err(bad(ValueProblem::NotFinite {
+            value: *x,
+            unit: unit(key),
+        })),
         toml::Value::Integer(i) => Ok(*i as f64),
         toml::Value::String(s) if s == "inf" && key == "R" => Ok(f64::INFINITY),
-        toml::Value::String(s) => Err(format!(
-            "[parameters] {key}: {s:?} is not a number; write plain numbers in the parameter's unit ({})",
-            unit(key)
-        )),
-        other => Err(format!(
-            "[parameters] {key}: expected a number in {}, found {}",
-            unit(key),
-            other.type_str()
-        )),
+        toml::Value::String(s) => Err(bad(ValueProblem::NotANumber {
+            text: s.clone(),
+            unit: unit(key),
+        })),
+        other => Err(bad(ValueProblem::WrongType {
+            found: other.type_str(),
+            unit: unit(key),
+        })),
     }
 }
 
@@ -650,22 +629,21 @@ fn unit(key: &str) -> &'static str {
         .map_or("", |(_, u)| u)
 }
 
-fn expand(key: &str, v: &toml::Value) -> Result<Values, String> {
+fn expand(key: &str, v: &toml::Value) -> Result<Values, Problem> {
+    let bad = |problem| Problem::parameter(key, problem);
     let list = match v {
         toml::Value::String(s) if s != "inf" => {
             if PARAMETERS.iter().any(|(n, _)| n == s) && s != key {
                 return Ok(Values::Tie(s.clone()));
             }
-            return Err(format!(
-                "[parameters] {key} = {s:?}: not a number nor another parameter's name; write a number in {} (units are implied) or the name of the parameter it equals",
-                unit(key)
-            ));
+            return Err(bad(ValueProblem::NeitherNumberNorName {
+                text: s.clone(),
+                unit: unit(key),
+            }));
         }
         toml::Value::Array(a) => {
             if a.is_empty() {
-                return Err(format!(
-                    "[parameters] {key} = []: the list is empty; give at least one value"
-                ));
+                return Err(bad(ValueProblem::EmptyList));
             }
             a.iter()
                 .map(|x| number(key, x))
@@ -675,9 +653,7 @@ fn expand(key: &str, v: &toml::Value) -> Result<Values, String> {
             let values = range(key, t)?;
             // Ranges can overflow (a log range from 1e-300 to 1e300): every value finite.
             if let Some(x) = values.iter().find(|x| !x.is_finite()) {
-                return Err(format!(
-                    "[parameters] {key}: the range gives {x}, not a finite number; narrow the range"
-                ));
+                return Err(bad(ValueProblem::RangeNotFinite(*x)));
             }
             values
         }
@@ -687,48 +663,33 @@ fn expand(key: &str, v: &toml::Value) -> Result<Values, String> {
         .iter()
         .find(|x| !(x.is_finite() || (key == "R" && **x == f64::INFINITY)))
     {
-        return Err(format!(
-            "[parameters] {key}: {x} is not a finite number; narrow the range"
-        ));
+        return Err(bad(ValueProblem::ValueNotFinite(*x)));
     }
     Ok(Values::List(list))
 }
 
 /// `{ from, to, count }` (linear, `spacing = "log"` for geometric), `{ from, to, step }` or
 /// `{ from, to, factor }`; ends included.
-fn range(key: &str, t: &toml::Table) -> Result<Vec<f64>, String> {
+fn range(key: &str, t: &toml::Table) -> Result<Vec<f64>, Problem> {
+    let bad = |problem| Problem::parameter(key, problem);
     for k in t.keys() {
         if !["from", "to", "count", "step", "factor", "spacing"].contains(&k.as_str()) {
-            return Err(format!(
-                "[parameters] {key}: unknown range key {k:?}; a range is {{ from, to, count [, spacing = \"log\"] }}, {{ from, to, step }} or {{ from, to, factor }}"
-            ));
+            return Err(bad(ValueProblem::UnknownRangeKey(k.clone())));
         }
     }
     let get = |k: &str| t.get(k).map(|v| number(key, v)).transpose();
     let (from, to) = match (get("from")?, get("to")?) {
         (Some(a), Some(b)) => (a, b),
-        _ => {
-            return Err(format!(
-                "[parameters] {key}: a range needs both from and to"
-            ))
-        }
+        _ => return Err(bad(ValueProblem::RangeEnds)),
     };
     if !(from.is_finite() && to.is_finite()) || from > to {
-        return Err(format!(
-            "[parameters] {key}: range from = {} to = {} is empty or inverted; need from ≤ to",
-            short(from),
-            short(to)
-        ));
+        return Err(bad(ValueProblem::RangeInverted { from, to }));
     }
     let log = match t.get("spacing").map(|v| v.as_str()) {
         None => false,
         Some(Some("linear")) => false,
         Some(Some("log")) => true,
-        Some(_) => {
-            return Err(format!(
-                "[parameters] {key}: spacing must be \"linear\" or \"log\""
-            ))
-        }
+        Some(_) => return Err(bad(ValueProblem::Spacing)),
     };
     let mut out = Vec::new();
     let n_given = [
@@ -740,20 +701,15 @@ fn range(key: &str, t: &toml::Table) -> Result<Vec<f64>, String> {
     .filter(|x| **x)
     .count();
     if n_given != 1 {
-        return Err(format!(
-            "[parameters] {key}: give exactly one of count, step or factor in a range"
-        ));
+        return Err(bad(ValueProblem::RangeKinds));
     }
     if let Some(c) = get("count")? {
         if !(c >= 1.0 && c.fract() == 0.0 && c as usize <= MAX_VALUES) {
-            return Err(format!(
-                "[parameters] {key}: count = {} must be a whole number from 1 to {MAX_VALUES}",
-                short(c)
-            ));
+            return Err(bad(ValueProblem::Count(c)));
         }
         let n = c as usize;
         if log && from <= 0.0 {
-            return Err(format!("[parameters] {key}: a log range needs from > 0"));
+            return Err(bad(ValueProblem::LogFrom));
         }
         for i in 0..n {
             let s = if n == 1 {
@@ -769,19 +725,13 @@ fn range(key: &str, t: &toml::Table) -> Result<Vec<f64>, String> {
         }
     } else if let Some(step) = get("step")? {
         if step.is_nan() || step <= 0.0 || ((to - from) / step) as usize > MAX_VALUES {
-            return Err(format!(
-                "[parameters] {key}: step = {} must be > 0 and give at most {MAX_VALUES} values",
-                short(step)
-            ));
+            return Err(bad(ValueProblem::Step(step)));
         }
         let n = ((to - from) / step + 1e-9).floor() as usize;
         out.extend((0..=n).map(|i| from + i as f64 * step));
     } else if let Some(f) = get("factor")? {
         if f.is_nan() || f <= 1.0 || from <= 0.0 || (to / from).ln() / f.ln() > MAX_VALUES as f64 {
-            return Err(format!(
-                "[parameters] {key}: factor = {} needs factor > 1 and from > 0",
-                short(f)
-            ));
+            return Err(bad(ValueProblem::Factor(f)));
         }
         let mut x = from;
         while x <= to * (1.0 + 1e-9) {
@@ -878,7 +828,8 @@ mod tests {
             ("texture = []", "non-empty"),
         ] {
             let e = parse(&format!("{head}{body}"), "x.toml").unwrap_err();
-            assert!(e.message.contains(says), "{body}: {}", e.message);
+            let m = e.problem.to_string();
+            assert!(m.contains(says), "{body}: {m}");
         }
     }
 

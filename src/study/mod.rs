@@ -7,6 +7,7 @@ pub mod cache_merge;
 pub mod engine_file;
 mod entry;
 pub mod file;
+mod file_error;
 mod operating_figures;
 pub mod report;
 pub mod shard;
