@@ -71,7 +71,7 @@ pub fn f_n(n: f64, lambda: f64) -> f64 {
 }
 
 fn lookup(lambda: f64, table: fn(&Tables) -> &Table, n: f64) -> f64 {
-    if lambda >= LAMBDA_TABLE_MIN && lambda < LAMBDA_CUT {
+    if (LAMBDA_TABLE_MIN..LAMBDA_CUT).contains(&lambda) {
         table(tables()).eval(lambda).exp()
     } else if lambda >= LAMBDA_CUT {
         0.0
@@ -370,7 +370,7 @@ mod tests {
             -3.0,
             [
                 1.881_132_983_241_576_2e1,
-                5.418_377_276_511_695_4,
+                5.418_377_276_511_696,
                 9.999_796_564_919_513,
             ],
         ),
@@ -430,7 +430,7 @@ mod tests {
             3.0,
             [
                 1.708_729_962_144_243_7e-4,
-                2.639_675_542_694_672_8e-4,
+                2.639_675_542_694_673e-4,
                 2.034_350_804_869_237_4e-4,
             ],
         ),
@@ -447,7 +447,7 @@ mod tests {
             [
                 2.353_381_052_587_606e-6,
                 4.439_155_958_539_252e-6,
-                3.090_208_103_497_254_2e-6,
+                3.090_208_103_497_254e-6,
             ],
         ),
         (
@@ -485,9 +485,9 @@ mod tests {
         (
             20.0,
             [
-                5.029_667_393_262_765_3e-92,
+                5.029_667_393_262_765e-92,
                 4.058_555_079_262_784_3e-91,
-                1.359_912_914_707_380_9e-91,
+                1.359_912_914_707_381e-91,
             ],
         ),
         (
@@ -495,7 +495,7 @@ mod tests {
             [
                 3.282_961_968_135_747e-201,
                 3.954_799_087_029_980_8e-200,
-                1.084_372_487_398_349_1e-200,
+                1.084_372_487_398_349e-200,
             ],
         ),
         (
@@ -519,7 +519,7 @@ mod tests {
                 (f_n(2.0, lambda), f2, "direct F2"),
             ] {
                 assert!(
-                    rel(got, want) < 1e-7,
+                    rel(got, want) < 1e-9,
                     "{name}({lambda}) = {got:e}, want {want:e}"
                 );
             }
@@ -541,7 +541,7 @@ mod tests {
     fn values_at_contact_in_closed_form() {
         // F_n(0) = 2^((n−1)/2)·Γ((n+1)/2)/√(2π); Γ(7/4) = (3/4)Γ(3/4), Γ(5/4) = (1/4)Γ(1/4).
         let gamma_3_4 = 1.225_416_702_465_177_6;
-        let gamma_1_4 = 3.625_609_908_221_908_3;
+        let gamma_1_4 = 3.625_609_908_221_908;
         let s2pi = (2.0 * PI).sqrt();
         assert!(rel(f_5_2(0.0), 2f64.powf(0.75) * 0.75 * gamma_3_4 / s2pi) < 1e-9);
         assert!(rel(f_3_2(0.0), 2f64.powf(0.25) * 0.25 * gamma_1_4 / s2pi) < 1e-9);
@@ -575,7 +575,8 @@ mod tests {
                 .max(rel(f_3_2(lambda), f_n(1.5, lambda)))
                 .max(rel(f_2(lambda), f_n(2.0, lambda)));
         }
-        assert!(worst < 1e-6, "worst relative error {worst:e}");
+        // 1e-6 is required; 1.5e-10 is measured.
+        assert!(worst < 1e-8, "worst relative error {worst:e}");
     }
 
     #[test]
