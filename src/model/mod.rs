@@ -2,6 +2,7 @@
 //! validity, the film equation and its stencil, the ring's dynamics and the friction terms.
 //! Nothing here knows a mesh beyond the stencil's column of nodes, nor how anything is solved.
 
+pub mod asperity;
 pub mod case;
 pub mod engine;
 pub mod film;
