@@ -178,7 +178,7 @@ fn the_texture_kept_from_a_period_ago_is_the_texture_placed_now() {
         );
     }
     // The kept phases served: every slot is filled.
-    assert!(t.kept.placed.slots.iter().all(Option::is_some));
+    assert!(t.memory.placed.slots.iter().all(Option::is_some));
 }
 
 #[test]
@@ -213,12 +213,12 @@ fn the_previous_state_carried_with_the_texture_is_the_nearer_guess() {
     let mut carried = case_iii_after(0);
     carried.set_period_guess(false);
     assert_eq!(
-        carried.kept.shift.columns, 1,
+        carried.memory.shift.columns, 1,
         "u·dt/dx = 1.28 at 64×4, dt = 4e-3"
     );
     let mut held = case_iii_after(0);
     held.set_period_guess(false);
-    held.kept.shift = TextureShift::NONE;
+    held.memory.shift = TextureShift::NONE;
     let n = carried.steps_per_period();
     let (mut switched_carried, mut switched_held) = (0, 0);
     let (mut it_carried, mut it_held) = (0, 0);
@@ -230,7 +230,7 @@ fn the_previous_state_carried_with_the_texture_is_the_nearer_guess() {
         it_held += held.last().iterations;
         let mut guess = before.clone();
         carried
-            .kept
+            .memory
             .shift
             .carry(&carried.scene().grid, &carried.scene().hl, &mut guess);
         let differ = |g: &FilmState| {

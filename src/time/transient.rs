@@ -57,7 +57,7 @@ struct LastStep {
 
 /// What the film iteration keeps from a period ago, and how far the texture moves a step
 /// (time/memory.rs): accelerators of the step, outside its physics.
-pub(super) struct Kept {
+pub(super) struct PeriodMemory {
     /// Solved states and factors of the last texture period, the initial guesses of the
     /// film iteration one period later.
     pub(super) period_ago: PeriodGuess,
@@ -81,7 +81,7 @@ pub struct Transient {
     schedule: Schedule,
     /// The film solver of every step.
     solver: Box<dyn FilmMethod>,
-    pub(super) kept: Kept,
+    pub(super) memory: PeriodMemory,
     last: LastStep,
     stats: RunStats,
     /// Guard: a step whose relative mass defect exceeds this is an error
@@ -133,7 +133,7 @@ impl Transient {
             },
             schedule: Schedule::Constant(OperatingPoint::of(case)),
             solver,
-            kept: Kept {
+            memory: PeriodMemory {
                 period_ago: PeriodGuess::new(textured, steps_per_period, nodes),
                 placed: PlacedTexture::new(textured, steps_per_period, nodes),
                 shift,
@@ -243,14 +243,14 @@ impl Transient {
 
     /// Memory the factors kept for the next period's solves take (bytes).
     pub fn kept_factor_bytes(&self) -> usize {
-        self.kept.period_ago.factor_bytes
+        self.memory.period_ago.factor_bytes
     }
 
     /// Turns the period-old initial guess of the film iteration on (the default for
     /// textured runs) or off (every step starts from the previous time level).
     pub fn set_period_guess(&mut self, on: bool) {
         let textured = on && self.case.texture.is_some();
-        self.kept.period_ago = PeriodGuess::new(
+        self.memory.period_ago = PeriodGuess::new(
             textured,
             self.clock.steps_per_period,
             self.scene.grid.nodes(),
@@ -318,16 +318,16 @@ impl Transient {
 
     /// Restarts the time scheme's history: the next step is backward Euler (after the state
     /// was moved: a jump, another mesh).
-    pub fn restart_history(&mut self) {
+    fn restart_history(&mut self) {
         self.levels.restart();
     }
 
     /// Goes on with backward Euler (see [`super::BDF2_PATIENCE`]): the history restarts and
     /// the factors kept a period ago, of BDF2's storage coefficient, are dropped.
-    pub fn fall_back_to_backward_euler(&mut self) {
+    pub(super) fn fall_back_to_backward_euler(&mut self) {
         self.levels.fall_back_to_backward_euler();
         self.restart_history();
-        self.set_period_guess(!self.kept.period_ago.slots.is_empty());
+        self.set_period_guess(!self.memory.period_ago.slots.is_empty());
     }
 }
 
@@ -360,11 +360,11 @@ impl Transient {
         self.check_mass(&op, t_new)?;
         self.clock.steps = level;
         self.levels.solved();
-        self.kept.period_ago.store(
+        self.memory.period_ago.store(
             level,
             &self.state,
             z,
-            (self.kept.shift, &self.scene.grid, &self.scene.hl),
+            (self.memory.shift, &self.scene.grid, &self.scene.hl),
         );
         self.stats.record(&stats);
         self.last.solve = stats;
@@ -386,7 +386,7 @@ impl Transient {
     /// match the factors kept from a period ago and are not eliminated again.
     fn place_texture(&mut self, level: usize) {
         let slot = level % self.clock.steps_per_period;
-        self.kept
+        self.memory
             .placed
             .place(&mut self.scene, slot, slot as f64 * self.clock.dt);
     }
@@ -412,7 +412,7 @@ impl Transient {
         };
         let regular = self.levels.regular();
         if regular {
-            self.kept
+            self.memory
                 .period_ago
                 .lend_factors(level, self.solver.as_mut());
         }
@@ -425,7 +425,7 @@ impl Transient {
                 source,
             })?;
         if regular {
-            self.kept
+            self.memory
                 .period_ago
                 .keep_factors(level, self.solver.as_mut());
         }
@@ -440,14 +440,14 @@ impl Transient {
     /// then moves Z as far as the film demands).
     fn initial_guess(&mut self, s: &RingState, t_new: f64) -> Result<f64, SolveError> {
         let mut z = s.z + self.clock.dt * s.v;
-        match self.kept.period_ago.guess(self.clock.steps + 1, s.z) {
+        match self.memory.period_ago.guess(self.clock.steps + 1, s.z) {
             Some((snap, z_shifted)) => {
                 z = z_shifted;
                 self.state.assign(snap);
             }
             None => {
                 self.state.phi.copy_from_slice(self.levels.old());
-                self.kept
+                self.memory
                     .shift
                     .carry(&self.scene.grid, &self.scene.hl, &mut self.state);
             }
@@ -496,7 +496,7 @@ impl Transient {
     /// interpolated (time/interpolate.rs) at the texture's phase, and that film is also the
     /// new mesh's previous time level. The new mesh's first step then solves its own film;
     /// the mismatch decays like any start's.
-    pub fn refined(
+    pub(super) fn refined(
         &self,
         num: &Numerics,
         done: ApproachDone,
