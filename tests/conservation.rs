@@ -42,16 +42,18 @@ fn conserves_mass(scheme: TimeScheme, dt: f64) {
     for _ in 0..30 {
         sim.step().unwrap();
         worst = worst.max(sim.mass_defect());
-        let g = &sim.scene.grid;
+        let g = &sim.scene().grid;
 
         // The step really has both regions under the ring: pressurised and cavitated (θ < 1).
         let ring_nodes: Vec<usize> = (0..g.nodes())
-            .filter(|&k| sim.scene.gap.ring[k / g.n2])
+            .filter(|&k| sim.scene().gap.ring[k / g.n2])
             .collect();
-        assert!(ring_nodes.iter().any(|&k| sim.state.pressurised[k]));
-        assert!(ring_nodes
-            .iter()
-            .any(|&k| { sim.state.theta(g, &sim.scene.gap, sim.ring_state.z, k) < 0.9 }));
+        assert!(ring_nodes.iter().any(|&k| sim.state().pressurised[k]));
+        assert!(ring_nodes.iter().any(|&k| {
+            sim.state()
+                .theta(g, &sim.scene().gap, sim.ring_state().z, k)
+                < 0.9
+        }));
     }
     println!("worst relative mass defect per step: {worst:e}");
     assert!(worst <= 1e-10, "mass defect {worst:e}");

@@ -36,8 +36,8 @@ fn creeping_iterations(guess: bool, from: usize, t_end: f64) -> (f64, f64) {
     let mut count = |t: &Transient| {
         step += 1;
         if step > from {
-            its += t.last.iterations;
-            z += t.ring_state.z;
+            its += t.last().iterations;
+            z += t.ring_state().z;
             n += 1;
         }
     };
@@ -84,18 +84,18 @@ fn the_direct_solver_agrees_with_the_reference_step_by_step_on_a_cavitating_case
         let mut z = Vec::new();
         for _ in 0..120 {
             tr.step().unwrap();
-            z.push(tr.ring_state.z);
+            z.push(tr.ring_state().z);
         }
         (z, tr)
     };
     let (z_ref, t_ref) = run(Method::Reference);
     // The state really cavitates under the ring, in and behind the pockets.
-    let g = &t_ref.scene.grid;
+    let g = &t_ref.scene().grid;
     let cavitated_under_ring = (0..g.nodes())
-        .filter(|&k| t_ref.scene.gap.ring[k / g.n2] && !t_ref.state.pressurised[k])
+        .filter(|&k| t_ref.scene().gap.ring[k / g.n2] && !t_ref.state().pressurised[k])
         .count();
     assert!(cavitated_under_ring > 50, "{cavitated_under_ring}");
-    let pmax = t_ref.state.p.iter().fold(0.0f64, |m, &p| m.max(p));
+    let pmax = t_ref.state().p.iter().fold(0.0f64, |m, &p| m.max(p));
     let (z, t) = run(Method::Direct);
     let dz = z
         .iter()
@@ -103,16 +103,16 @@ fn the_direct_solver_agrees_with_the_reference_step_by_step_on_a_cavitating_case
         .map(|(a, b)| rel(*a, *b))
         .fold(0.0, f64::max);
     let dp = t
-        .state
+        .state()
         .p
         .iter()
-        .zip(&t_ref.state.p)
+        .zip(&t_ref.state().p)
         .map(|(a, b)| (a - b).abs())
         .fold(0.0, f64::max)
         / pmax;
     assert!(dz < 1e-9, "Z differs by {dz:e} (relative)");
     assert!(dp < 1e-7, "p differs by {dp:e} of p_max");
-    assert_eq!(t.state.pressurised, t_ref.state.pressurised);
+    assert_eq!(t.state().pressurised, t_ref.state().pressurised);
 }
 
 #[test]
@@ -141,9 +141,9 @@ fn the_period_old_guess_and_chord_steps_save_work_without_changing_the_answer() 
             tr.set_period_guess(guess);
             // Factorisations and iterations per step over the last period.
             let mut last: Vec<(usize, usize)> = Vec::new();
-            let spp = tr.steps_per_period;
+            let spp = tr.steps_per_period();
             let mut tally = |t: &Transient| {
-                last.push((t.last.factorisations, t.last.iterations));
+                last.push((t.last().factorisations, t.last().iterations));
                 if last.len() > spp {
                     last.remove(0);
                 }
@@ -218,10 +218,10 @@ fn wide_run(periods: usize, method: Method) -> WideRun {
     };
     let mut tr = Transient::new(&case_three(), &num);
     let (mut z, mut residual) = (Vec::new(), 0.0f64);
-    for _ in 0..periods * tr.steps_per_period {
+    for _ in 0..periods * tr.steps_per_period() {
         tr.step().unwrap();
-        z.push(tr.ring_state.z);
-        residual = residual.max(tr.last.residual);
+        z.push(tr.ring_state().z);
+        residual = residual.max(tr.last().residual);
     }
     WideRun { z, residual, tr }
 }
@@ -246,7 +246,7 @@ fn at_a_wide_band_reused_factors_give_the_reference_answer() {
             .fold(0.0, f64::max);
     println!("largest Z difference {dz:e} (relative)");
     assert!(dz < 1e-8, "Z differs by {dz:e} (relative)");
-    let (p_on, p_off) = (&on.tr.state.p, &off.tr.state.p);
+    let (p_on, p_off) = (&on.tr.state().p, &off.tr.state().p);
     let pmax = p_off.iter().fold(0.0f64, |m, &p| m.max(p));
     let dp = p_on
         .iter()
@@ -254,7 +254,7 @@ fn at_a_wide_band_reused_factors_give_the_reference_answer() {
         .map(|(a, b)| (a - b).abs())
         .fold(0.0, f64::max);
     assert!(dp <= 1e-8 * pmax, "p differs by {dp:e} (p_max {pmax:e})");
-    assert_eq!(on.tr.state.pressurised, off.tr.state.pressurised);
+    assert_eq!(on.tr.state().pressurised, off.tr.state().pressurised);
     // The stop rule bounds the error in p and φ; the nodal residual relative to the node's
     // own largest term may exceed it by the ratio of the stencil's other terms to that one.
     assert!(on.residual <= 1e-7, "largest residual {:e}", on.residual);

@@ -61,7 +61,7 @@ fn bdf2_converges_at_second_order_where_backward_euler_is_first() {
 #[test]
 fn a_bdf2_run_that_does_not_settle_finishes_with_backward_euler() {
     // Small dense pockets at a Courant number near 1: BDF2 settles into a slow spurious
-    // oscillation (time/transient.rs, `BDF2_PATIENCE`); after that many windows the run goes on
+    // oscillation (time/fallback.rs, `BDF2_PATIENCE`); after that many windows the run goes on
     // with backward Euler and reaches the periodic regime backward Euler reaches alone.
     let case = CaseSpec::paper(1.6).with_texture(Texture::circular(0.005, 0.01, 10.0));
     let run = |scheme| {

@@ -834,20 +834,20 @@ mod tests {
             ..Numerics::default()
         };
         let mut t = Transient::new(&case, &num);
-        let n = t.steps_per_period;
+        let n = t.steps_per_period();
         let mut history = Vec::new();
-        let mut before = t.ring_state;
+        let mut before = t.ring_state();
         for _ in 0..12 * n + n / 2 {
-            before = t.ring_state;
+            before = t.ring_state();
             t.step().expect("the direct solver's step");
-            history.push(t.state.clone());
+            history.push(t.state().clone());
         }
-        let exact = &t.state;
+        let exact = &t.state();
         let guess = &history[history.len() - 1 - n];
         let cavitated = exact.pressurised.iter().filter(|&&p| !p).count();
         assert!(cavitated > 0);
         let step = t.fixed_z_problem();
-        let z = t.ring_state.z;
+        let z = t.ring_state().z;
         let mg = PtMultigrid::new(&step, z);
         assert!(mg.meshes().len() >= 3, "{:?}", mg.meshes());
         let (e0, _) = error(guess, exact);
@@ -884,10 +884,10 @@ mod tests {
         // With the ring: Z from the ring's velocity, moved after every V-cycle, lands on
         // the direct solver's Z and pressure.
         let coupled = Step {
-            ring: Some(t.ring.link(&before, t.dt)),
+            ring: Some(t.ring().link(&before, t.dt())),
             ..step
         };
-        let z0 = before.z + t.dt * before.v;
+        let z0 = before.z + t.dt() * before.v;
         let mut mg = PtMultigrid::new(&coupled, z0);
         mg.galerkin = true;
         mg.dw_dz = PtMultigrid::load_slope(&coupled, exact, z);

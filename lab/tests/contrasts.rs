@@ -37,13 +37,13 @@ fn gauss_seidel_agrees_on_a_coarse_mesh_and_fails_loudly_on_a_fine_one() {
         let mut zs = Vec::new();
         for _ in 0..8 {
             tr.step().unwrap();
-            zs.push(tr.ring_state.z);
+            zs.push(tr.ring_state().z);
         }
         (
             zs,
-            tr.friction.total(),
-            tr.last.iterations,
-            tr.max_mass_defect,
+            tr.friction().total(),
+            tr.last().iterations,
+            tr.stats().max_mass_defect,
         )
     };
     let (z_direct, f_direct, it_direct, _) = steps(Solver::Direct);
@@ -98,17 +98,21 @@ fn the_reynolds_cutoff_is_refused_for_losing_mass_and_is_far_off_when_allowed() 
         .run_to_periodic(&ea, false, &mut Watch::default())
         .unwrap()
         .outcome;
-    assert!(good.max_mass_defect < 1e-10, "{}", good.max_mass_defect);
+    assert!(
+        good.stats().max_mass_defect < 1e-10,
+        "{}",
+        good.stats().max_mass_defect
+    );
 
     // Guard off: the cut-off runs, loses (here: creates) about the whole throughflow per
     // step, and its clearance is far from the mass-conserving one.
     let mut off = cutoff_transient(&case, &ea);
-    off.mass_tolerance = f64::INFINITY;
+    off.set_mass_tolerance(f64::INFINITY);
     let wrong = off
         .run_to_periodic(&ea, false, &mut Watch::default())
         .unwrap()
         .outcome;
-    assert!(off.max_mass_defect > 0.5);
+    assert!(off.stats().max_mass_defect > 0.5);
     let dc = (wrong.c_min - elrod.c_min) / elrod.c_min;
     assert!(dc.abs() > 0.1, "C_min {} vs {}", wrong.c_min, elrod.c_min);
 }

@@ -18,7 +18,7 @@ fn run(solver: Solver) -> (Vec<f64>, Transient) {
     let mut z = Vec::new();
     for _ in 0..120 {
         tr.step().unwrap();
-        z.push(tr.ring_state.z);
+        z.push(tr.ring_state().z);
     }
     (z, tr)
 }
@@ -26,12 +26,12 @@ fn run(solver: Solver) -> (Vec<f64>, Transient) {
 #[test]
 fn iterative_solvers_agree_with_the_reference_step_by_step() {
     let (z_ref, t_ref) = run(Solver::Reference);
-    let g = &t_ref.scene.grid;
+    let g = &t_ref.scene().grid;
     let cavitated_under_ring = (0..g.nodes())
-        .filter(|&k| t_ref.scene.gap.ring[k / g.n2] && !t_ref.state.pressurised[k])
+        .filter(|&k| t_ref.scene().gap.ring[k / g.n2] && !t_ref.state().pressurised[k])
         .count();
     assert!(cavitated_under_ring > 50, "{cavitated_under_ring}");
-    let pmax = t_ref.state.p.iter().fold(0.0f64, |m, &p| m.max(p));
+    let pmax = t_ref.state().p.iter().fold(0.0f64, |m, &p| m.max(p));
     for m in [Solver::Multigrid, Solver::PtMultigrid] {
         let (z, t) = run(m);
         let dz = z
@@ -40,16 +40,21 @@ fn iterative_solvers_agree_with_the_reference_step_by_step() {
             .map(|(a, b)| ((a - b) / b).abs())
             .fold(0.0, f64::max);
         let dp = t
-            .state
+            .state()
             .p
             .iter()
-            .zip(&t_ref.state.p)
+            .zip(&t_ref.state().p)
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max)
             / pmax;
         assert!(dz < 1e-9, "{}: Z differs by {dz:e} (relative)", m.name());
         assert!(dp < 1e-7, "{}: p differs by {dp:e} of p_max", m.name());
-        assert_eq!(t.state.pressurised, t_ref.state.pressurised, "{}", m.name());
+        assert_eq!(
+            t.state().pressurised,
+            t_ref.state().pressurised,
+            "{}",
+            m.name()
+        );
     }
 }
 

@@ -73,16 +73,22 @@ pub struct Frame {
 
 impl Frame {
     fn of(t: &Transient) -> Self {
-        let (g, gap, z) = (&t.scene.grid, &t.scene.gap, t.ring_state.z);
+        let (g, gap, z) = (&t.scene().grid, &t.scene().gap, t.ring_state().z);
         let h: Vec<f64> = (0..g.nodes()).map(|k| gap.h(g, k, z)).collect();
-        let theta = t.state.phi.iter().zip(&h).map(|(phi, h)| phi / h).collect();
+        let theta = t
+            .state()
+            .phi
+            .iter()
+            .zip(&h)
+            .map(|(phi, h)| phi / h)
+            .collect();
         Frame {
-            t: t.t,
-            phase: (t.steps % t.steps_per_period) as f64 * t.dt,
+            t: t.t(),
+            phase: (t.steps() % t.steps_per_period()) as f64 * t.dt(),
             z,
-            w_h: t.last.w_h,
-            f: t.friction.total(),
-            p: t.state.p.clone(),
+            w_h: t.last().w_h,
+            f: t.friction().total(),
+            p: t.state().p.clone(),
             theta,
             h,
         }
@@ -136,12 +142,13 @@ impl Recorder {
 
     /// Takes one step of the run.
     pub fn observe(&mut self, t: &Transient) {
-        if self.grid.as_ref() != Some(&t.scene.grid) || self.steps_per_period != t.steps_per_period
+        if self.grid.as_ref() != Some(&t.scene().grid)
+            || self.steps_per_period != t.steps_per_period()
         {
             self.restart(t);
         }
         let spp = self.steps_per_period;
-        let slot = t.steps % spp;
+        let slot = t.steps() % spp;
         if let Some(k) = frame_index(slot, spp, self.request.frames) {
             self.frames[k] = Some(Frame::of(t));
         }
@@ -157,8 +164,8 @@ impl Recorder {
     }
 
     fn restart(&mut self, t: &Transient) {
-        let spp = t.steps_per_period;
-        self.grid = Some(t.scene.grid.clone());
+        let spp = t.steps_per_period();
+        self.grid = Some(t.scene().grid.clone());
         self.steps_per_period = spp;
         self.frames = vec![None; self.request.frames];
         let slots = self.request.animation_stride.map_or(0, |s| spp.div_ceil(s));

@@ -40,86 +40,44 @@ const RESTART_GROWTH: f64 = 10.0;
 /// node, then Z, Z'·T and Z''·T² relative to `z_ref` (T the window's length), the ring's
 /// entries weighted as √N film entries so that the ring counts as much as the whole film.
 fn pack(t: &Transient, window: f64, z_ref: f64) -> DVector<f64> {
-    let g = &t.scene.grid;
-    let s = t.ring_state;
+    let (scene, phi) = (t.scene(), &t.state().phi);
+    let g = &scene.grid;
+    let s = t.ring_state();
     let n = g.nodes();
     let w = (n as f64).sqrt() / z_ref;
     DVector::from_iterator(
         n + 3,
-        (0..n)
-            .map(|k| t.state.phi[k] / t.scene.gap.h(g, k, s.z))
-            .chain([w * s.z, w * s.v * window, w * s.a * window * window]),
+        (0..n).map(|k| phi[k] / scene.gap.h(g, k, s.z)).chain([
+            w * s.z,
+            w * s.v * window,
+            w * s.a * window * window,
+        ]),
     )
 }
 
-/// The pairs of the last windows and the residual of the latest.
-pub(crate) struct Anderson {
-    window: f64,
-    /// Start states x_j and their images G(x_j), oldest first.
+/// The accelerator's memory: the pairs (x_j, G(x_j)) of the last windows, oldest first, and
+/// the smallest residual since they were last dropped.
+struct Pairs {
     xs: Vec<DVector<f64>>,
     gs: Vec<DVector<f64>>,
-    /// The scale of the ring's entries: Z at the first window's start.
-    z_ref: Option<f64>,
-    /// The packed state at the current window's start.
-    start: Option<DVector<f64>>,
-    /// Windows seen.
-    windows: usize,
-    /// RMS of the last residual G(x) − x over its entries (θ, and the ring's relative
-    /// change counted as much as the whole film): a window's change of the state.
-    pub residual: f64,
     smallest: f64,
 }
 
-impl Anderson {
-    /// For windows of `window` (ms).
-    pub fn new(window: f64) -> Self {
-        Anderson {
-            window,
-            xs: Vec::new(),
-            gs: Vec::new(),
-            z_ref: None,
-            start: None,
-            windows: 0,
-            residual: f64::INFINITY,
-            smallest: f64::INFINITY,
-        }
-    }
-
-    /// Notes the state a window starts from.
-    pub fn before_window(&mut self, t: &Transient) {
-        let z_ref = *self.z_ref.get_or_insert(t.ring_state.z);
-        self.start = Some(pack(t, self.window, z_ref));
-    }
-
-    /// After a window whose oil imbalance was `imbalance`: the pair (x, G(x)) recorded, its
-    /// residual, and the next start set by the acceleration (after [`PLAIN_WINDOWS`], with two
-    /// pairs at hand, both measures below [`ACCELERATE_BELOW`]).
-    pub fn after_window(&mut self, t: &mut Transient, imbalance: f64) {
-        self.windows += 1;
-        let (Some(x), Some(z_ref)) = (self.start.take(), self.z_ref) else {
-            return;
-        };
-        let g = pack(t, self.window, z_ref);
-        let f = &g - &x;
-        self.residual = f.norm() / (2.0 * f.len() as f64).sqrt();
-        if self.residual > RESTART_GROWTH * self.smallest {
+impl Pairs {
+    /// Keeps the pair (x, g) of residual `residual`, dropping the older ones when it grew
+    /// by [`RESTART_GROWTH`], and all but the last [`MEMORY`] + 1.
+    fn push(&mut self, x: DVector<f64>, g: DVector<f64>, residual: f64) {
+        if residual > RESTART_GROWTH * self.smallest {
             self.xs.clear();
             self.gs.clear();
-            self.smallest = self.residual;
+            self.smallest = residual;
         }
-        self.smallest = self.smallest.min(self.residual);
+        self.smallest = self.smallest.min(residual);
         self.xs.push(x);
         self.gs.push(g);
         if self.xs.len() > MEMORY + 1 {
             self.xs.remove(0);
             self.gs.remove(0);
-        }
-        let settling = self.residual.max(imbalance) <= ACCELERATE_BELOW;
-        if self.windows <= PLAIN_WINDOWS || self.xs.len() < 2 || !settling {
-            return;
-        }
-        if let Some(next) = self.combine() {
-            unpack(t, &next, z_ref, self.window);
         }
     }
 
@@ -139,6 +97,67 @@ impl Anderson {
     }
 }
 
+/// The accelerator of a run's windows: its memory and the residual of the latest.
+pub(crate) struct Anderson {
+    window: f64,
+    pairs: Pairs,
+    /// The scale of the ring's entries: Z at the first window's start.
+    z_ref: Option<f64>,
+    /// The packed state at the current window's start.
+    start: Option<DVector<f64>>,
+    /// Windows seen.
+    windows: usize,
+    /// RMS of the last residual G(x) − x over its entries (θ, and the ring's relative
+    /// change counted as much as the whole film): a window's change of the state.
+    residual: f64,
+}
+
+impl Anderson {
+    /// For windows of `window` (ms).
+    pub fn new(window: f64) -> Self {
+        Anderson {
+            window,
+            pairs: Pairs {
+                xs: Vec::new(),
+                gs: Vec::new(),
+                smallest: f64::INFINITY,
+            },
+            z_ref: None,
+            start: None,
+            windows: 0,
+            residual: f64::INFINITY,
+        }
+    }
+
+    /// Notes the state a window starts from.
+    pub fn before_window(&mut self, t: &Transient) {
+        let z_ref = *self.z_ref.get_or_insert(t.ring_state().z);
+        self.start = Some(pack(t, self.window, z_ref));
+    }
+
+    /// After a window whose oil imbalance was `imbalance`: the pair (x, G(x)) recorded, its
+    /// residual, and the next start set by the acceleration (after [`PLAIN_WINDOWS`], with two
+    /// pairs at hand, both measures below [`ACCELERATE_BELOW`]). Returns the latest residual.
+    pub fn after_window(&mut self, t: &mut Transient, imbalance: f64) -> f64 {
+        self.windows += 1;
+        let (Some(x), Some(z_ref)) = (self.start.take(), self.z_ref) else {
+            return self.residual;
+        };
+        let g = pack(t, self.window, z_ref);
+        let f = &g - &x;
+        self.residual = f.norm() / (2.0 * f.len() as f64).sqrt();
+        self.pairs.push(x, g, self.residual);
+        let settling = self.residual.max(imbalance) <= ACCELERATE_BELOW;
+        if self.windows <= PLAIN_WINDOWS || self.pairs.xs.len() < 2 || !settling {
+            return self.residual;
+        }
+        if let Some(next) = self.pairs.combine() {
+            unpack(t, &next, z_ref, self.window);
+        }
+        self.residual
+    }
+}
+
 /// Sets the transient's state from a packed vector ([`pack`]): Z and its rates, θ clipped
 /// into [0, 1] and φ = θ·h on the new gap (h on the pressurised set), the time scheme's
 /// previous level moved with it. Refused when Z would leave [½, 2]× its present value.
@@ -146,24 +165,26 @@ fn unpack(t: &mut Transient, v: &DVector<f64>, z_ref: f64, window: f64) {
     let n = v.len();
     let w = ((n - 3) as f64).sqrt() / z_ref;
     let z = v[n - 3] / w;
-    let now = t.ring_state.z;
+    let now = t.ring_state().z;
     if !(z.is_finite() && z >= 0.5 * now && z <= 2.0 * now) {
         return;
     }
-    let before = t.state.phi.clone();
-    let g = &t.scene.grid;
-    for k in 0..g.nodes() {
-        let h = t.scene.gap.h(g, k, z);
-        t.state.phi[k] = if t.state.pressurised[k] {
-            h
-        } else {
-            v[k].clamp(0.0, 1.0) * h
-        };
-    }
-    t.shift_history(&before);
-    t.ring_state = RingState {
+    let (scene, state) = (t.scene(), t.state());
+    let g = &scene.grid;
+    let phi = (0..g.nodes())
+        .map(|k| {
+            let h = scene.gap.h(g, k, z);
+            if state.pressurised[k] {
+                h
+            } else {
+                v[k].clamp(0.0, 1.0) * h
+            }
+        })
+        .collect();
+    let ring = RingState {
         z,
         v: v[n - 2] / w / window,
         a: v[n - 1] / w / (window * window),
     };
+    t.jump(phi, ring);
 }

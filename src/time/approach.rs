@@ -1,14 +1,14 @@
 //! The coarse approach (docs/solver.md, "Coarse approach"): the ring's transient on a mesh
-//! with fewer cells across, then the film carried over to the full mesh, which runs to its own
-//! periodic regime.
+//! with fewer cells across, then the film carried over to the full mesh (time/interpolate.rs),
+//! which runs to its own periodic regime.
 
 use std::time::Instant;
 
+use super::common::SolveError;
 use super::numerics::Numerics;
-use super::outcome::{SeriesRow, SolveError};
-use super::run::Watch;
-use super::transient::{ApproachDone, Transient};
-use crate::mesh::{FilmState, Scene};
+use super::outcome::SeriesRow;
+use super::stats::ApproachDone;
+use super::transient::{Transient, Watch};
 use crate::model::case::CaseSpec;
 use crate::solve::FilmMethod;
 
@@ -38,57 +38,15 @@ pub(super) fn start_transient(
         // still counts).
         Err(_) => {
             let mut full = Transient::with_solver(case, num, make());
-            full.approach.wall_time_s = began.elapsed().as_secs_f64();
+            full.set_approach(ApproachDone {
+                wall_time_s: began.elapsed().as_secs_f64(),
+                ..ApproachDone::default()
+            });
             return Ok(full);
         }
     };
     if let (Some(all), Some(rows)) = (series, r.series) {
         all.extend(rows);
     }
-    let done = ApproachDone {
-        steps: r.outcome.steps,
-        periods: r.outcome.periods,
-        wall_time_s: r.outcome.wall_time_s,
-    };
-    Ok(t.refined(num, done, make()))
-}
-
-/// The film state of scene `from` (ring at z) on the mesh of scene `to`, both placed at the
-/// same texture phase: saturation θ and pressure interpolated bilinearly between the coarse
-/// nodes (x1 nodes are vertices, x2 nodes cell centres, held constant beyond the outermost
-/// ones, the symmetry lines), φ = θ·h on the new gap (h on the pressurised set, θ = 1), the
-/// active set that of the nearest node. Why θ rather than φ: the pockets' depth differs node
-/// by node between the meshes, the saturation far less.
-pub(super) fn interpolate(from: &Scene, state: &FilmState, z: f64, to: &Scene) -> FilmState {
-    let (gc, gf) = (&from.grid, &to.grid);
-    let mut out = FilmState::cavitated(gf, &to.gap, z, 0.0);
-    // A fine coordinate in coarse node units: the two neighbours and the weight of the second.
-    let between = |s: f64, last: usize| {
-        let s = s.clamp(0.0, last as f64);
-        let a = (s.floor() as usize).min(last);
-        (a, (a + 1).min(last), s - a as f64)
-    };
-    let theta_at = |k: usize| state.theta(gc, &from.gap, z, k).clamp(0.0, 1.0);
-    for i in 0..=gf.n1 {
-        let (i0, i1, u) = between(gf.x(i) / gc.dx, gc.n1);
-        for j in 0..gf.n2 {
-            let (j0, j1, w) = between(gf.y(j) / gc.dy - 0.5, gc.n2 - 1);
-            let corners = [
-                (gc.idx(i0, j0), (1.0 - u) * (1.0 - w)),
-                (gc.idx(i1, j0), u * (1.0 - w)),
-                (gc.idx(i0, j1), (1.0 - u) * w),
-                (gc.idx(i1, j1), u * w),
-            ];
-            let theta: f64 = corners.iter().map(|&(k, c)| c * theta_at(k)).sum();
-            let p: f64 = corners.iter().map(|&(k, c)| c * state.p[k]).sum();
-            let nearest = gc.idx(if u < 0.5 { i0 } else { i1 }, if w < 0.5 { j0 } else { j1 });
-            let pressurised = state.pressurised[nearest];
-            let k = gf.idx(i, j);
-            let h = to.gap.h(gf, k, z);
-            out.pressurised[k] = pressurised;
-            out.p[k] = if pressurised { p.max(0.0) } else { 0.0 };
-            out.phi[k] = if pressurised { h } else { theta * h };
-        }
-    }
-    out
+    Ok(t.refined(num, ApproachDone::of(&r.outcome), make()))
 }

@@ -6,19 +6,30 @@
 mod anderson;
 mod approach;
 pub mod characteristic;
+mod common;
+mod fallback;
 mod fidelity;
+mod interpolate;
+mod levels;
 pub mod limits;
 mod memory;
 mod numerics;
 mod outcome;
 mod periodic;
 mod run;
+mod schedule;
+mod start;
+mod stats;
 mod steady;
+mod stop;
 mod transient;
+mod window;
 
 #[cfg(test)]
 mod tests;
 
+pub use common::{Progress, SolveError, SteadyError, CONTACT_Z, MASS_TOL};
+pub use fallback::BDF2_PATIENCE;
 pub use fidelity::{
     unresolved_depth, Fidelity, APPROACH, CHARACTERISTIC_APPROACH, DEEP_MESH, DEEP_POCKET_RATIO,
     POCKET_CELLS, RESOLVED_DEEP_RATIO,
@@ -28,11 +39,11 @@ pub use numerics::{
     short, steps_per_period, Approach, Numerics, Start, TimeScheme, APPROACH_TOL,
     MIN_STEPS_PER_PERIOD,
 };
-pub use outcome::{Outcome, Progress, RunResult, SeriesRow, SolveError};
-pub use periodic::{window_periods, MIN_WINDOW};
-pub use run::{simulate, simulate_with, RunOptions, Watch};
-pub use steady::{solve_untextured, steady_outcome, Steady, SteadyError};
-pub use transient::{
-    equilibrium_start, paper_start, texture_period, ApproachDone, Transient, BDF2_PATIENCE,
-    CONTACT_Z, MASS_TOL, UNTEXTURED_PERIOD,
-};
+pub use outcome::{Outcome, RunResult, SeriesRow};
+pub use run::{simulate, simulate_with, RunOptions};
+pub use schedule::{OperatingPoint, Schedule};
+pub use start::{equilibrium_start, paper_start};
+pub use stats::{ApproachDone, RunStats};
+pub use steady::{solve_untextured, steady_outcome, Steady};
+pub use transient::{texture_period, Transient, Watch, UNTEXTURED_PERIOD};
+pub use window::{window_periods, MIN_WINDOW};

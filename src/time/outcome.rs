@@ -1,12 +1,9 @@
-//! What a run reports: its outcomes, its time series, its progress, and why it failed.
+//! What a run reports: its outcomes and its time series.
 
 use serde::{Deserialize, Serialize};
 
 use super::numerics::TimeScheme;
-use super::steady::SteadyError;
-use super::transient::CONTACT_Z;
 use crate::model::friction::Friction;
-use crate::solve::FilmError;
 
 /// Outcomes of one evaluation (docs/model.md §6). Friction coefficients per eq. (11); Z and
 /// clearances in µm.
@@ -110,45 +107,4 @@ impl Outcome {
             ..self.clone()
         }
     }
-}
-
-/// Why a run failed: always names the case and where.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum SolveError {
-    #[error("case {case}: film solve failed at t = {t:.5}: {source}")]
-    Film {
-        case: String,
-        t: f64,
-        source: FilmError,
-    },
-    #[error("case {case}: the ring reached the liner (Z = {z:.2e} µm, under the {floor} µm a lubricating film needs) at t = {t:.5}; contact is outside the lubrication model", floor = CONTACT_Z)]
-    Contact { case: String, t: f64, z: f64 },
-    #[error("case {case}: {quantity} = {value} at t = {t:.5}: the run is numerically unstable (try a smaller dt)")]
-    Unstable {
-        case: String,
-        t: f64,
-        quantity: String,
-        value: f64,
-    },
-    #[error("case {case}: mass not conserved at t = {t:.5}: the step's film content changed by {defect:.2e} of its throughflow more than the boundary flows carried (tolerance {tol:.0e}); {hint}")]
-    MassNotConserved {
-        case: String,
-        t: f64,
-        defect: f64,
-        tol: f64,
-        hint: String,
-    },
-    #[error("case {case}: steady force balance failed: {source}")]
-    Steady { case: String, source: SteadyError },
-}
-
-/// Reported after each texture period of a transient run.
-#[derive(Clone, Copy, Debug)]
-pub struct Progress {
-    pub period: usize,
-    pub t: f64,
-    pub f_mean: f64,
-    pub z_mean: f64,
-    /// Estimated relative distance from the periodic regime (infinite until it can be told).
-    pub periodic_error: f64,
 }

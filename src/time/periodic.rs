@@ -1,79 +1,85 @@
-//! The periodic regime (docs/model.md §6; docs/solver.md, "Periodic regime"): means over
-//! averaging windows of whole texture periods, the estimated distance of the last ones from
-//! their periodic limits, and the slow modes that distance is read from.
+//! The periodic regime (docs/model.md §6; docs/solver.md, "Periodic regime"): the estimated
+//! distance of the last averaging windows' means from their periodic limits, the slow modes
+//! that distance is read from, and the stopping rule it makes.
 
 use super::numerics::Numerics;
-use super::outcome::SeriesRow;
-use crate::model::friction::Friction;
+use super::stop::{Distance, StopRule};
+use super::window::PeriodMeans;
 
-/// Shortest averaging window (ms = L/U): as long as the pseudo-period of an untextured run.
-/// For short texture periods (per = 0.005 is 13 steps) the window-to-window change of a slow
-/// creep is tiny against its tail (ratio ≈ 0.993 a period at R = 102.4), so neither the
-/// periodicity estimate nor the slow-mode jump could read it period by period. Means over
-/// whole periods are the same in the periodic regime.
-pub const MIN_WINDOW: f64 = 0.06;
-
-/// Texture periods per averaging window for a texture period `period` (ms): the fewest
-/// whole periods spanning at least [`MIN_WINDOW`].
-pub fn window_periods(period: f64) -> usize {
-    ((MIN_WINDOW / period) - 1e-9).ceil().max(1.0) as usize
-}
-
-/// The window means of a run (on its own mesh), and the stopping rule.
-#[derive(Default)]
-pub(crate) struct Windows {
+/// The periodic regime as a run's stopping rule: the window means since the run's map last
+/// changed, and the tolerance.
+pub(crate) struct PeriodicRegime {
     history: Vec<PeriodMeans>,
+    /// Windows run before the map last changed (they count in the periods).
+    earlier: usize,
+    /// At least this many windows (and 4) on one map.
+    min_windows: usize,
+    tol: f64,
+    /// The load the film carries on average in the periodic regime.
+    w_ps: f64,
 }
 
-impl Windows {
-    pub fn push(&mut self, m: PeriodMeans) {
-        self.history.push(m);
+impl PeriodicRegime {
+    /// The periodic regime to `num`'s tolerance of a ring under load `w_ps`.
+    pub fn new(num: &Numerics, w_ps: f64) -> Self {
+        PeriodicRegime {
+            history: Vec::new(),
+            earlier: 0,
+            min_windows: num.min_periods,
+            tol: num.periodic_tol,
+            w_ps,
+        }
     }
 
-    /// The windows so far.
-    pub fn all(&self) -> &[PeriodMeans] {
-        &self.history
-    }
-
-    /// Windows run in all.
-    pub fn len(&self) -> usize {
-        self.history.len()
-    }
-
-    pub fn last(&self) -> &PeriodMeans {
-        self.history.last().expect("at least one window")
-    }
-
-    /// The estimated distance from the periodic regime: it must hold at two consecutive
-    /// window ends, so that one lucky cancellation between a decaying oscillation and a
-    /// drift does not stop the run.
-    pub fn error(&self) -> f64 {
-        let fresh = self.all();
+    /// The estimated distance of the plain march from the periodic regime: it must hold at
+    /// two consecutive window ends, so that one lucky cancellation between a decaying
+    /// oscillation and a drift does not stop the run.
+    fn error(&self) -> f64 {
+        let fresh = &self.history;
         periodic_error(fresh).max(if fresh.len() > 3 {
             periodic_error(&fresh[..fresh.len() - 1])
         } else {
             f64::INFINITY
         })
     }
-
-    /// Whether the run has reached its periodic regime at estimated distance `err`: at
-    /// least `min_periods` (and 4) windows, and the distance within the tolerance.
-    pub fn periodic(&self, err: f64, num: &Numerics) -> bool {
-        self.history.len() >= num.min_periods.max(4) && err <= num.periodic_tol
-    }
 }
 
-/// Whether a run's estimated distance from the periodic regime has stopped falling: after
-/// `patience` windows, the best of the last `patience / 2` is not half the best before them.
-/// A settling run's distance falls geometrically (by 0.5–0.75 a window in the benchmark
-/// cases), a spurious oscillation's or a steady drift's stays put.
-pub(crate) fn stalled(errors: &[f64], patience: usize) -> bool {
-    if errors.len() < patience {
-        return false;
+impl StopRule for PeriodicRegime {
+    fn push(&mut self, m: PeriodMeans) {
+        self.history.push(m);
     }
-    let (early, late) = errors.split_at(errors.len() - patience / 2);
-    let best = |e: &[f64]| e.iter().copied().fold(f64::INFINITY, f64::min);
-    best(late) > 0.5 * best(early)
+
+    fn last(&self) -> &PeriodMeans {
+        self.history.last().expect("at least one window")
+    }
+
+    /// The plain march's estimate, or, accelerated, the accelerator's (see
+    /// [`accelerated_error`]); in all, raised to the force imbalance (see
+    /// [`with_force_balance`]).
+    fn distance(&self, residual: Option<f64>) -> Distance {
+        let motion = match residual {
+            Some(r) => accelerated_error(&self.history, r),
+            None => self.error(),
+        };
+        Distance {
+            motion,
+            total: with_force_balance(motion, self.last(), self.w_ps),
+        }
+    }
+
+    /// At least `min_periods` (and 4) windows, and the distance within the tolerance.
+    fn reached(&self, total: f64) -> bool {
+        self.history.len() >= self.min_windows.max(4) && total <= self.tol
+    }
+
+    fn windows(&self) -> usize {
+        self.earlier + self.history.len()
+    }
+
+    fn restart(&mut self) {
+        self.earlier += self.history.len();
+        self.history.clear();
+    }
 }
 
 /// Largest mean force imbalance |W̄_h − W_ps| / W_ps a window may end with in the periodic
@@ -93,63 +99,6 @@ pub(crate) fn with_force_balance(err: f64, last: &PeriodMeans, w_ps: f64) -> f64
         err.max(imbalance)
     } else {
         err
-    }
-}
-
-/// Means over one averaging window (whole texture periods).
-#[derive(Clone, Debug)]
-pub(crate) struct PeriodMeans {
-    pub friction: Friction,
-    pub extra: Vec<Friction>,
-    pub z_mean: f64,
-    pub z_min: f64,
-    pub z_max: f64,
-    /// Mean film force over the window (the load the film carries, in W_ps's units).
-    pub w_h: f64,
-    /// Oil the film holds at the window's start and end (∫ h·θ dx1 dx2 over the domain,
-    /// nondimensional).
-    pub start_content: f64,
-    pub content: f64,
-    /// Oil through the domain over the window at the end's boundary flow rates (the larger
-    /// of inflow and outflow, times the window's length): the scale of a content change.
-    pub throughput: f64,
-}
-
-impl PeriodMeans {
-    pub fn empty() -> Self {
-        PeriodMeans {
-            friction: Friction::default(),
-            extra: Vec::new(),
-            z_mean: 0.0,
-            z_min: f64::INFINITY,
-            z_max: f64::NEG_INFINITY,
-            w_h: 0.0,
-            start_content: 0.0,
-            content: 0.0,
-            throughput: 0.0,
-        }
-    }
-    pub fn add(&mut self, row: &SeriesRow, f: &Friction, extra: &[Friction]) {
-        self.friction.add(f);
-        self.extra.resize(extra.len(), Friction::default());
-        for (a, e) in self.extra.iter_mut().zip(extra) {
-            a.add(e);
-        }
-        self.z_mean += row.z;
-        self.z_min = self.z_min.min(row.z);
-        self.z_max = self.z_max.max(row.z);
-        self.w_h += row.w_h;
-    }
-    /// The samples at the n step ends of a period: their plain mean is the trapezoidal mean
-    /// of the periodic signal over the period.
-    pub fn finish(mut self, n: usize) -> Self {
-        self.friction = self.friction.scaled(1.0 / n as f64);
-        for e in &mut self.extra {
-            *e = e.scaled(1.0 / n as f64);
-        }
-        self.z_mean /= n as f64;
-        self.w_h /= n as f64;
-        self
     }
 }
 

@@ -1,44 +1,26 @@
 //! A run: a case brought to its periodic regime (docs/model.md §6), or, for an untextured
-//! liner, the steady 1D force balance. The loop steps window by window; the stopping rule
-//! ([`super::periodic`]), the accelerator ([`super::anderson`]) and the observers sit beside
-//! it.
+//! liner, the steady 1D force balance. The loop steps window by window and asks its named
+//! parts after each: the stopping rule ([`super::stop`], the periodic regime of
+//! [`super::periodic`]), the accelerator ([`super::anderson`]), the BDF2 fall-back
+//! ([`super::fallback`]) and the observers ([`super::common::Observers`]).
 
 use std::time::Instant;
 
 use super::anderson::Anderson;
 use super::approach::start_transient;
+use super::common::{Progress, SolveError};
+use super::fallback::Bdf2Fallback;
 use super::fidelity::unresolved_depth;
 use super::numerics::Numerics;
-use super::numerics::TimeScheme;
-use super::outcome::{Outcome, Progress, RunResult, SeriesRow, SolveError};
-use super::periodic::{
-    accelerated_error, oil_imbalance, stalled, window_periods, with_force_balance, PeriodMeans,
-    Windows,
-};
+use super::outcome::{Outcome, RunResult, SeriesRow};
+use super::periodic::{oil_imbalance, PeriodicRegime};
+use super::stats::ApproachDone;
 use super::steady::steady_outcome;
-use super::transient::{ApproachDone, Transient, BDF2_PATIENCE};
+use super::stop::StopRule;
+use super::transient::{Transient, Watch};
+use super::window::{window_periods, PeriodMeans};
 use crate::model::case::CaseSpec;
 use crate::solve::FilmMethod;
-
-/// Who watches a run: a closure called after every averaging window, one after every step.
-#[derive(Default)]
-pub struct Watch<'a> {
-    pub on_window: Option<&'a mut dyn FnMut(&Progress)>,
-    pub on_step: Option<&'a mut dyn FnMut(&Transient)>,
-}
-
-impl Watch<'_> {
-    fn window(&mut self, p: &Progress) {
-        if let Some(f) = self.on_window.as_mut() {
-            f(p);
-        }
-    }
-    fn step(&mut self, t: &Transient) {
-        if let Some(f) = self.on_step.as_mut() {
-            f(t);
-        }
-    }
-}
 
 /// What a run records beside its outcome, and with which film solver.
 #[derive(Clone, Debug, Default)]
@@ -83,7 +65,7 @@ pub fn simulate_with(
     }
     let mut series = opts.series.then(Vec::new);
     let mut t = start_transient(case, num, opts.solver, series.as_mut(), watch)?;
-    t.extra_theta_s.clone_from(&opts.extra_theta_s);
+    t.set_extra_theta_s(&opts.extra_theta_s);
     let mut r = t.run_to_periodic(num, opts.series, watch)?;
     if let Some(deep) = deep_continuation(case, num, &r) {
         if let (Some(all), Some(rows)) = (series.as_mut(), r.series.take()) {
@@ -123,10 +105,10 @@ fn go_on_deep(
     let solver = opts.solver.map_or_else(|| deep.solver.solver(), |f| f());
     let mut d = t.refined(&deep, ApproachDone::of(&r.outcome), solver);
     let deep = Numerics {
-        t_max: d.t + 0.5 * num.t_max,
+        t_max: d.t() + 0.5 * num.t_max,
         ..deep
     };
-    d.extra_theta_s.clone_from(&opts.extra_theta_s);
+    d.set_extra_theta_s(&opts.extra_theta_s);
     match d.run_to_periodic(&deep, opts.series, watch) {
         Ok(mut rd) if rd.outcome.converged => {
             let mesh = Some((deep.n1, deep.n2));
@@ -155,62 +137,55 @@ impl Transient {
         record_series: bool,
         watch: &mut Watch,
     ) -> Result<RunResult, SolveError> {
+        let mut rule = PeriodicRegime::new(num, self.operating_point().w_ps);
+        self.run_until(&mut rule, num, record_series, watch)
+    }
+
+    /// Runs window by window until `rule` says the run is there or t_max is reached. After
+    /// each window the accelerator (when `num.accelerate`) may move the state, the rule reads
+    /// the distance, the observers see it, and the BDF2 fall-back may change the scheme.
+    pub(crate) fn run_until(
+        &mut self,
+        rule: &mut impl StopRule,
+        num: &Numerics,
+        record_series: bool,
+        watch: &mut Watch,
+    ) -> Result<RunResult, SolveError> {
         let start = Instant::now();
         let mut series = record_series.then(Vec::new);
-        let mut windows = Windows::default();
         let wp = self.window_periods();
-        let window = self.dt * (self.steps_per_period * wp) as f64;
+        let window = self.dt() * (self.steps_per_period() * wp) as f64;
         let mut anderson = num.accelerate.then(|| Anderson::new(window));
-        // Windows run before a fall-back to backward Euler (they count in the periods).
-        let mut earlier = 0;
-        let mut errors = Vec::new();
-        let (converged, periodic_error) = loop {
+        let mut fallback = Bdf2Fallback::default();
+        let (converged, distance) = loop {
             if let Some(a) = anderson.as_mut() {
                 a.before_window(self);
             }
-            let means = self.advance_window(wp, series.as_mut(), watch)?;
-            windows.push(means);
-            let err = match anderson.as_mut() {
-                Some(a) => {
-                    a.after_window(self, oil_imbalance(windows.last()));
-                    accelerated_error(windows.all(), a.residual)
-                }
-                None => windows.error(),
-            };
-            // The stall test reads the estimate of the motion alone; the stop, and the distance
-            // reported, also the force balance.
-            let raw = err;
-            let err = with_force_balance(raw, windows.last(), self.case.w_ps);
-            let last = windows.last();
-            watch.window(&Progress {
-                period: self.approach.periods + (earlier + windows.len()) * wp,
-                t: self.t,
-                f_mean: last.friction.total(),
-                z_mean: last.z_mean,
-                periodic_error: err,
-            });
-            if windows.periodic(err, num) {
-                break (true, err);
+            rule.push(self.advance_window(wp, series.as_mut(), watch)?);
+            let imbalance = oil_imbalance(rule.last());
+            let residual = anderson.as_mut().map(|a| a.after_window(self, imbalance));
+            let d = rule.distance(residual);
+            watch.window(&self.progress(rule, wp, d.total));
+            if rule.reached(d.total) {
+                break (true, d.total);
             }
-            errors.push(raw);
-            if self.scheme == TimeScheme::Bdf2 && stalled(&errors, BDF2_PATIENCE) {
+            if fallback.after_window(d.motion, self.scheme()) {
                 // A new map: its windows and the acceleration's pairs start afresh.
                 self.fall_back_to_backward_euler();
-                earlier += windows.len();
-                windows = Windows::default();
-                errors.clear();
+                rule.restart();
                 anderson = num.accelerate.then(|| Anderson::new(window));
             }
-            if self.t + 1e-12 >= num.t_max {
-                break (false, err);
+            if self.t() + 1e-12 >= num.t_max {
+                break (false, d.total);
             }
         };
-        let periods = self.approach.periods + (earlier + windows.len()) * wp;
-        let outcome = self.outcome(windows.last(), periods, converged, periodic_error, start);
+        let periods = self.stats().approach.periods + rule.windows() * wp;
+        let last = rule.last();
+        let outcome = self.outcome(last, periods, converged, distance, start);
         let extra = self
-            .extra_theta_s
+            .extra_theta_s()
             .iter()
-            .zip(&windows.last().extra)
+            .zip(&last.extra)
             .map(|(&theta_s, f)| (theta_s, outcome.with_friction(f)))
             .collect();
         Ok(RunResult {
@@ -220,9 +195,21 @@ impl Transient {
         })
     }
 
+    /// The progress after a window of `wp` texture periods at distance `distance`.
+    fn progress(&self, rule: &impl StopRule, wp: usize, distance: f64) -> Progress {
+        let last = rule.last();
+        Progress {
+            period: self.stats().approach.periods + rule.windows() * wp,
+            t: self.t(),
+            f_mean: last.friction.total(),
+            z_mean: last.z_mean,
+            periodic_error: distance,
+        }
+    }
+
     /// Texture periods per averaging window (see [`window_periods`]).
     pub fn window_periods(&self) -> usize {
-        window_periods(self.dt * self.steps_per_period as f64)
+        window_periods(self.dt() * self.steps_per_period() as f64)
     }
 
     /// Steps through one averaging window of `wp` texture periods: the window's means, the
@@ -233,14 +220,14 @@ impl Transient {
         mut series: Option<&mut Vec<SeriesRow>>,
         watch: &mut Watch,
     ) -> Result<PeriodMeans, SolveError> {
-        let n = self.steps_per_period * wp;
+        let n = self.steps_per_period() * wp;
         let mut acc = PeriodMeans::empty();
         let start_content = self.oil_held().0;
         for _ in 0..n {
             self.step()?;
             watch.step(self);
             let row = self.row();
-            acc.add(&row, &self.friction, &self.extra_friction);
+            acc.add(&row, self.friction(), self.extra_friction());
             if let Some(s) = series.as_mut() {
                 s.push(row);
             }
@@ -249,7 +236,7 @@ impl Transient {
         Ok(PeriodMeans {
             start_content,
             content,
-            throughput: flow * n as f64 * self.dt,
+            throughput: flow * n as f64 * self.dt(),
             ..acc.finish(n)
         })
     }
@@ -263,6 +250,8 @@ impl Transient {
         periodic_error: f64,
         start: Instant,
     ) -> Outcome {
+        let stats = self.stats();
+        let approach = stats.approach;
         Outcome {
             f_mean: last.friction.total(),
             f_couette: last.friction.couette,
@@ -271,21 +260,21 @@ impl Transient {
             z_mean: last.z_mean,
             z_min: last.z_min,
             z_max: last.z_max,
-            c_min: self.scene.contact.clearance_um(last.z_min),
+            c_min: self.scene().contact.clearance_um(last.z_min),
             periods,
             // The steps on this mesh and those of a coarse approach before it (this run's
             // count starts at the texture period the approach ended on).
-            steps: self.steps + self.approach.steps - self.approach.periods * self.steps_per_period,
+            steps: self.steps() + approach.steps - approach.periods * self.steps_per_period(),
             converged,
             periodic_error,
             method: "transient-2d".into(),
-            dt: self.dt,
-            t_end: self.t,
-            iterations_per_step: self.total_iterations as f64 / self.steps.max(1) as f64,
-            max_residual: self.max_residual,
-            wall_time_s: self.approach.wall_time_s + start.elapsed().as_secs_f64(),
-            approach_steps: self.approach.steps,
-            scheme: self.scheme,
+            dt: self.dt(),
+            t_end: self.t(),
+            iterations_per_step: stats.iterations as f64 / self.steps().max(1) as f64,
+            max_residual: stats.max_residual,
+            wall_time_s: approach.wall_time_s + start.elapsed().as_secs_f64(),
+            approach_steps: approach.steps,
+            scheme: self.scheme(),
             deep_mesh: None,
             deep_unsettled: false,
         }

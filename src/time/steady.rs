@@ -4,8 +4,9 @@
 
 use std::time::Instant;
 
+use super::common::{SolveError, SteadyError};
 use super::numerics::TimeScheme;
-use super::outcome::{Outcome, RunResult, SolveError};
+use super::outcome::{Outcome, RunResult};
 use crate::mesh::integrals::friction;
 use crate::mesh::{FilmState, Grid, Scene};
 use crate::model::case::CaseSpec;
@@ -24,23 +25,6 @@ pub struct Steady {
     pub x: Vec<f64>,
     pub p: Vec<f64>,
     pub theta: Vec<f64>,
-}
-
-/// Why a steady solve failed.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum SteadyError {
-    #[error("{0}")]
-    Film(#[from] FilmError),
-    #[error("no force balance for Z in [{lo:.3e}, {hi:.3e}] µm (load there {w_lo:.3e} … {w_hi:.3e}, W_ps = {w_ps:.3e}); the film cannot carry the ring: {hint}")]
-    NoBracket {
-        lo: f64,
-        hi: f64,
-        w_lo: f64,
-        w_hi: f64,
-        w_ps: f64,
-        /// The likely cause, for the user.
-        hint: &'static str,
-    },
 }
 
 /// Solves the untextured steady contact on `n1` cells along x1.
@@ -64,15 +48,42 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
     let mut state = FilmState::cavitated(g, &scene.gap, case.z0, case.d_oil);
     let mut solves = 0;
     // Residual of the force balance at Z (warm-started film solves).
-    let mut excess = |z: f64, state: &mut FilmState| -> Result<f64, FilmError> {
+    let mut excess = |z: f64| -> Result<f64, FilmError> {
         let mut zz = z;
         solves += 1;
-        Ok(solver.solve(&step, state, &mut zz)?.w_h - case.w_ps)
+        Ok(solver.solve(&step, &mut state, &mut zz)?.w_h - case.w_ps)
     };
+    let bracket = bracket(case, &mut excess)?;
+    let z = balance(case.w_ps, bracket, &mut excess)?;
+    // Final state exactly at the returned Z.
+    excess(z)?;
+    let model = FrictionModel {
+        u: case.u,
+        theta_s: case.theta_s,
+        w_ps: case.w_ps,
+    };
+    let friction = friction(g, &scene.gap, z, &scene.hl, &state, &model);
+    let theta = (0..g.nodes())
+        .map(|k| state.theta(g, &scene.gap, z, k))
+        .collect();
+    Ok(Steady {
+        z,
+        friction,
+        film_solves: solves,
+        x: (0..=g.n1).map(|i| g.x(i)).collect(),
+        p: state.p.clone(),
+        theta,
+    })
+}
 
-    // Bracket: W_h decreases with Z. Expand geometrically from Z0.
+/// A bracket (lo, hi, excess at lo, excess at hi) of the force balance: W_h decreases with Z,
+/// so it is expanded geometrically from Z0 until the excess changes sign.
+fn bracket(
+    case: &CaseSpec,
+    excess: &mut dyn FnMut(f64) -> Result<f64, FilmError>,
+) -> Result<(f64, f64, f64, f64), SteadyError> {
     let (mut lo, mut hi) = (case.z0, case.z0);
-    let mut flo = excess(lo, &mut state)?;
+    let mut flo = excess(lo)?;
     let mut fhi = flo;
     let mut expansions = 0;
     while flo < 0.0 || fhi > 0.0 {
@@ -97,15 +108,24 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
             hi = lo;
             fhi = flo;
             lo /= 1.5;
-            flo = excess(lo, &mut state)?;
+            flo = excess(lo)?;
         } else {
             lo = hi;
             flo = fhi;
             hi *= 1.5;
-            fhi = excess(hi, &mut state)?;
+            fhi = excess(hi)?;
         }
     }
-    // Illinois false position in ln Z: W_h ≈ power law in Z, so this converges superlinearly.
+    Ok((lo, hi, flo, fhi))
+}
+
+/// Z at the force balance within `bracket` (see [`bracket`]), load `w_ps`: Illinois false
+/// position in ln Z (W_h ≈ power law in Z, so this converges superlinearly).
+fn balance(
+    w_ps: f64,
+    (lo, hi, flo, fhi): (f64, f64, f64, f64),
+    excess: &mut dyn FnMut(f64) -> Result<f64, FilmError>,
+) -> Result<f64, FilmError> {
     let (mut a, mut b) = (lo.ln(), hi.ln());
     let (mut fa, mut fb) = (flo, fhi);
     let mut side = 0;
@@ -117,8 +137,8 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
             b - fb * (b - a) / (fb - fa)
         };
         z = c.exp();
-        let fc = excess(z, &mut state)?;
-        if fc == 0.0 || (b - a).abs() < 1e-13 || fc.abs() < 1e-13 * case.w_ps {
+        let fc = excess(z)?;
+        if fc == 0.0 || (b - a).abs() < 1e-13 || fc.abs() < 1e-13 * w_ps {
             break;
         }
         if (fc > 0.0) == (fa > 0.0) {
@@ -137,25 +157,7 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
             side = 1;
         }
     }
-    // Final state exactly at the returned Z.
-    excess(z, &mut state)?;
-    let model = FrictionModel {
-        u: case.u,
-        theta_s: case.theta_s,
-        w_ps: case.w_ps,
-    };
-    let friction = friction(g, &scene.gap, z, &scene.hl, &state, &model);
-    let theta = (0..g.nodes())
-        .map(|k| state.theta(g, &scene.gap, z, k))
-        .collect();
-    Ok(Steady {
-        z,
-        friction,
-        film_solves: solves,
-        x: (0..=g.n1).map(|i| g.x(i)).collect(),
-        p: state.p.clone(),
-        theta,
-    })
+    Ok(z)
 }
 
 /// The steady untextured outcome in the common form.

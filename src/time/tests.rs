@@ -1,12 +1,12 @@
 //! Unit tests of the time layer: the stopping rules, what a transient keeps from one period
 //! to the next.
 
+use super::fallback::stalled;
 use super::memory::TextureShift;
 use super::numerics::Numerics;
-use super::periodic::{
-    accelerated_error, periodic_error, slow_pair, stalled, PeriodMeans, SlowMode,
-};
+use super::periodic::{accelerated_error, periodic_error, slow_pair, SlowMode};
 use super::transient::Transient;
+use super::window::PeriodMeans;
 use crate::mesh::integrals::{friction, friction_thresholds};
 use crate::mesh::FilmState;
 use crate::model::case::CaseSpec;
@@ -162,23 +162,23 @@ fn case_iii_after(steps: usize) -> Transient {
 #[test]
 fn the_texture_kept_from_a_period_ago_is_the_texture_placed_now() {
     let mut t = case_iii_after(0);
-    let n = t.steps_per_period;
+    let n = t.steps_per_period();
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     for _ in 0..2 * n + 3 {
         t.step().expect("a coarse Case III steps");
         // The scene as placing the texture afresh at this step's phase gives it.
-        let mut fresh = t.scene.clone();
-        fresh.place((t.steps % n) as f64 * t.dt);
-        assert_eq!(bits(&t.scene.hl), bits(&fresh.hl), "step {}", t.steps);
+        let mut fresh = t.scene().clone();
+        fresh.place((t.steps() % n) as f64 * t.dt());
+        assert_eq!(bits(&t.scene().hl), bits(&fresh.hl), "step {}", t.steps());
         assert_eq!(
-            bits(&t.scene.gap.base),
+            bits(&t.scene().gap.base),
             bits(&fresh.gap.base),
             "step {}",
-            t.steps
+            t.steps()
         );
     }
     // The kept phases served: every slot is filled.
-    assert!(t.placed.slots.iter().all(Option::is_some));
+    assert!(t.memory.placed.slots.iter().all(Option::is_some));
 }
 
 #[test]
@@ -186,11 +186,11 @@ fn switches_counted_over_slices_are_those_node_by_node() {
     // Two levels of a coarse Case III a few steps apart: sets that differ in and out of
     // the pockets.
     let mut t = case_iii_after(3);
-    let before = t.state.pressurised.clone();
+    let before = t.state().pressurised.clone();
     for _ in 0..4 {
         t.step().expect("a coarse Case III steps");
     }
-    let (g, hl, now) = (&t.scene.grid, &t.scene.hl, &t.state.pressurised);
+    let (g, hl, now) = (&t.scene().grid, &t.scene().hl, &t.state().pressurised);
     assert!(hl.iter().any(|&h| h > 0.0) && hl.iter().any(|&h| h <= 0.0));
     for columns in [0, 1, 3, g.n1, g.n1 + 1] {
         let shift = TextureShift { columns };
@@ -213,29 +213,30 @@ fn the_previous_state_carried_with_the_texture_is_the_nearer_guess() {
     let mut carried = case_iii_after(0);
     carried.set_period_guess(false);
     assert_eq!(
-        carried.shift.columns, 1,
+        carried.memory.shift.columns, 1,
         "u·dt/dx = 1.28 at 64×4, dt = 4e-3"
     );
     let mut held = case_iii_after(0);
     held.set_period_guess(false);
-    held.shift = TextureShift::NONE;
-    let n = carried.steps_per_period;
+    held.memory.shift = TextureShift::NONE;
+    let n = carried.steps_per_period();
     let (mut switched_carried, mut switched_held) = (0, 0);
     let (mut it_carried, mut it_held) = (0, 0);
     for _ in 0..2 * n {
-        let before = carried.state.clone();
+        let before = carried.state().clone();
         carried.step().expect("a coarse Case III steps");
         held.step().expect("a coarse Case III steps");
-        it_carried += carried.last.iterations;
-        it_held += held.last.iterations;
+        it_carried += carried.last().iterations;
+        it_held += held.last().iterations;
         let mut guess = before.clone();
         carried
+            .memory
             .shift
-            .carry(&carried.scene.grid, &carried.scene.hl, &mut guess);
+            .carry(&carried.scene().grid, &carried.scene().hl, &mut guess);
         let differ = |g: &FilmState| {
             g.pressurised
                 .iter()
-                .zip(&carried.state.pressurised)
+                .zip(&carried.state().pressurised)
                 .filter(|(a, b)| a != b)
                 .count()
         };
@@ -251,10 +252,10 @@ fn the_previous_state_carried_with_the_texture_is_the_nearer_guess() {
     );
     assert!(it_carried < it_held, "{it_carried} {it_held}");
     // A guess only starts the iteration: the same film and ring to the solve tolerance.
-    let dz = (carried.ring_state.z - held.ring_state.z).abs() / held.ring_state.z;
+    let dz = (carried.ring_state().z - held.ring_state().z).abs() / held.ring_state().z;
     assert!(dz < 1e-9, "{dz}");
-    let pmax = held.state.p.iter().fold(0.0f64, |m, &p| m.max(p));
-    for (a, b) in carried.state.p.iter().zip(&held.state.p) {
+    let pmax = held.state().p.iter().fold(0.0f64, |m, &p| m.max(p));
+    for (a, b) in carried.state().p.iter().zip(&held.state().p) {
         assert!((a - b).abs() <= 1e-8 * pmax, "{a} {b}");
     }
 }
@@ -262,25 +263,25 @@ fn the_previous_state_carried_with_the_texture_is_the_nearer_guess() {
 #[test]
 fn friction_for_several_thresholds_in_one_pass_is_each_ones_own() {
     let t = case_iii_after(20);
-    let z = t.ring_state.z;
+    let z = t.ring_state().z;
     let thresholds = [0.75, 0.5, 0.25, 0.05];
     let model = t.friction_model();
     let (own, extra) = friction_thresholds(
-        &t.scene.grid,
-        &t.scene.gap,
+        &t.scene().grid,
+        &t.scene().gap,
         z,
-        &t.scene.hl,
-        &t.state,
+        &t.scene().hl,
+        t.state(),
         &model,
         &thresholds,
     );
     let alone = |theta_s: f64| {
         friction(
-            &t.scene.grid,
-            &t.scene.gap,
+            &t.scene().grid,
+            &t.scene().gap,
             z,
-            &t.scene.hl,
-            &t.state,
+            &t.scene().hl,
+            t.state(),
             &FrictionModel { theta_s, ..model },
         )
     };

@@ -77,11 +77,7 @@ impl Solver {
 /// start, the cut-off solver in every step.
 pub fn cutoff_transient(case: &CaseSpec, num: &Numerics) -> Transient {
     let mut t = Transient::with_solver(case, num, Box::new(Cutoff::default()));
-    let g = &t.scene.grid;
-    for k in 0..g.nodes() {
-        t.state.phi[k] = t.scene.gap.h(g, k, t.ring_state.z);
-    }
-    t.phi_old.copy_from_slice(&t.state.phi);
+    t.lay_film(|scene, k, z| scene.gap.h(&scene.grid, k, z));
     t
 }
 

@@ -30,14 +30,14 @@ fn dir() -> PathBuf {
 }
 
 fn rupture_x(tr: &Transient) -> f64 {
-    let g = &tr.scene.grid;
+    let g = &tr.scene().grid;
     let j = g.n2 - 1;
     let mut seen_pressure = false;
     for i in 1..g.n1 {
-        if !tr.scene.gap.ring[i] {
+        if !tr.scene().gap.ring[i] {
             continue;
         }
-        let pr = tr.state.pressurised[g.idx(i, j)];
+        let pr = tr.state().pressurised[g.idx(i, j)];
         if pr {
             seen_pressure = true;
         } else if seen_pressure {
@@ -85,8 +85,8 @@ fn run(mesh: &str, dt: f64, opts: &[String]) -> Result<(), String> {
             )
         },
         &mut |t: &Transient| {
-            steps_per_period = t.steps_per_period;
-            rows.push((t.t, rupture_x(t)));
+            steps_per_period = t.steps_per_period();
+            rows.push((t.t(), rupture_x(t)));
         },
     )?;
     let json = serde_json::json!({ "mesh": mesh, "numerics": num, "solver": solver, "outcome": res.outcome });

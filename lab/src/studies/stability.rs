@@ -169,7 +169,7 @@ fn runs_csv() {
         };
         let res = sim.run_to_periodic(&run.num, false, &mut Watch::default());
         let wall = t0.elapsed().as_secs_f64();
-        let defect = sim.max_mass_defect;
+        let defect = sim.stats().max_mass_defect;
         let (status, reason, o) = match &res {
             Ok(r) if r.outcome.converged => ("periodic", String::new(), Some(&r.outcome)),
             Ok(r) => (
@@ -205,8 +205,8 @@ fn runs_csv() {
             run.value,
             run.r,
             run.coupling,
-            sim.t,
-            sim.steps,
+            sim.t(),
+            sim.steps(),
             g(&|o| o.iterations_per_step),
             g(&|o| o.max_residual),
             g(&|o| o.f_mean),
@@ -239,7 +239,7 @@ fn contrast_run(
     let t0 = std::time::Instant::now();
     let mut sim = model.transient(case, num);
     if measure_mass {
-        sim.mass_tolerance = f64::INFINITY;
+        sim.set_mass_tolerance(f64::INFINITY);
     }
     let mut its = 0usize;
     let res = if steps == 0 {
@@ -249,24 +249,31 @@ fn contrast_run(
         (0..steps)
             .try_for_each(|_| {
                 sim.step()?;
-                its += sim.last.iterations;
+                its += sim.last().iterations;
                 Ok(())
             })
-            .map(|()| (sim.friction.total(), sim.ring_state.z))
+            .map(|()| (sim.friction().total(), sim.ring_state().z))
     };
     let wall = t0.elapsed().as_secs_f64();
     let per_step = if steps == 0 {
         0.0
     } else {
-        its as f64 / sim.steps.max(1) as f64
+        its as f64 / sim.steps().max(1) as f64
     };
     match res {
-        Ok((f, c)) => ("ok".into(), f, c, sim.max_mass_defect, per_step, wall),
+        Ok((f, c)) => (
+            "ok".into(),
+            f,
+            c,
+            sim.stats().max_mass_defect,
+            per_step,
+            wall,
+        ),
         Err(e) => (
             e.to_string().replace(',', ";"),
             f64::NAN,
             f64::NAN,
-            sim.max_mass_defect,
+            sim.stats().max_mass_defect,
             per_step,
             wall,
         ),

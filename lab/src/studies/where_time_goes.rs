@@ -72,7 +72,7 @@ pub fn main(args: &[String]) -> Result<(), String> {
     let tally = RefCell::new(Tally::default());
     let mut last = Instant::now();
     let mut last_sys = system_time_s();
-    let mesh = |t: &Transient| format!("{}×{}", t.scene.grid.n1, t.scene.grid.n2);
+    let mesh = |t: &Transient| format!("{}×{}", t.scene().grid.n1, t.scene().grid.n2);
     let current_mesh = RefCell::new(String::new());
     let mut on_window = |p: &Progress| {
         let w = tally.take();
@@ -97,9 +97,9 @@ pub fn main(args: &[String]) -> Result<(), String> {
     let mut on_step = |t: &Transient| {
         let mut w = tally.borrow_mut();
         w.steps += 1;
-        w.iterations += t.last.iterations;
-        w.factorisations += t.last.factorisations;
-        w.rows += t.last.eliminated_rows;
+        w.iterations += t.last().iterations;
+        w.factorisations += t.last().factorisations;
+        w.rows += t.last().eliminated_rows;
         *current_mesh.borrow_mut() = mesh(t);
     };
     let mut watch = Watch {
