@@ -6,10 +6,10 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
+use super::columns::Units;
 use super::draw::{
     case_line, colour_bar, fields, map_panel, profile_axes, profile_panel, Area, MAP_KEY,
 };
-use super::write::Units;
 use super::{drawing, Context, Recording, SnapshotError};
 use crate::plot::PlotError;
 

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::write::{shown_columns, Units};
+use super::columns::{shown_columns, Units};
 use super::{drawing, label, Context, Frame, Recording};
 use crate::output::OutputError;
 use crate::plot::PlotError;

@@ -8,6 +8,7 @@
 //! period, so the pictures are of the state the outcomes describe, not of a rerun.
 
 mod animate;
+mod columns;
 mod draw;
 mod write;
 

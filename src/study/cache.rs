@@ -10,7 +10,6 @@
 use rusqlite::config::DbConfig;
 use rusqlite::{params, Connection, OpenFlags, OptionalExtension};
 use serde::Serialize;
-use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 
 use super::entry::{self, checksum, Checked, Covered, Raw};
@@ -202,16 +201,8 @@ impl Key {
             numerics: KeyNumerics::of(numerics),
         })
         .expect("plain data serialises");
-        let hash = Key::hash_of(&json);
+        let hash = entry::hash_of(&json);
         Key { hash, json }
-    }
-
-    /// The hash of a key's canonical JSON (SHA-256, hex).
-    pub fn hash_of(json: &str) -> String {
-        Sha256::digest(json.as_bytes())
-            .iter()
-            .map(|b| format!("{b:02x}"))
-            .collect()
     }
 }
 

@@ -112,7 +112,7 @@ impl Raw {
         if let Some(column) = self.unreadable {
             return Some(format!("its {column} is not what texopt writes there"));
         }
-        if super::cache::Key::hash_of(&self.key) != self.hash {
+        if hash_of(&self.key) != self.hash {
             return Some("its key does not match its hash".into());
         }
         match self.status.as_str() {
@@ -147,6 +147,14 @@ pub(super) struct Covered<'a> {
     pub texopt_version: &'a str,
 }
 
+/// The hash of a key's canonical JSON (SHA-256, hex): the cache's primary key.
+pub(super) fn hash_of(json: &str) -> String {
+    Sha256::digest(json.as_bytes())
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
 /// SHA-256 over the covered columns, each framed by its length (so that moving bytes from one
 /// column to the next shows), numbers by their bits.
 pub(super) fn checksum(c: &Covered) -> String {
@@ -175,7 +183,7 @@ mod tests {
     fn sound() -> Raw {
         let key = r#"{"model":"m"}"#.to_string();
         let mut r = Raw {
-            hash: super::super::cache::Key::hash_of(&key),
+            hash: hash_of(&key),
             key,
             status: "done".into(),
             outcome: Some(r#"{"f_mean":0.1059}"#.into()),

@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use super::file::{MAX_CASES_CEILING, MAX_VALUES, PARAMETERS};
+use super::file_keys::{MAX_CASES_CEILING, MAX_VALUES, PARAMETERS};
 use crate::model::case::short;
 
 /// What is wrong in a study file.

@@ -8,6 +8,7 @@ pub mod engine_file;
 mod entry;
 pub mod file;
 mod file_error;
+mod file_keys;
 mod operating_figures;
 pub mod report;
 pub mod shard;
