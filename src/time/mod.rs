@@ -12,6 +12,7 @@ mod memory;
 mod numerics;
 mod outcome;
 mod periodic;
+mod resolve;
 mod run;
 mod steady;
 mod transient;
@@ -30,6 +31,7 @@ pub use numerics::{
 };
 pub use outcome::{Outcome, Progress, RunResult, SeriesRow, SolveError};
 pub use periodic::{window_periods, MIN_WINDOW};
+pub use resolve::{resolve, Overrides};
 pub use run::{simulate, simulate_with, RunOptions, Watch};
 pub use steady::{solve_untextured, steady_outcome, Steady, SteadyError};
 pub use transient::{
