@@ -82,7 +82,6 @@ fn bad_inputs_are_refused_with_exit_2_and_a_message_naming_the_parameter() {
         (to(&["simulate", "--R", "0.8", "--depth", "-1"]), "--depth"),
         (with_tex(&["--mesh", "16x32"]), "--mesh"),
         (with_tex(&["--mesh", "8x32"]), "--mesh"),
-        (with_tex(&["--mesh", "512x2"]), "--mesh"),
         (with_tex(&["--mesh", "512"]), "--mesh"),
         (with_tex(&["--mesh", "ax3"]), "--mesh"),
         (with_tex(&["--dt", "0"]), "--dt"),
@@ -242,7 +241,7 @@ fn fidelity_tiers_set_mesh_and_step_unless_overridden() {
 #[test]
 fn simulate_resolves_small_pockets_as_studies_do() {
     // l2 = 0.005 in a 0.05-wide cell spans 3.2 of the fast tier's 8 cells across: the tier
-    // raises N2 to 10 (4 cells a pocket), as `study` does, unless --mesh says otherwise.
+    // raises N2 to 10 (4 cells a pocket), as `study` and `optimise` do, a --mesh's N2 too.
     let run = |mesh: Option<&str>| {
         let mut args = vec![
             "simulate",
@@ -269,7 +268,9 @@ fn simulate_resolves_small_pockets_as_studies_do() {
         v["inputs"]["mesh"].as_str().unwrap().to_string()
     };
     assert_eq!(run(None), "700x10");
-    assert_eq!(run(Some("512x8")), "512x8");
+    assert_eq!(run(Some("512x8")), "512x10");
+    assert_eq!(run(Some("512x2")), "512x10");
+    assert_eq!(run(Some("512x12")), "512x12");
 }
 
 #[test]

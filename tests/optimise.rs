@@ -334,7 +334,7 @@ fn f_direct(s: &Settings, r: f64, t: Option<&texopt::model::case::Texture>) -> f
         texture: t.cloned(),
         ..CaseSpec::paper(r)
     };
-    let num = texopt::study::numerics_for(&case, s.report_fidelity, &s.overrides);
+    let num = texopt::time::resolve(s.report_fidelity, &(&s.overrides).into(), &case);
     let opts = texopt::time::RunOptions::default();
     texopt::time::simulate_with(&case, &num, &opts, &mut Default::default())
         .unwrap()

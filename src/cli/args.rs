@@ -550,8 +550,9 @@ pub struct SimulateArgs {
     #[arg(long, value_enum, default_value_t = Fidelity::Fast)]
     pub fidelity: Fidelity,
     /// Mesh N1xN2: cells along x1 over 0.2 cm and along x2 over half a texture cell; the
-    /// run stays on it (no deep-pocket mesh; nor with --dt or --time-scheme) [default: from --fidelity, N2 raised where a
-    /// pocket would span fewer than 4 cells across (2 at draft), as in studies].
+    /// run stays on it (no deep-pocket mesh; nor with --dt or --time-scheme), N2 raised where a
+    /// pocket would span fewer than 4 cells across (2 at draft), as in studies [default: from
+    /// --fidelity].
     #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
     pub mesh: Option<(usize, usize)>,
     /// Largest time step (units of L/U: ms at 10 m/s); the step used divides the texture

@@ -2,7 +2,7 @@
 
 use super::{BenchArgs, CmdError};
 use crate::study::bench::{default_runs, run_case};
-use crate::time::{Fidelity, Numerics};
+use crate::time::{Fidelity, Overrides};
 
 /// Most runs of each case `--repeat` takes: more is a typo, not a benchmark.
 const MAX_REPEAT: usize = 100;
@@ -62,12 +62,12 @@ pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
             .iter()
             .find(|c| c.name == name)
             .expect("a benchmark case");
-        let tier = fidelity.numerics_for(&c.case);
-        let num = Numerics {
-            start: a.start,
-            approach: a.approach.map_or(tier.approach, |x| x.0),
-            ..tier
+        let given = Overrides {
+            start: Some(a.start),
+            approach: a.approach.map(|x| x.0),
+            ..Overrides::default()
         };
+        let num = crate::time::resolve(fidelity, &given, &c.case);
         eprintln!(
             "running {} at {} ({}) …",
             c.name,

@@ -10,6 +10,7 @@ mod simulate;
 mod slurm;
 mod snapshots;
 mod study;
+mod values;
 
 pub use args::{
     ApproachArg, BenchArgs, CacheAction, CacheArgs, Cli, Command, CycleArgs, LimitArgs,

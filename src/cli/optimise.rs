@@ -92,7 +92,7 @@ fn snapshots(s: &Settings, texture: Option<Texture>, dir: &Path) -> Result<(), S
         texture,
         ..s.base.clone()
     };
-    let num = crate::study::numerics_for(&case, s.report_fidelity, &s.overrides);
+    let num = crate::time::resolve(s.report_fidelity, &(&s.overrides).into(), &case);
     let request = Request {
         frames: crate::snapshot::DEFAULT_FRAMES,
         animation_stride: None,
@@ -421,7 +421,7 @@ pub(super) fn check_design_space(
             ..base.clone()
         };
         for fidelity in fidelities {
-            let num = crate::study::numerics_for(&case, fidelity, overrides);
+            let num = crate::time::resolve(fidelity, &overrides.into(), &case);
             // Over the run limits the bounds are the fix; invalid numerics say their own.
             let checked = match crate::time::limits::check(&case, &num, limits) {
                 Err(e) => Err((e, "; narrow the bounds")),

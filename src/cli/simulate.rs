@@ -7,13 +7,13 @@ use crate::model::case::{bad, short, CaseSpec, InputError, Texture};
 use crate::model::operating::{Operating, Physical};
 use crate::time::limits::Kept;
 use crate::time::{
-    simulate_with, unresolved_depth, Approach, Numerics, Outcome, Progress, RunOptions, RunResult,
-    SeriesRow, TimeScheme, Watch, DEEP_POCKET_RATIO, RESOLVED_DEEP_RATIO,
+    simulate_with, unresolved_depth, Approach, Numerics, Outcome, Overrides, Progress, RunOptions,
+    RunResult, SeriesRow, TimeScheme, Watch, DEEP_POCKET_RATIO, RESOLVED_DEEP_RATIO,
 };
 
 /// The case and numerics named by the flags, validated (errors name the flags).
 pub fn case_from_args(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), String> {
-    let (case, num) = resolve(a).map_err(|e| input_message(&e, flag))?;
+    let (case, num) = inputs(a).map_err(|e| input_message(&e, flag))?;
     let limits = a.limits.limits().map_err(|e| match e {
         CmdError::Input(m) | CmdError::Other(m) => m,
     })?;
@@ -90,7 +90,8 @@ fn check_kept(
     Ok(())
 }
 
-fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
+/// The case the flags describe and its numerics ([`crate::time::resolve`]), validated.
+fn inputs(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
     let mut case = CaseSpec::paper(a.r);
     case.theta_s = a.theta_s;
     a.operating.resolve()?.0.apply(&mut case);
@@ -123,40 +124,26 @@ fn resolve(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
             phase: a.phase,
         });
     }
-    // The tier as studies use it: N2 raised where a pocket would span too few cells across,
-    // so that `simulate` reproduces a study's row.
-    let tier = a.fidelity.numerics_for(&case);
-    let mut num = Numerics {
-        n1: a.mesh.map_or(tier.n1, |m| m.0),
-        n2: a.mesh.map_or(tier.n2, |m| m.1),
-        dt: a.dt.unwrap_or(tier.dt),
-        periodic_tol: a.periodic_tol.unwrap_or(tier.periodic_tol),
-        t_max: a.t_max,
-        start: a.start,
-        accelerate: !a.no_accelerate,
-        approach: a.approach.map_or(tier.approach, |x| x.0),
-        scheme: a.time_scheme.unwrap_or(tier.scheme),
-        // A mesh, step or scheme given is what the answer is on: no deep-pocket mesh after it.
-        deep: if a.mesh.is_some() || a.dt.is_some() || a.time_scheme.is_some() {
-            None
-        } else {
-            tier.deep
-        },
-        ..Numerics::default()
-    };
-    if a.dt.is_none() {
-        // The tier's step follows the mesh and scheme asked for (a step given is validated):
-        // a ring-frame scheme asked of a characteristic tier takes the texture one cell a step
-        // (dx1/u, Courant number 1), not the characteristic step's two.
-        if num.scheme != tier.scheme && tier.scheme == TimeScheme::Characteristic {
-            num.dt = num.cell_crossing_dt(&case);
-        }
-        num.fit_characteristic_step(&case);
-        num.fit_step_to_period(&case);
-    }
+    let num = crate::time::resolve(a.fidelity, &given(a), &case);
     case.validate(a.allow_thick_pockets)?;
     num.validate(&case)?;
     Ok((case, num))
+}
+
+/// The numerics the flags give beside the tier.
+fn given(a: &SimulateArgs) -> Overrides {
+    Overrides {
+        n1: a.mesh.map(|m| m.0),
+        n2: a.mesh.map(|m| m.1),
+        dt: a.dt,
+        scheme: a.time_scheme,
+        periodic_tol: a.periodic_tol,
+        t_max: Some(a.t_max),
+        solver: None,
+        start: Some(a.start),
+        accelerate: Some(!a.no_accelerate),
+        approach: a.approach.map(|x| x.0),
+    }
 }
 
 /// Rings at least this flat (cm) get a note when they run backward Euler (the `paper` tier, or
@@ -218,13 +205,18 @@ fn approach_note(asked: Approach, used: Option<&Numerics>) -> Option<String> {
 /// pockets, a coarse approach not taken as given, pocket flags of an untextured liner, a
 /// conformal ring's time-step error.
 fn input_notes(a: &SimulateArgs, case: &CaseSpec, num: &Numerics) {
-    if a.mesh.is_none() && num.n2 >= HEAVY_N2 {
-        eprintln!(
-            "note: {} cells across (N2 raised to put {} across each pocket of the {} cm wide texture cell): a heavy run; --mesh N1xN2 sets the mesh",
-            num.n2,
-            a.fidelity.pocket_cells(),
-            case.texture.as_ref().map_or(0.0, |t| t.width)
-        );
+    let width = case.texture.as_ref().map_or(0.0, |t| t.width);
+    let cells = a.fidelity.pocket_cells();
+    match a.mesh {
+        None if num.n2 >= HEAVY_N2 => eprintln!(
+            "note: {} cells across (N2 raised to put {cells} across each pocket of the {width} cm wide texture cell): a heavy run",
+            num.n2
+        ),
+        Some((n1, n2)) if num.n2 > n2 => eprintln!(
+            "note: --mesh {n1}x{n2} runs as {n1}x{} (N2 raised to put {cells} cells across each pocket of the {width} cm wide texture cell, as studies and the optimiser do)",
+            num.n2
+        ),
+        _ => {}
     }
     if let (Some(super::args::ApproachArg(Some(asked))), Some(_)) = (a.approach, &case.texture) {
         if let Some(note) = approach_note(asked, num.approach_numerics(case).as_ref()) {

@@ -19,7 +19,7 @@ use crate::model::case::{CaseSpec, Texture};
 use crate::model::engine::{Engine, Sample};
 use crate::model::operating::{Scales, Validity, VALIDATED_STRIBECK};
 use crate::study::cache::Cache;
-use crate::study::{numerics_for, sweep, Job, NumericsOverride};
+use crate::study::{sweep, Job, NumericsOverride};
 use crate::time::{Fidelity, Limits, Outcome};
 
 /// Everything `cycle` needs.
@@ -234,7 +234,7 @@ pub fn evaluate(
                 texture: t.clone(),
                 ..p.base.clone()
             };
-            let numerics = numerics_for(&case, fidelity, &s.overrides);
+            let numerics = crate::time::resolve(fidelity, &(&s.overrides).into(), &case);
             Job {
                 case,
                 numerics,

@@ -399,7 +399,7 @@ fn period_plots(stem: &Path, r: &Report, s: &Settings) -> Result<(), String> {
             texture: Some(t.clone()),
             ..s.base.clone()
         };
-        let num = crate::study::numerics_for(&case, s.report_fidelity, &s.overrides);
+        let num = crate::time::resolve(s.report_fidelity, &(&s.overrides).into(), &case);
         let period = t.per / case.u;
         let kept = last_period(
             &PathBuf::from(format!("{}_series.json", stem.display())),

@@ -17,7 +17,7 @@ use super::space::Space;
 use crate::model::case::{CaseSpec, Texture};
 use crate::model::operating::Scales;
 use crate::study::cache::Cache;
-use crate::study::{numerics_for, sweep, Job, NumericsOverride};
+use crate::study::{sweep, Job, NumericsOverride};
 use crate::time::{Fidelity, Outcome};
 
 /// One evaluated design.
@@ -54,7 +54,7 @@ impl Evaluator<'_> {
             texture: t.cloned(),
             ..self.base.clone()
         };
-        let numerics = numerics_for(&case, self.fidelity, &self.overrides);
+        let numerics = crate::time::resolve(self.fidelity, &(&self.overrides).into(), &case);
         Job {
             case,
             numerics,

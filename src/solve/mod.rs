@@ -91,17 +91,7 @@ pub trait FilmMethod: Send {
 }
 
 /// Which product film solver a run uses. Both solve the same discrete problem.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Method {
     /// Band LU over the pressurised range, reusing factors where the matrix has hardly
@@ -110,7 +100,6 @@ pub enum Method {
     Direct,
     /// The plain reference: a band LU of the whole domain in every iteration, nothing reused
     /// (tests compare the direct solver with it).
-    #[value(skip)]
     Reference,
 }
 

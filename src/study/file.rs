@@ -30,7 +30,7 @@ pub use super::file_keys::{MAX_CASES, MAX_CASES_CEILING, MAX_VALUES, PARAMETERS}
 use crate::model::case::{CaseSpec, InputError, Texture, Waiver};
 use crate::model::operating::{Operating, Scales, Validity, RANGES};
 use crate::solve::Method;
-use crate::time::{Fidelity, Numerics};
+use crate::time::{resolve, Fidelity, Numerics, Overrides};
 
 /// The physical operating parameters (docs/model.md §1), exclusive of the scaled ones.
 const PHYSICAL: [&str; 5] = ["speed", "load", "viscosity", "ring_width", "ring_mass"];
@@ -432,7 +432,7 @@ fn expand_cases(
             match broken_rule(&case, raw.study.allow_thick_pockets) {
                 Some(rule) => *skipped.entry(rule).or_insert(0) += 1,
                 None => {
-                    let numerics = numerics_for(&case, raw.study.fidelity, &raw.numerics);
+                    let numerics = resolve(raw.study.fidelity, &(&raw.numerics).into(), &case);
                     if let Err(e) = numerics.validate(&case) {
                         return Err(Problem::Numerics {
                             case: case.label(),
@@ -459,38 +459,19 @@ fn expand_cases(
     Ok((jobs, skipped))
 }
 
-/// The tier's numerics for the case with the study's overrides; N2 is then raised where a
-/// pocket would span fewer cells across than the tier asks (`Fidelity::pocket_cells`).
-pub fn numerics_for(case: &CaseSpec, fidelity: Fidelity, o: &NumericsOverride) -> Numerics {
-    let mut n = fidelity.numerics();
-    n.fit_mesh_to_ring(case);
-    if let Some(v) = o.n1 {
-        n.n1 = v;
+impl From<&NumericsOverride> for Overrides {
+    /// The file's `[numerics]` as given beside the tier ([`crate::time::resolve`]).
+    fn from(o: &NumericsOverride) -> Self {
+        Overrides {
+            n1: o.n1,
+            n2: o.n2,
+            dt: o.dt,
+            periodic_tol: o.periodic_tol,
+            t_max: o.t_max,
+            solver: o.solver,
+            ..Overrides::default()
+        }
     }
-    if let Some(v) = o.n2 {
-        n.n2 = v;
-    }
-    // A step given explicitly is validated, not fitted.
-    n.fit_characteristic_step(case);
-    n.fit_step_to_period(case);
-    if let Some(v) = o.dt {
-        n.dt = v;
-    }
-    if let Some(v) = o.periodic_tol {
-        n.periodic_tol = v;
-    }
-    if let Some(v) = o.t_max {
-        n.t_max = v;
-    }
-    if let Some(v) = o.solver {
-        n.solver = v;
-    }
-    // A mesh or step given is the one the answer is on: no deep-pocket mesh after it.
-    if o.n1.is_some() || o.n2.is_some() || o.dt.is_some() {
-        n.deep = None;
-    }
-    n.resolve_pockets(case, fidelity.pocket_cells());
-    n
 }
 
 /// The rule a case breaks, if any, in words that group alike cases ("2·l1 > per", "thin
@@ -701,31 +682,6 @@ fn range(key: &str, t: &toml::Table) -> Result<Vec<f64>, Problem> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_mesh_or_step_given_keeps_the_run_on_its_own_mesh() {
-        let case = CaseSpec::paper(3.2)
-            .with_texture(crate::model::case::Texture::circular(0.03, 0.06, 20.0));
-        let none = NumericsOverride::default();
-        assert!(numerics_for(&case, Fidelity::Fast, &none).deep.is_some());
-        let tol = NumericsOverride {
-            periodic_tol: Some(1e-5),
-            ..NumericsOverride::default()
-        };
-        assert!(numerics_for(&case, Fidelity::Fast, &tol).deep.is_some());
-        for given in [
-            NumericsOverride {
-                n2: Some(12),
-                ..NumericsOverride::default()
-            },
-            NumericsOverride {
-                dt: Some(5e-4),
-                ..NumericsOverride::default()
-            },
-        ] {
-            assert_eq!(numerics_for(&case, Fidelity::Fast, &given).deep, None);
-        }
-    }
 
     #[test]
     fn physical_axes_and_chosen_textures_expand() {

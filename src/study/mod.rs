@@ -15,4 +15,4 @@ pub mod shard;
 pub mod sweep;
 mod wal;
 
-pub use file::{load, numerics_for, parse, Job, NumericsOverride, Study, StudyError};
+pub use file::{load, parse, Job, NumericsOverride, Study, StudyError};

@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::numerics::{Approach, Numerics, TimeScheme};
+use super::resolve::Overrides;
 use crate::model::case::CaseSpec;
 
 /// Named fidelity tiers the rest of the product asks for, chosen from the Pareto front of the
@@ -12,7 +13,7 @@ use crate::model::case::CaseSpec;
 /// most of the error, the cells across (N2) less, so the tiers are anisotropic. `draft` and
 /// `fast` step the film along the Couette characteristics at dt = 2·dx1/u, where the
 /// cavitated film's transport is exact (docs/solver.md, "Time scheme"); `fine` by BDF2.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Fidelity {
     /// 400×8, characteristic, dt = 1e-3: the optimiser's search (errors ≤ 1.5 % in f̄ and
@@ -122,16 +123,12 @@ impl Fidelity {
         }
     }
 
-    /// The numerics of this tier for one case: the tier's N2 is raised where the pocket
-    /// would span fewer than `POCKET_CELLS` cells across (small pockets in a wide cell, e.g.
-    /// l2 = 0.0025 in width 0.06 needs N2 = 24), so every texture is resolved alike.
+    /// The numerics of this tier for one case, nothing given beside it
+    /// ([`super::resolve`]): N2 raised where a pocket would span fewer than
+    /// [`Self::pocket_cells`] cells across (small pockets in a wide cell, e.g. l2 = 0.0025 in
+    /// width 0.06 needs N2 = 24), so every texture is resolved alike.
     pub fn numerics_for(self, case: &CaseSpec) -> Numerics {
-        let mut num = self.numerics();
-        num.fit_mesh_to_ring(case);
-        num.resolve_pockets(case, self.pocket_cells());
-        num.fit_characteristic_step(case);
-        num.fit_step_to_period(case);
-        num
+        super::resolve(self, &Overrides::default(), case)
     }
 
     /// Fewest cells across a pocket (along x2) the tier accepts before raising N2: 4, and 2

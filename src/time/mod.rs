@@ -16,6 +16,7 @@ mod memory;
 mod numerics;
 mod outcome;
 mod periodic;
+mod resolve;
 mod run;
 mod schedule;
 mod start;
@@ -40,6 +41,7 @@ pub use numerics::{
     MIN_STEPS_PER_PERIOD,
 };
 pub use outcome::{Outcome, RunResult, SeriesRow};
+pub use resolve::{resolve, Overrides};
 pub use run::{simulate, simulate_with, RunOptions};
 pub use schedule::{OperatingPoint, Schedule};
 pub use start::{equilibrium_start, paper_start};

@@ -66,7 +66,7 @@ pub struct Approach {
 
 /// How the film's storage term ∂(hθ)/∂t is discretised in time (docs/solver.md, "Time
 /// scheme").
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum TimeScheme {
     /// First order: (φⁿ⁺¹ − φⁿ)/dt.
@@ -94,7 +94,7 @@ fn yes() -> bool {
 }
 
 /// Where a transient run starts (the periodic regime it reaches does not depend on it).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Start {
     /// The paper's initial state (docs/model.md §4): Z = z0, Z' = v0, flooded upstream gap.
