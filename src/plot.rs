@@ -1,6 +1,8 @@
 //! Charts (PNG via plotters): the few shapes the studies need, each a plain function of
 //! named series, so a study file stays a short description of what it shows.
 
+use plotters::coord::ranged1d::ValueFormatter;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -297,139 +299,209 @@ fn draw(path: &Path, chart: &Chart, series: &[Series], notes: &[Note]) -> Result
     let all = || series.iter().flat_map(|s| s.points.iter());
     let (x0, x1) = range(all().map(|p| p.0), chart.x_scale);
     let (y0, y1) = range(all().map(|p| p.1), chart.y_scale);
-    let label = |v: f64, scale: Scale, decades: f64| match scale {
-        Scale::Linear => tick(v),
-        Scale::Log => log_tick(v, decades),
-    };
-    let (x_decades, y_decades) = ((x1 / x0).log10(), (y1 / y0).log10());
-    let palette = [&BLUE, &RED, &GREEN, &MAGENTA, &CYAN, &BLACK, &YELLOW];
+    let decades = ((x1 / x0).log10(), (y1 / y0).log10());
     let mut builder = ChartBuilder::on(&root);
     builder
         .caption(chart.title, ("sans-serif", 22))
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(70);
-    macro_rules! draw {
-        ($ctx:expr) => {{
-            let mut ctx = $ctx;
-            ctx.configure_mesh()
-                .x_desc(chart.x_label)
-                .y_desc(chart.y_label)
-                .x_label_formatter(&|v| label(*v, chart.x_scale, x_decades))
-                .y_label_formatter(&|v| label(*v, chart.y_scale, y_decades))
-                .draw()
-                .map_err(drawing)?;
-            for s in series {
-                let c = palette[s.colour % palette.len()];
-                let pts = s.drawn();
-                let named = !s.name.is_empty();
-                match s.style {
-                    Style::Markers => {
-                        let a = ctx
-                            .draw_series(pts.map(|p| Circle::new(p, 4, c.filled())))
-                            .map_err(drawing)?;
-                        if named {
-                            a.label(s.name.clone())
-                                .legend(move |(x, y)| Circle::new((x + 10, y), 4, c.filled()));
-                        }
-                    }
-                    Style::Rings => {
-                        let a = ctx
-                            .draw_series(pts.map(|p| Circle::new(p, 8, c.stroke_width(2))))
-                            .map_err(drawing)?;
-                        if named {
-                            a.label(s.name.clone()).legend(move |(x, y)| {
-                                Circle::new((x + 10, y), 7, c.stroke_width(2))
-                            });
-                        }
-                    }
-                    Style::Line | Style::Thick => {
-                        let w = if s.style == Style::Thick { 4 } else { 2 };
-                        let pts: Vec<_> = pts.collect();
-                        let a = ctx
-                            .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(w)))
-                            .map_err(drawing)?;
-                        if named {
-                            a.label(s.name.clone()).legend(move |(x, y)| {
-                                PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(w))
-                            });
-                        }
-                        if s.style == Style::Thick {
-                            ctx.draw_series(
-                                pts.iter().map(|&p| TriangleMarker::new(p, 6, c.filled())),
-                            )
-                            .map_err(drawing)?;
-                        }
-                    }
-                    Style::Faint => {
-                        let grey = RGBColor(150, 150, 150);
-                        let pts: Vec<_> = pts.collect();
-                        let a = ctx
-                            .draw_series(LineSeries::new(pts.iter().copied(), grey.stroke_width(1)))
-                            .map_err(drawing)?;
-                        if named {
-                            a.label(s.name.clone()).legend(move |(x, y)| {
-                                PathElement::new(vec![(x, y), (x + 20, y)], grey.stroke_width(1))
-                            });
-                        }
-                        ctx.draw_series(
-                            pts.iter().map(|&p| Cross::new(p, 3, grey.stroke_width(1))),
-                        )
-                        .map_err(drawing)?;
-                    }
-                }
-            }
-            let font = ("sans-serif", 11).into_font().color(&BLACK);
-            let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
-            for n in notes {
-                let (x, y) = ctx.backend_coord(&n.at);
-                let (left, top) = note_place(&placed, (x, y), n.text.chars().count() as i32);
-                placed.push((
-                    left,
-                    top,
-                    left + 6 * n.text.chars().count() as i32,
-                    top + 12,
-                ));
-                root.draw(&Text::new(n.text.clone(), (left, top), font.clone()))
-                    .map_err(drawing)?;
-            }
-            // The legend goes where it hides the least of what was drawn (a fixed corner
-            // covered the untextured line in Fig. 6).
-            let base = ctx.plotting_area().get_base_pixel();
-            let (w, h) = ctx.plotting_area().dim_in_pixel();
-            let ink = ink(series, |p| {
-                let b = ctx.backend_coord(&p);
-                (b.0 - base.0, b.1 - base.1)
-            });
-            let names: Vec<&str> = series
-                .iter()
-                .filter(|s| !s.name.is_empty())
-                .map(|s| s.name.as_str())
-                .collect();
-            let position = least_covered(&ink, legend_size(&names)?, (w as i32, h as i32));
-            ctx.configure_series_labels()
-                .position(position)
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()
-                .map_err(drawing)?;
-        }};
-    }
+    let parts = Parts {
+        root: &root,
+        chart,
+        series,
+        notes,
+        decades,
+    };
     match (chart.x_scale, chart.y_scale) {
-        (Scale::Linear, Scale::Linear) => draw!(builder
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(drawing)?),
-        (Scale::Log, Scale::Linear) => draw!(builder
-            .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
-            .map_err(drawing)?),
-        (Scale::Linear, Scale::Log) => draw!(builder
-            .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
-            .map_err(drawing)?),
-        (Scale::Log, Scale::Log) => draw!(builder
-            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-            .map_err(drawing)?),
+        (Scale::Linear, Scale::Linear) => parts.fill(
+            builder
+                .build_cartesian_2d(x0..x1, y0..y1)
+                .map_err(drawing)?,
+        )?,
+        (Scale::Log, Scale::Linear) => parts.fill(
+            builder
+                .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
+                .map_err(drawing)?,
+        )?,
+        (Scale::Linear, Scale::Log) => parts.fill(
+            builder
+                .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+                .map_err(drawing)?,
+        )?,
+        (Scale::Log, Scale::Log) => parts.fill(
+            builder
+                .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+                .map_err(drawing)?,
+        )?,
     }
     root.present().map_err(drawing)?;
+    Ok(())
+}
+
+/// The plotting area of a chart, whatever the scales of its axes.
+type Plot<'a, 'p, X, Y> = ChartContext<'a, BitMapBackend<'p>, Cartesian2d<X, Y>>;
+
+/// What a chart is drawn from: the image, the chart's texts and scales, its series and notes,
+/// and the decades its axes span (`log_tick`).
+struct Parts<'a, 'p> {
+    root: &'a DrawingArea<BitMapBackend<'p>, Shift>,
+    chart: &'a Chart<'a>,
+    series: &'a [Series<'a>],
+    notes: &'a [Note],
+    decades: (f64, f64),
+}
+
+impl<'a, 'p> Parts<'a, 'p> {
+    /// Draws onto the plotting area, in this order: axes, series, notes, legend (each drawn
+    /// over the ones before).
+    fn fill<X, Y>(&self, mut plot: Plot<'a, 'p, X, Y>) -> Result<(), PlotError>
+    where
+        X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+        Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    {
+        self.axes(&mut plot)?;
+        for s in self.series {
+            draw_series(&mut plot, s)?;
+        }
+        self.write_notes(&plot)?;
+        self.legend(&mut plot)
+    }
+
+    fn axes<X, Y>(&self, plot: &mut Plot<'a, 'p, X, Y>) -> Result<(), PlotError>
+    where
+        X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+        Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    {
+        let label = |v: f64, scale: Scale, decades: f64| match scale {
+            Scale::Linear => tick(v),
+            Scale::Log => log_tick(v, decades),
+        };
+        let (chart, (x_decades, y_decades)) = (self.chart, self.decades);
+        plot.configure_mesh()
+            .x_desc(chart.x_label)
+            .y_desc(chart.y_label)
+            .x_label_formatter(&|v| label(*v, chart.x_scale, x_decades))
+            .y_label_formatter(&|v| label(*v, chart.y_scale, y_decades))
+            .draw()
+            .map_err(drawing)
+    }
+
+    /// The notes, each beside its point where it runs into no note written before it.
+    fn write_notes<X, Y>(&self, plot: &Plot<'a, 'p, X, Y>) -> Result<(), PlotError>
+    where
+        X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+        Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    {
+        let font = ("sans-serif", 11).into_font().color(&BLACK);
+        let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
+        for n in self.notes {
+            let (x, y) = plot.backend_coord(&n.at);
+            let (left, top) = note_place(&placed, (x, y), n.text.chars().count() as i32);
+            placed.push((
+                left,
+                top,
+                left + 6 * n.text.chars().count() as i32,
+                top + 12,
+            ));
+            self.root
+                .draw(&Text::new(n.text.clone(), (left, top), font.clone()))
+                .map_err(drawing)?;
+        }
+        Ok(())
+    }
+
+    /// The legend, where it hides the least of what was drawn (a fixed corner covered the
+    /// untextured line in Fig. 6).
+    fn legend<X, Y>(&self, plot: &mut Plot<'a, 'p, X, Y>) -> Result<(), PlotError>
+    where
+        X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+        Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    {
+        let base = plot.plotting_area().get_base_pixel();
+        let (w, h) = plot.plotting_area().dim_in_pixel();
+        let ink = ink(self.series, |p| {
+            let b = plot.backend_coord(&p);
+            (b.0 - base.0, b.1 - base.1)
+        });
+        let names: Vec<&str> = self
+            .series
+            .iter()
+            .filter(|s| !s.name.is_empty())
+            .map(|s| s.name.as_str())
+            .collect();
+        let position = least_covered(&ink, legend_size(&names)?, (w as i32, h as i32));
+        plot.configure_series_labels()
+            .position(position)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(drawing)
+    }
+}
+
+/// Colours of the series, by their `colour` index.
+const PALETTE: [&RGBColor; 7] = [&BLUE, &RED, &GREEN, &MAGENTA, &CYAN, &BLACK, &YELLOW];
+
+/// One series in its style, with its legend entry when it is named.
+fn draw_series<X, Y>(plot: &mut Plot<'_, '_, X, Y>, s: &Series) -> Result<(), PlotError>
+where
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let c = PALETTE[s.colour % PALETTE.len()];
+    let pts = s.drawn();
+    let named = !s.name.is_empty();
+    match s.style {
+        Style::Markers => {
+            let a = plot
+                .draw_series(pts.map(|p| Circle::new(p, 4, c.filled())))
+                .map_err(drawing)?;
+            if named {
+                a.label(s.name.clone())
+                    .legend(move |(x, y)| Circle::new((x + 10, y), 4, c.filled()));
+            }
+        }
+        Style::Rings => {
+            let a = plot
+                .draw_series(pts.map(|p| Circle::new(p, 8, c.stroke_width(2))))
+                .map_err(drawing)?;
+            if named {
+                a.label(s.name.clone())
+                    .legend(move |(x, y)| Circle::new((x + 10, y), 7, c.stroke_width(2)));
+            }
+        }
+        Style::Line | Style::Thick => {
+            let w = if s.style == Style::Thick { 4 } else { 2 };
+            let pts: Vec<_> = pts.collect();
+            let a = plot
+                .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(w)))
+                .map_err(drawing)?;
+            if named {
+                a.label(s.name.clone()).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(w))
+                });
+            }
+            if s.style == Style::Thick {
+                plot.draw_series(pts.iter().map(|&p| TriangleMarker::new(p, 6, c.filled())))
+                    .map_err(drawing)?;
+            }
+        }
+        Style::Faint => {
+            let grey = RGBColor(150, 150, 150);
+            let pts: Vec<_> = pts.collect();
+            let a = plot
+                .draw_series(LineSeries::new(pts.iter().copied(), grey.stroke_width(1)))
+                .map_err(drawing)?;
+            if named {
+                a.label(s.name.clone()).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], grey.stroke_width(1))
+                });
+            }
+            plot.draw_series(pts.iter().map(|&p| Cross::new(p, 3, grey.stroke_width(1))))
+                .map_err(drawing)?;
+        }
+    }
     Ok(())
 }
 

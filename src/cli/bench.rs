@@ -1,14 +1,42 @@
 //! `texopt bench`: the fixed benchmark cases, timed, into results/bench/.
 
 use super::{BenchArgs, CmdError};
-use crate::study::bench::{default_runs, run_case};
-use crate::time::{Fidelity, Overrides};
+use crate::study::bench::{default_runs, run_case, BenchCase, BenchRow};
+use crate::time::{Fidelity, Numerics, Overrides};
 
 /// Most runs of each case `--repeat` takes: more is a typo, not a benchmark.
 const MAX_REPEAT: usize = 100;
 
 pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
     let all = crate::study::bench::cases();
+    check_choice(a, &all)?;
+    let out = out_path(a)?;
+    let runs: Vec<(&str, Fidelity)> = match a.fidelity {
+        Some(f) => all.iter().map(|c| (c.name, f)).collect(),
+        None => default_runs(),
+    };
+    let mut rows = Vec::new();
+    let mut failed = 0;
+    for (name, fidelity) in runs
+        .into_iter()
+        .filter(|(n, _)| a.cases.is_empty() || a.cases.iter().any(|c| c == n))
+    {
+        let c = all
+            .iter()
+            .find(|c| c.name == name)
+            .expect("a benchmark case");
+        match bench_one(a, c, fidelity) {
+            Some(row) => rows.push(row),
+            None => failed += 1,
+        }
+    }
+    write_json(a, &out, &rows)?;
+    eprintln!("wrote {}", out.display());
+    Ok(if failed > 0 { 1 } else { 0 })
+}
+
+/// The cases asked for exist, and each runs at least once and at most `MAX_REPEAT` times.
+fn check_choice(a: &BenchArgs, all: &[BenchCase]) -> Result<(), CmdError> {
     for name in &a.cases {
         if !all.iter().any(|c| c.name == name) {
             let names: Vec<_> = all.iter().map(|c| c.name).collect();
@@ -29,6 +57,11 @@ pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
             a.repeat
         )));
     }
+    Ok(())
+}
+
+/// Where the JSON goes, checked writable before anything runs.
+fn out_path(a: &BenchArgs) -> Result<std::path::PathBuf, CmdError> {
     let out = a.out_path();
     let dir = out
         .parent()
@@ -48,43 +81,41 @@ pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
     }
     crate::output::check_writable(&out)
         .map_err(|why| CmdError::Input(format!("--out {}: {why}", out.display())))?;
-    let runs: Vec<(&str, Fidelity)> = match a.fidelity {
-        Some(f) => all.iter().map(|c| (c.name, f)).collect(),
-        None => default_runs(),
+    Ok(out)
+}
+
+/// One case at one fidelity, timed and printed; None if it failed (printed as such).
+fn bench_one(a: &BenchArgs, c: &BenchCase, fidelity: Fidelity) -> Option<(BenchRow, Numerics)> {
+    let given = Overrides {
+        start: Some(a.start),
+        approach: a.approach.map(|x| x.0),
+        ..Overrides::default()
     };
-    let mut rows = Vec::new();
-    let mut failed = 0;
-    for (name, fidelity) in runs
-        .into_iter()
-        .filter(|(n, _)| a.cases.is_empty() || a.cases.iter().any(|c| c == n))
-    {
-        let c = all
-            .iter()
-            .find(|c| c.name == name)
-            .expect("a benchmark case");
-        let given = Overrides {
-            start: Some(a.start),
-            approach: a.approach.map(|x| x.0),
-            ..Overrides::default()
-        };
-        let num = crate::time::resolve(fidelity, &given, &c.case);
-        eprintln!(
-            "running {} at {} ({}) …",
-            c.name,
-            fidelity.name(),
-            c.case.label()
-        );
-        match run_case(c, fidelity, &num, a.repeat) {
-            Ok(row) => {
-                println!("{}", row.line());
-                rows.push((row, num));
-            }
-            Err(e) => {
-                failed += 1;
-                println!("{:17} FAILED: {e}", c.name);
-            }
+    let num = crate::time::resolve(fidelity, &given, &c.case);
+    eprintln!(
+        "running {} at {} ({}) …",
+        c.name,
+        fidelity.name(),
+        c.case.label()
+    );
+    match run_case(c, fidelity, &num, a.repeat) {
+        Ok(row) => {
+            println!("{}", row.line());
+            Some((row, num))
+        }
+        Err(e) => {
+            println!("{:17} FAILED: {e}", c.name);
+            None
         }
     }
+}
+
+/// The benchmark's JSON: the machine and settings, then each case's row with its numerics.
+fn write_json(
+    a: &BenchArgs,
+    out: &std::path::Path,
+    rows: &[(BenchRow, Numerics)],
+) -> Result<(), CmdError> {
     let secs = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());
@@ -105,7 +136,5 @@ pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
             .collect::<Vec<_>>(),
     });
     let json = serde_json::to_string_pretty(&report).map_err(|e| CmdError::Other(e.to_string()))?;
-    crate::output::write(&out, json).map_err(|e| CmdError::Other(format!("--out: {e}")))?;
-    eprintln!("wrote {}", out.display());
-    Ok(if failed > 0 { 1 } else { 0 })
+    crate::output::write(out, json).map_err(|e| CmdError::Other(format!("--out: {e}")))
 }

@@ -7,30 +7,15 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
     if let Some(dir) = &a.slurm {
         return super::slurm::run(a, &study, dir);
     }
-    let all = study.jobs.len();
-    if let Some((i, n)) = a.shard {
-        let mine = crate::study::shard::shard(&study.jobs, i, n);
-        study.jobs = mine.into_iter().map(|k| study.jobs[k].clone()).collect();
-        eprintln!(
-            "share {i}/{n}: {} of the study's {all} cases",
-            study.jobs.len()
-        );
+    if let Some(share) = a.shard {
+        keep_share(&mut study, share);
     }
     let report = !a.no_report && a.shard.is_none();
     let limits = a.limits.limits()?;
     let jobs = a
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    eprintln!(
-        "study {}: {} cases at fidelity {} ({} invalid combinations skipped)",
-        study.name,
-        study.jobs.len(),
-        study.fidelity.name(),
-        study.skipped_total()
-    );
-    for (rule, n) in &study.skipped {
-        eprintln!("  skipped {n} × {rule}");
-    }
+    announce(&study);
     if a.dry_run {
         for j in &study.jobs {
             println!(
@@ -45,28 +30,9 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
     }
     // A report directory that cannot be made stops the study now, not after its simulations.
     if report {
-        let dir = std::path::Path::new(&study.report.dir);
-        directory_can_be_made(dir).map_err(|why| {
-            CmdError::Input(format!(
-                "{}: the report directory {} cannot be made: {why}; change [report] dir, or run with --no-report",
-                a.file.display(),
-                dir.display()
-            ))
-        })?;
+        report_dir_can_be_made(a, &study)?;
     }
-    let cache = if a.cached_only {
-        read_cache(a.cache.as_deref())?
-    } else {
-        open_cache(a.cache.as_deref())?
-    };
-    eprintln!("cache {}", cache.path().display());
-    if a.shard.is_some() {
-        // A share's cache is its task's alone: a lease left by a cancelled run of this task
-        // (on whatever host) would only hold its own case back.
-        cache
-            .clear_leases()
-            .map_err(|e| CmdError::Other(e.to_string()))?;
-    }
+    let cache = cache_of_run(a)?;
     install_ctrl_c();
     let cache = std::sync::Mutex::new(cache);
     let opt = crate::study::sweep::Options {
@@ -85,23 +51,7 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
         sum.cases, sum.cached, sum.computed, sum.simulations, sum.failed, sum.not_run, sum.wall_time_s
     );
     println!("{note}");
-    for d in &sum.damaged {
-        eprintln!("  damaged in the cache, not served: {d}");
-    }
-    // Cases over the run limits are not stored: say why here, whatever the report.
-    let unrun: Vec<&String> = results
-        .iter()
-        .filter_map(|r| match r {
-            Some(Err(why)) if why.contains(": not run: ") => Some(why),
-            _ => None,
-        })
-        .collect();
-    for why in unrun.iter().take(5) {
-        eprintln!("  {why}");
-    }
-    if unrun.len() > 5 {
-        eprintln!("  … and {} more cases over the limits", unrun.len() - 5);
-    }
+    tell_unserved(&sum, &results);
     if sum.stopped && !a.cached_only {
         println!("stopped before the end: run the same command again to compute the rest");
         return Ok(130);
@@ -116,17 +66,104 @@ pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
         return Ok(0);
     }
     if report {
-        keep_fuller_report(a, &study, &results)?;
-        let w = crate::study::report::write(&study, &results, &note)
-            .map_err(|e| CmdError::Other(e.into()))?;
-        for l in &w.headline {
-            println!("  {l}");
-        }
-        for f in &w.files {
-            eprintln!("wrote {}", f.display());
-        }
+        write_report(a, &study, &results, &note)?;
     }
     Ok(if sum.failed > 0 { 1 } else { 0 })
+}
+
+/// Keeps share `i` of `n` of the study's cases.
+fn keep_share(study: &mut crate::study::Study, (i, n): (usize, usize)) {
+    let all = study.jobs.len();
+    let mine = crate::study::shard::shard(&study.jobs, i, n);
+    study.jobs = mine.into_iter().map(|k| study.jobs[k].clone()).collect();
+    eprintln!(
+        "share {i}/{n}: {} of the study's {all} cases",
+        study.jobs.len()
+    );
+}
+
+/// What the study runs: its cases, its fidelity, and the combinations skipped.
+fn announce(study: &crate::study::Study) {
+    eprintln!(
+        "study {}: {} cases at fidelity {} ({} invalid combinations skipped)",
+        study.name,
+        study.jobs.len(),
+        study.fidelity.name(),
+        study.skipped_total()
+    );
+    for (rule, n) in &study.skipped {
+        eprintln!("  skipped {n} × {rule}");
+    }
+}
+
+fn report_dir_can_be_made(a: &StudyArgs, study: &crate::study::Study) -> Result<(), CmdError> {
+    let dir = std::path::Path::new(&study.report.dir);
+    directory_can_be_made(dir).map_err(|why| {
+        CmdError::Input(format!(
+            "{}: the report directory {} cannot be made: {why}; change [report] dir, or run with --no-report",
+            a.file.display(),
+            dir.display()
+        ))
+    })
+}
+
+/// The cache the run reads (--cached-only) or computes into; a share's with its leases
+/// cleared.
+fn cache_of_run(a: &StudyArgs) -> Result<crate::study::cache::Cache, CmdError> {
+    let cache = if a.cached_only {
+        read_cache(a.cache.as_deref())?
+    } else {
+        open_cache(a.cache.as_deref())?
+    };
+    eprintln!("cache {}", cache.path().display());
+    if a.shard.is_some() {
+        // A share's cache is its task's alone: a lease left by a cancelled run of this task
+        // (on whatever host) would only hold its own case back.
+        cache
+            .clear_leases()
+            .map_err(|e| CmdError::Other(e.to_string()))?;
+    }
+    Ok(cache)
+}
+
+/// The cases the sweep could not serve: damaged entries, and cases over the run limits
+/// (not stored: said here, whatever the report).
+fn tell_unserved(sum: &crate::study::sweep::Summary, results: &[crate::study::sweep::CaseResult]) {
+    for d in &sum.damaged {
+        eprintln!("  damaged in the cache, not served: {d}");
+    }
+    let unrun: Vec<&String> = results
+        .iter()
+        .filter_map(|r| match r {
+            Some(Err(why)) if why.contains(": not run: ") => Some(why),
+            _ => None,
+        })
+        .collect();
+    for why in unrun.iter().take(5) {
+        eprintln!("  {why}");
+    }
+    if unrun.len() > 5 {
+        eprintln!("  … and {} more cases over the limits", unrun.len() - 5);
+    }
+}
+
+/// The study's report, unless the one in place holds more; its headline on stdout.
+fn write_report(
+    a: &StudyArgs,
+    study: &crate::study::Study,
+    results: &[crate::study::sweep::CaseResult],
+    note: &str,
+) -> Result<(), CmdError> {
+    keep_fuller_report(a, study, results)?;
+    let w =
+        crate::study::report::write(study, results, note).map_err(|e| CmdError::Other(e.into()))?;
+    for l in &w.headline {
+        println!("  {l}");
+    }
+    for f in &w.files {
+        eprintln!("wrote {}", f.display());
+    }
+    Ok(())
 }
 
 /// The cache a report-only run reads: it must exist, and is opened read-only (a mistyped

@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::model::case::{CaseSpec, Texture};
+use crate::model::operating::Physical;
 use crate::output::OutputError;
 use crate::plot::{self, Chart, Note, Scale, Series, Style};
 use crate::study::file::{Job, Study};
@@ -103,13 +104,54 @@ pub fn write(
         dir: dir.to_path_buf(),
         source,
     })?;
+    let rows = rows(study, results);
+    let mut files = Vec::new();
+    let name = &study.name;
+
+    let csv_path = dir.join(format!("{name}.csv"));
+    write_csv(&csv_path, study, &rows)?;
+    files.push(csv_path);
+
+    let scope = Scope::of(study, &rows);
+    files.extend(paper_figures(dir, name, &rows, &scope)?);
+    let points: Vec<Point> = scope
+        .main
+        .iter()
+        .map(|r| Point {
+            case: &r.job.case,
+            f_ratio: r.f_ratio(),
+            // A ratio is outside the model where either of its runs is.
+            outside: r.outside.is_some() || r.plain_outside,
+        })
+        .collect();
+    files.extend(figures(dir, name, &points, &study.validity)?);
+    let headline = headline(&scope.main, scope.main_theta, study.fidelity);
+    let md = summary(study, &rows, scope.main_theta, &headline, wall_note) + &captions(&files);
+    let summary_path = dir.join(format!("{name}_summary.md"));
+    crate::output::write(&summary_path, md)?;
+    files.push(summary_path);
+    if scope.textured && !scope.radii.is_empty() {
+        let table = study
+            .report
+            .table
+            .clone()
+            .unwrap_or_else(|| format!("{name}_table1.md"));
+        let p = dir.join(table);
+        crate::output::write(&p, table1(study, &scope.main, &scope.radii))?;
+        files.push(p);
+    }
+    Ok(ReportFiles { files, headline })
+}
+
+/// Each case of the study with its result and its plain liner's.
+fn rows<'a>(study: &'a Study, results: &'a [CaseResult]) -> Vec<Row<'a>> {
     let mut plain: BTreeMap<String, &Outcome> = BTreeMap::new();
     for (j, r) in study.jobs.iter().zip(results) {
         if let (None, Some(Ok(o))) = (&j.case.texture, r) {
             plain.insert(plain_key(&j.case), o);
         }
     }
-    let rows: Vec<Row> = study
+    study
         .jobs
         .iter()
         .zip(results)
@@ -133,36 +175,39 @@ pub fn write(
                 study.validity.outside(&c, p.c_min).is_some()
             }),
         })
-        .collect();
-    let mut files = Vec::new();
-    let name = &study.name;
+        .collect()
+}
 
-    let csv_path = dir.join(format!("{name}.csv"));
-    write_csv(&csv_path, study, &rows)?;
-    files.push(csv_path);
+/// What of a study the paper's form (Fig. 6, 11, Table 1) shows.
+struct Scope<'r, 'a> {
+    /// The θ_s values of the study in file order; the first is the one of Fig. 6 and Table 1.
+    thetas: Vec<f64>,
+    main_theta: f64,
+    /// The rows at that θ_s, and their radii (ascending, distinct).
+    main: Vec<&'r Row<'a>>,
+    radii: Vec<f64>,
+    /// Whether they hold textured cases at one operating point (the paper's form is for one:
+    /// a study that varies it is read through its operating figures instead).
+    textured: bool,
+}
 
-    // The θ_s values of the study, the first (in file order) for Fig. 6 and Table 1.
-    let mut thetas: Vec<f64> = Vec::new();
-    for j in &study.jobs {
-        if !thetas.contains(&j.case.theta_s) {
-            thetas.push(j.case.theta_s);
+impl<'r, 'a> Scope<'r, 'a> {
+    fn of(study: &Study, rows: &'r [Row<'a>]) -> Self {
+        let mut thetas: Vec<f64> = Vec::new();
+        for j in &study.jobs {
+            if !thetas.contains(&j.case.theta_s) {
+                thetas.push(j.case.theta_s);
+            }
         }
-    }
-    let main_theta = thetas[0];
-    let main: Vec<&Row> = rows
-        .iter()
-        .filter(|r| r.job.case.theta_s == main_theta)
-        .collect();
-    let textured = main.iter().any(|r| r.job.case.texture.is_some());
-    let radii: Vec<f64> = {
-        let mut v: Vec<f64> = main.iter().map(|r| r.job.case.r).collect();
-        v.sort_by(f64::total_cmp);
-        v.dedup();
-        v
-    };
-    // The paper's form (Fig. 6, 11, Table 1) is for one operating point: a study that varies
-    // it is read through its operating figures instead.
-    let one_point = {
+        let main_theta = thetas[0];
+        let main: Vec<&Row> = rows
+            .iter()
+            .filter(|r| r.job.case.theta_s == main_theta)
+            .collect();
+        let textured = main.iter().any(|r| r.job.case.texture.is_some());
+        let mut radii: Vec<f64> = main.iter().map(|r| r.job.case.r).collect();
+        radii.sort_by(f64::total_cmp);
+        radii.dedup();
         let op = |c: &CaseSpec| {
             plain_key(&CaseSpec {
                 r: 0.0,
@@ -170,51 +215,43 @@ pub fn write(
                 ..c.clone()
             })
         };
-        rows.iter()
-            .all(|r| op(&r.job.case) == op(&rows[0].job.case))
-    };
-    let textured = textured && one_point;
-    if textured && radii.len() >= 2 {
+        let one_point = rows
+            .iter()
+            .all(|r| op(&r.job.case) == op(&rows[0].job.case));
+        Scope {
+            thetas,
+            main_theta,
+            main,
+            radii,
+            textured: textured && one_point,
+        }
+    }
+}
+
+/// Fig. 6 (friction and clearance) and Fig. 11, where the study has what they show.
+fn paper_figures(
+    dir: &Path,
+    name: &str,
+    rows: &[Row],
+    scope: &Scope,
+) -> Result<Vec<PathBuf>, OutputError> {
+    let mut files = Vec::new();
+    if scope.textured && scope.radii.len() >= 2 {
         for (what, file) in [
             ("friction", "fig6_friction"),
             ("clearance", "fig6_clearance"),
         ] {
             let p = dir.join(format!("{name}_{file}.png"));
-            fig6(&p, &main, what == "friction", main_theta)?;
+            fig6(&p, &scope.main, what == "friction", scope.main_theta)?;
             files.push(p);
         }
     }
-    if textured && thetas.len() >= 2 && radii.len() >= 2 {
+    if scope.textured && scope.thetas.len() >= 2 && scope.radii.len() >= 2 {
         let p = dir.join(format!("{name}_fig11.png"));
-        fig11(&p, &rows, &thetas)?;
+        fig11(&p, rows, &scope.thetas)?;
         files.push(p);
     }
-    let points: Vec<Point> = main
-        .iter()
-        .map(|r| Point {
-            case: &r.job.case,
-            f_ratio: r.f_ratio(),
-            // A ratio is outside the model where either of its runs is.
-            outside: r.outside.is_some() || r.plain_outside,
-        })
-        .collect();
-    files.extend(figures(dir, name, &points, &study.validity)?);
-    let headline = headline(&main, main_theta, study.fidelity);
-    let md = summary(study, &rows, main_theta, &headline, wall_note) + &captions(&files);
-    let summary_path = dir.join(format!("{name}_summary.md"));
-    crate::output::write(&summary_path, md)?;
-    files.push(summary_path);
-    if textured && !radii.is_empty() {
-        let table = study
-            .report
-            .table
-            .clone()
-            .unwrap_or_else(|| format!("{name}_table1.md"));
-        let p = dir.join(table);
-        crate::output::write(&p, table1(study, &main, &radii))?;
-        files.push(p);
-    }
-    Ok(ReportFiles { files, headline })
+    Ok(files)
 }
 
 /// The summary file: the run, the compute behind it, the cases, the headline, the failures.
@@ -353,112 +390,122 @@ fn write_csv(path: &Path, study: &Study, rows: &[Row]) -> Result<(), OutputError
 
 fn csv_rows(path: &Path, study: &Study, rows: &[Row]) -> Result<(), csv::Error> {
     let mut w = csv::Writer::from_path(path)?;
-    w.write_record([
-        "R",
-        "textured",
-        "l1",
-        "l2",
-        "per",
-        "width",
-        "depth",
-        "area_fraction",
-        "theta_s",
-        "d_oil",
-        "u",
-        "w_ps",
-        "mass",
-        "e",
-        "fidelity",
-        "n1",
-        "n2",
-        "dt",
-        "status",
-        "f_mean",
-        "f_couette",
-        "f_poiseuille",
-        "f_pressure",
-        "z_mean",
-        "z_min",
-        "z_max",
-        "c_min",
-        "f_over_plain",
-        "c_min_over_plain",
-        "periods",
-        "steps",
-        "wall_time_s",
-        "reason",
-        "ring_width",
-        "stribeck",
-        "speed_m_s",
-        "load_n_m",
-        "friction_n_m",
-        "power_w_m",
-        "outside_model",
-    ])?;
-    let num = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v}"));
-    for r in rows {
-        let c = &r.job.case;
-        let t = c.texture.as_ref();
-        let o = r.out;
-        let n = &r.job.numerics;
-        let p = r.job.scales.physical(
-            c,
-            o.map_or(f64::NAN, |o| o.f_mean),
-            o.map_or(f64::NAN, |o| o.c_min),
-        );
-        w.write_record([
-            format!("{}", c.r),
-            format!("{}", t.is_some()),
-            num(t.map(|t| t.l1)),
-            num(t.map(|t| t.l2)),
-            num(t.map(|t| t.per)),
-            num(t.map(|t| t.width)),
-            num(t.map(|t| t.depth)),
-            num(Some(t.map_or(0.0, Texture::area_fraction))),
-            format!("{}", c.theta_s),
-            format!("{}", c.d_oil),
-            format!("{}", c.u),
-            format!("{}", c.w_ps),
-            format!("{}", c.mass),
-            format!("{}", c.e),
-            study.fidelity.name().to_string(),
-            // The mesh and step of the answer (the deep-pocket mesh where the run went on).
-            format!("{}", o.map_or(n.n1, |o| o.mesh((n.n1, n.n2)).0)),
-            format!("{}", o.map_or(n.n2, |o| o.mesh((n.n1, n.n2)).1)),
-            format!(
-                "{}",
-                o.filter(|o| o.deep_mesh.is_some()).map_or(n.dt, |o| o.dt)
+    w.write_record(CSV_COLUMNS.iter().map(|(name, _)| name))?;
+    for row in rows {
+        let (c, o) = (&row.job.case, row.out);
+        let line = Line {
+            fidelity: study.fidelity.name(),
+            row,
+            physical: row.job.scales.physical(
+                c,
+                o.map_or(f64::NAN, |o| o.f_mean),
+                o.map_or(f64::NAN, |o| o.c_min),
             ),
-            match (o, r.reason) {
-                (Some(_), _) => "done".into(),
-                (None, Some(_)) => "failed".into(),
-                _ => "not run".into(),
-            },
-            num(o.map(|o| o.f_mean)),
-            num(o.map(|o| o.f_couette)),
-            num(o.map(|o| o.f_poiseuille)),
-            num(o.map(|o| o.f_pressure)),
-            num(o.map(|o| o.z_mean)),
-            num(o.map(|o| o.z_min)),
-            num(o.map(|o| o.z_max)),
-            num(o.map(|o| o.c_min)),
-            num(r.f_ratio()),
-            num(r.c_ratio()),
-            num(o.map(|o| o.periods as f64)),
-            num(o.map(|o| o.steps as f64)),
-            num(o.map(|o| o.wall_time_s)),
-            r.reason.unwrap_or_default().to_string(),
-            format!("{}", c.ring_width),
-            format!("{}", p.stribeck),
-            format!("{}", p.speed_ms),
-            format!("{}", p.load_n_per_m),
-            num(o.map(|_| p.friction_n_per_m)),
-            num(o.map(|_| p.power_w_per_m)),
-            r.outside.clone().unwrap_or_default(),
-        ])?;
+        };
+        w.write_record(CSV_COLUMNS.iter().map(|(_, cell)| cell(&line)))?;
     }
     Ok(w.flush()?)
 }
+
+/// What one row of the study's CSV is written from.
+struct Line<'a> {
+    fidelity: &'a str,
+    row: &'a Row<'a>,
+    physical: Physical,
+}
+
+impl Line<'_> {
+    fn case(&self) -> &CaseSpec {
+        &self.row.job.case
+    }
+    fn texture(&self, value: fn(&Texture) -> f64) -> String {
+        num(self.case().texture.as_ref().map(value))
+    }
+    fn outcome(&self, value: fn(&Outcome) -> f64) -> String {
+        num(self.row.out.map(value))
+    }
+    /// The mesh of the answer (the deep-pocket mesh where the run went on).
+    fn mesh(&self) -> (usize, usize) {
+        let n = &self.row.job.numerics;
+        self.row.out.map_or((n.n1, n.n2), |o| o.mesh((n.n1, n.n2)))
+    }
+}
+
+/// A number, or an empty cell.
+fn num(x: Option<f64>) -> String {
+    x.map_or(String::new(), |v| format!("{v}"))
+}
+
+/// How a cell of the study's CSV is written.
+type Cell = fn(&Line) -> String;
+
+/// The study CSV's columns: each header with how its cell is written.
+const CSV_COLUMNS: [(&str, Cell); 40] = [
+    ("R", |l| format!("{}", l.case().r)),
+    ("textured", |l| format!("{}", l.case().texture.is_some())),
+    ("l1", |l| l.texture(|t| t.l1)),
+    ("l2", |l| l.texture(|t| t.l2)),
+    ("per", |l| l.texture(|t| t.per)),
+    ("width", |l| l.texture(|t| t.width)),
+    ("depth", |l| l.texture(|t| t.depth)),
+    ("area_fraction", |l| {
+        num(Some(
+            l.case()
+                .texture
+                .as_ref()
+                .map_or(0.0, Texture::area_fraction),
+        ))
+    }),
+    ("theta_s", |l| format!("{}", l.case().theta_s)),
+    ("d_oil", |l| format!("{}", l.case().d_oil)),
+    ("u", |l| format!("{}", l.case().u)),
+    ("w_ps", |l| format!("{}", l.case().w_ps)),
+    ("mass", |l| format!("{}", l.case().mass)),
+    ("e", |l| format!("{}", l.case().e)),
+    ("fidelity", |l| l.fidelity.to_string()),
+    ("n1", |l| format!("{}", l.mesh().0)),
+    ("n2", |l| format!("{}", l.mesh().1)),
+    // The step of the answer (the deep-pocket mesh's where the run went on).
+    ("dt", |l| {
+        let o = l.row.out.filter(|o| o.deep_mesh.is_some());
+        format!("{}", o.map_or(l.row.job.numerics.dt, |o| o.dt))
+    }),
+    ("status", |l| {
+        match (l.row.out, l.row.reason) {
+            (Some(_), _) => "done",
+            (None, Some(_)) => "failed",
+            _ => "not run",
+        }
+        .into()
+    }),
+    ("f_mean", |l| l.outcome(|o| o.f_mean)),
+    ("f_couette", |l| l.outcome(|o| o.f_couette)),
+    ("f_poiseuille", |l| l.outcome(|o| o.f_poiseuille)),
+    ("f_pressure", |l| l.outcome(|o| o.f_pressure)),
+    ("z_mean", |l| l.outcome(|o| o.z_mean)),
+    ("z_min", |l| l.outcome(|o| o.z_min)),
+    ("z_max", |l| l.outcome(|o| o.z_max)),
+    ("c_min", |l| l.outcome(|o| o.c_min)),
+    ("f_over_plain", |l| num(l.row.f_ratio())),
+    ("c_min_over_plain", |l| num(l.row.c_ratio())),
+    ("periods", |l| l.outcome(|o| o.periods as f64)),
+    ("steps", |l| l.outcome(|o| o.steps as f64)),
+    ("wall_time_s", |l| l.outcome(|o| o.wall_time_s)),
+    ("reason", |l| l.row.reason.unwrap_or_default().to_string()),
+    ("ring_width", |l| format!("{}", l.case().ring_width)),
+    ("stribeck", |l| format!("{}", l.physical.stribeck)),
+    ("speed_m_s", |l| format!("{}", l.physical.speed_ms)),
+    ("load_n_m", |l| format!("{}", l.physical.load_n_per_m)),
+    ("friction_n_m", |l| {
+        num(l.row.out.map(|_| l.physical.friction_n_per_m))
+    }),
+    ("power_w_m", |l| {
+        num(l.row.out.map(|_| l.physical.power_w_per_m))
+    }),
+    ("outside_model", |l| {
+        l.row.outside.clone().unwrap_or_default()
+    }),
+];
 
 /// Per R: the textured rows' values and the plain liner's, for one operating point.
 struct Family {
@@ -651,19 +698,40 @@ fn fig11(path: &Path, rows: &[Row], thetas: &[f64]) -> Result<(), OutputError> {
 /// The largest friction reduction and clearance gain against the plain liner, and the R
 /// below which no texture beats it.
 fn headline(rows: &[&Row], theta_s: f64, fidelity: crate::time::Fidelity) -> Vec<String> {
-    let mut out = Vec::new();
     // Nothing to weigh (every textured case or its plain liner failed or was not run): no
     // conclusion, rather than "no texture beats it".
     if !rows
         .iter()
         .any(|r| r.job.case.texture.is_some() && r.f_ratio().is_some())
     {
-        out.push(
+        return vec![
             "no textured case has a result beside its untextured liner's (they failed or were not run): nothing to compare"
                 .into(),
-        );
-        return out;
+        ];
     }
+    let mut out = best_against_plain(rows);
+    let mut radii: Vec<f64> = rows.iter().map(|r| r.job.case.r).collect();
+    radii.sort_by(f64::total_cmp);
+    radii.dedup();
+    type Gain<'a> = &'a dyn Fn(&Row) -> Option<f64>;
+    let f_gain: Gain = &|r: &Row| r.f_ratio().map(|x| 1.0 - x);
+    let c_gain: Gain = &|r: &Row| r.c_ratio().map(|x| x - 1.0);
+    for (what, gain, err) in [
+        ("friction", f_gain, fidelity.f_error()),
+        ("clearance", c_gain, fidelity.c_error()),
+    ] {
+        out.push(first_r_beating(rows, &radii, what, gain, err, fidelity));
+    }
+    out.push(format!(
+        "(friction per eq. 11 with θs = {theta_s}; the paper prints f/10)"
+    ));
+    out
+}
+
+/// The headline's largest friction reduction and clearance gain against the plain liner
+/// (or, when no texture gains, the least loss).
+fn best_against_plain(rows: &[&Row]) -> Vec<String> {
+    let mut out = Vec::new();
     // The best within the hydrodynamic model: a flagged case is not a prediction.
     let best = |ratio: &dyn Fn(&Row) -> Option<f64>, lower: bool| {
         rows.iter()
@@ -706,63 +774,63 @@ fn headline(rows: &[&Row], theta_s: f64, fidelity: crate::time::Fidelity) -> Vec
             r.plain.map_or(f64::NAN, |o| o.c_min)
         ));
     }
-    let mut radii: Vec<f64> = rows.iter().map(|r| r.job.case.r).collect();
-    radii.sort_by(f64::total_cmp);
-    radii.dedup();
-    // "Beats" means by more than the fidelity's measured error; smaller gains are reported
-    // but not counted (they are not resolved).
-    type Gain<'a> = &'a dyn Fn(&Row) -> Option<f64>;
-    let f_gain: Gain = &|r: &Row| r.f_ratio().map(|x| 1.0 - x);
-    let c_gain: Gain = &|r: &Row| r.c_ratio().map(|x| x - 1.0);
-    for (what, gain, err) in [
-        ("friction", f_gain, fidelity.f_error()),
-        ("clearance", c_gain, fidelity.c_error()),
-    ] {
-        let textured = || rows.iter().filter(|r| r.job.case.texture.is_some());
-        let first = radii
-            .iter()
-            .copied()
-            .find(|&rr| textured().any(|r| r.job.case.r == rr && gain(r).is_some_and(|g| g > err)));
-        let best_below = textured()
-            .filter(|r| first.is_none_or(|f| r.job.case.r < f))
-            .filter_map(|r| Some((gain(r)?, r)))
-            .max_by(|a, b| a.0.total_cmp(&b.0));
-        let margin = format!(
-            "by more than the {} tier's error ({:.2} %)",
-            fidelity.name(),
-            100.0 * err
-        );
-        let mut line = match first {
-            Some(rr) if rr == radii[0] => format!(
-                "{what}: some texture beats the untextured liner {margin} already at the smallest R = {rr}"
-            ),
-            Some(rr) => format!(
-                "{what}: no texture beats the untextured liner {margin} below R = {rr} (the first R where one does)"
-            ),
-            None => format!("{what}: no texture beats the untextured liner {margin} at any R"),
-        };
-        if let (Some((g, r)), true) = (best_below, first != Some(radii[0])) {
-            line += &format!(
-                "; {} the largest gain is {:+.2} % ({})",
-                if first.is_some() {
-                    "below it"
-                } else {
-                    "at best"
-                },
-                100.0 * g,
-                r.job.case.label()
-            );
-        }
-        out.push(line);
-    }
-    out.push(format!(
-        "(friction per eq. 11 with θs = {theta_s}; the paper prints f/10)"
-    ));
     out
+}
+
+/// The headline's line on the first R (of `radii`, ascending) where some texture beats the
+/// plain liner in `what`. "Beats" means a `gain` over the fidelity's measured error `err`;
+/// smaller gains are reported but not counted (they are not resolved).
+fn first_r_beating(
+    rows: &[&Row],
+    radii: &[f64],
+    what: &str,
+    gain: &dyn Fn(&Row) -> Option<f64>,
+    err: f64,
+    fidelity: crate::time::Fidelity,
+) -> String {
+    let textured = || rows.iter().filter(|r| r.job.case.texture.is_some());
+    let first = radii
+        .iter()
+        .copied()
+        .find(|&rr| textured().any(|r| r.job.case.r == rr && gain(r).is_some_and(|g| g > err)));
+    let best_below = textured()
+        .filter(|r| first.is_none_or(|f| r.job.case.r < f))
+        .filter_map(|r| Some((gain(r)?, r)))
+        .max_by(|a, b| a.0.total_cmp(&b.0));
+    let margin = format!(
+        "by more than the {} tier's error ({:.2} %)",
+        fidelity.name(),
+        100.0 * err
+    );
+    let mut line = match first {
+        Some(rr) if rr == radii[0] => format!(
+            "{what}: some texture beats the untextured liner {margin} already at the smallest R = {rr}"
+        ),
+        Some(rr) => format!(
+            "{what}: no texture beats the untextured liner {margin} below R = {rr} (the first R where one does)"
+        ),
+        None => format!("{what}: no texture beats the untextured liner {margin} at any R"),
+    };
+    if let (Some((g, r)), true) = (best_below, first != Some(radii[0])) {
+        line += &format!(
+            "; {} the largest gain is {:+.2} % ({})",
+            if first.is_some() {
+                "below it"
+            } else {
+                "at best"
+            },
+            100.0 * g,
+            r.job.case.label()
+        );
+    }
+    line
 }
 
 /// (f̄/f̄_plain, C_min/C_min,plain, outside the model) of one texture by R (as f64 bits).
 type RatiosByR = BTreeMap<u64, (f64, f64, bool)>;
+
+/// Each texture (by curve key) with its ratios to the plain liner by R.
+type ByTexture = BTreeMap<String, (Texture, RatiosByR)>;
 
 /// Table 1: the best textures for small and large R, ranked by the class mean of the ratio
 /// to the plain liner; and the best texture at each R.
@@ -780,7 +848,7 @@ fn table1(study: &Study, rows: &[&Row], radii: &[f64]) -> String {
         study.fidelity.name(),
         study.name
     );
-    let class_r: [(&str, Vec<f64>); 2] = [
+    let classes: [(&str, Vec<f64>); 2] = [
         (
             "Small R",
             radii.iter().copied().filter(|&r| r <= small).collect(),
@@ -790,8 +858,35 @@ fn table1(study: &Study, rows: &[&Row], radii: &[f64]) -> String {
             radii.iter().copied().filter(|&r| r >= large).collect(),
         ),
     ];
-    // Ratios by texture (curve key) and R.
-    let mut by_tex: BTreeMap<String, (Texture, RatiosByR)> = BTreeMap::new();
+    let by_tex = ratios_by_texture(rows);
+    for (title, friction) in [
+        ("(a) Best textures in terms of friction", true),
+        ("(b) Best textures in terms of clearance", false),
+    ] {
+        let _ = writeln!(md, "## {title}\n");
+        for (class, rs) in &classes {
+            if !rs.is_empty() {
+                md += &class_ranking(&by_tex, class, rs, friction);
+            }
+        }
+    }
+    md += &best_at_each_r(&by_tex, radii);
+    if !md.contains(" ‡") {
+        return md;
+    }
+    let _ = writeln!(
+        md,
+        "\n‡ at least one case behind the value is outside the hydrodynamic model: its minimum clearance is below {:.2} µm ({} × a composite roughness of {} µm, docs/model.md §9), where the surfaces touch; such values are not predictions. The CSV says which case and why (column outside_model).",
+        study.validity.clearance_limit_um(),
+        crate::model::operating::FULL_FILM_LAMBDA,
+        study.validity.roughness_um
+    );
+    md
+}
+
+/// The ratios to the plain liner of each textured row that has both.
+fn ratios_by_texture(rows: &[&Row]) -> ByTexture {
+    let mut by_tex = ByTexture::new();
     for r in rows {
         let (Some(t), Some(fr), Some(cr)) = (&r.job.case.texture, r.f_ratio(), r.c_ratio()) else {
             continue;
@@ -802,53 +897,55 @@ fn table1(study: &Study, rows: &[&Row], radii: &[f64]) -> String {
             .1
             .insert(r.job.case.r.to_bits(), (fr, cr, r.outside.is_some()));
     }
-    for (title, which) in [
-        ("(a) Best textures in terms of friction", 0),
-        ("(b) Best textures in terms of clearance", 1),
-    ] {
-        let _ = writeln!(md, "## {title}\n");
-        for (class, rs) in &class_r {
-            if rs.is_empty() {
-                continue;
-            }
-            let mut ranked: Vec<(f64, &Texture, bool)> = by_tex
-                .values()
-                .filter_map(|(t, m)| {
-                    let v: Option<Vec<&(f64, f64, bool)>> =
-                        rs.iter().map(|r| m.get(&r.to_bits())).collect();
-                    let v = v?;
-                    let x = v.iter().map(|p| if which == 0 { p.0 } else { p.1 });
-                    let flagged = v.iter().any(|p| p.2);
-                    Some((x.sum::<f64>() / v.len() as f64, t, flagged))
-                })
-                .collect();
-            if which == 0 {
-                ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
-            } else {
-                ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
-            }
-            let rlist: Vec<String> = rs.iter().map(|r| format!("{r}")).collect();
-            let _ = writeln!(
-                md,
-                "{class} (R = {}; {} textures ranked)\n\n| # | l1 = l2 | per | depth | mean ratio |\n|---|---|---|---|---|",
-                rlist.join(", "),
-                ranked.len()
-            );
-            for (i, (m, t, flagged)) in ranked.iter().take(5).enumerate() {
-                let _ = writeln!(
-                    md,
-                    "| {} | {} | {} | {} | {:.4}{} |",
-                    i + 1,
-                    t.l1,
-                    t.per,
-                    t.depth,
-                    m,
-                    if *flagged { " ‡" } else { "" }
-                );
-            }
-            let _ = writeln!(md);
-        }
+    by_tex
+}
+
+/// One class of Table 1: its five best textures by the mean ratio over the class's radii
+/// `rs` (friction: lowest first; clearance: highest first).
+fn class_ranking(by_tex: &ByTexture, class: &str, rs: &[f64], friction: bool) -> String {
+    let mut md = String::new();
+    let mut ranked: Vec<(f64, &Texture, bool)> = by_tex
+        .values()
+        .filter_map(|(t, m)| {
+            let v: Option<Vec<&(f64, f64, bool)>> =
+                rs.iter().map(|r| m.get(&r.to_bits())).collect();
+            let v = v?;
+            let x = v.iter().map(|p| if friction { p.0 } else { p.1 });
+            let flagged = v.iter().any(|p| p.2);
+            Some((x.sum::<f64>() / v.len() as f64, t, flagged))
+        })
+        .collect();
+    if friction {
+        ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+    } else {
+        ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
     }
+    let rlist: Vec<String> = rs.iter().map(|r| format!("{r}")).collect();
+    let _ = writeln!(
+        md,
+        "{class} (R = {}; {} textures ranked)\n\n| # | l1 = l2 | per | depth | mean ratio |\n|---|---|---|---|---|",
+        rlist.join(", "),
+        ranked.len()
+    );
+    for (i, (m, t, flagged)) in ranked.iter().take(5).enumerate() {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {:.4}{} |",
+            i + 1,
+            t.l1,
+            t.per,
+            t.depth,
+            m,
+            if *flagged { " ‡" } else { "" }
+        );
+    }
+    let _ = writeln!(md);
+    md
+}
+
+/// The last part of Table 1: the least-friction and the largest-clearance texture at each R.
+fn best_at_each_r(by_tex: &ByTexture, radii: &[f64]) -> String {
+    let mut md = String::new();
     let _ = writeln!(
         md,
         "## Best texture at each R\n\n| R | least friction | f̄/f̄_plain | largest clearance | C_min/C_min,plain |\n|---|---|---|---|---|"
@@ -874,16 +971,6 @@ fn table1(study: &Study, rows: &[&Row], radii: &[f64]) -> String {
             );
         }
     }
-    if !md.contains(" ‡") {
-        return md;
-    }
-    let _ = writeln!(
-        md,
-        "\n‡ at least one case behind the value is outside the hydrodynamic model: its minimum clearance is below {:.2} µm ({} × a composite roughness of {} µm, docs/model.md §9), where the surfaces touch; such values are not predictions. The CSV says which case and why (column outside_model).",
-        study.validity.clearance_limit_um(),
-        crate::model::operating::FULL_FILM_LAMBDA,
-        study.validity.roughness_um
-    );
     md
 }
 

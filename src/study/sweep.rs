@@ -73,51 +73,11 @@ pub fn run(
 ) -> Result<(Summary, Vec<CaseResult>), CacheError> {
     let start = Instant::now();
     let keys: Vec<Key> = jobs.iter().map(|j| Key::of(&j.case, &j.numerics)).collect();
-    let mut results: Vec<CaseResult> = vec![None; jobs.len()];
-    let mut missing: BTreeMap<String, Vec<usize>> = BTreeMap::new();
-    let mut over_limit = 0;
     let mut summary = Summary {
         cases: jobs.len(),
         ..Summary::default()
     };
-    {
-        let c = cache.lock().expect("cache lock");
-        for (i, k) in keys.iter().enumerate() {
-            if let Err(e) = limits::check(&jobs[i].case, &jobs[i].numerics, &opt.limits) {
-                let raise = match e.waiver {
-                    Some(Waiver::MemoryLimit) => "; raise the memory limit to run it",
-                    _ => "; raise the step limit to run it",
-                };
-                over_limit += 1;
-                results[i] = Some(Err(format!(
-                    "case {}: not run: {} = {}: {}{raise}",
-                    jobs[i].case.label(),
-                    e.param,
-                    e.value,
-                    e.rule
-                )));
-                continue;
-            }
-            match c.get(k)? {
-                Some(Entry::Done(o)) => results[i] = Some(Ok(o)),
-                Some(Entry::Failed(r)) if !opt.retry_failed => results[i] = Some(Err(r)),
-                other => {
-                    if let Some(Entry::Damaged(why)) = other {
-                        let hash = &k.hash[..12];
-                        summary
-                            .damaged
-                            .push(format!("{} (entry {hash}): {why}", jobs[i].case.label()));
-                    }
-                    missing
-                        .entry(shared_key(&jobs[i].case, &jobs[i].numerics))
-                        .or_default()
-                        .push(i);
-                }
-            }
-        }
-    }
-    summary.cached = results.iter().filter(|r| r.is_some()).count() - over_limit;
-    let groups: Vec<Vec<usize>> = missing.into_values().collect();
+    let (mut results, groups) = look_up(jobs, &keys, cache, opt, &mut summary)?;
     let to_compute: usize = groups.iter().map(Vec::len).sum();
 
     let bar = Display::new(opt.progress, summary.cached, jobs.len(), to_compute);
@@ -140,31 +100,7 @@ pub fn run(
         simulations: AtomicUsize::new(0),
         cache_error: Mutex::new(None),
     };
-    // Groups another process holds are looked at again until they are stored or free.
-    let mut pending: Vec<&Vec<usize>> = groups.iter().collect();
-    while !pending.is_empty() {
-        let passes: Vec<(&Vec<usize>, Pass)> =
-            pool.install(|| pending.par_iter().map(|g| (*g, work.group(g))).collect());
-        let mut held = Vec::new();
-        for (g, pass) in passes {
-            match pass {
-                Pass::Computed(out) => out.into_iter().for_each(|(i, r)| results[i] = Some(r)),
-                Pass::Stored(out) => {
-                    summary.cached += out.len();
-                    out.into_iter().for_each(|(i, r)| results[i] = Some(r));
-                }
-                Pass::Held => held.push(g),
-                Pass::Stopped => {}
-            }
-        }
-        if stop.load(Ordering::SeqCst) {
-            break;
-        }
-        if !held.is_empty() {
-            std::thread::sleep(LEASE_POLL);
-        }
-        pending = held;
-    }
+    work.all(&pool, &groups, &mut results, &mut summary);
     bar.finish();
     if let Some(e) = work.cache_error.lock().expect("lock").take() {
         return Err(e);
@@ -177,6 +113,58 @@ pub fn run(
     summary.stopped = summary.not_run > 0;
     summary.wall_time_s = start.elapsed().as_secs_f64();
     Ok((summary, results))
+}
+
+/// What the cache answers before anything runs: each job's result where the cache holds it
+/// (or the run limits refuse the job), and the groups of jobs left to compute (one
+/// simulation each). Counts the cached cases and notes the damaged entries in `summary`.
+fn look_up(
+    jobs: &[Job],
+    keys: &[Key],
+    cache: &Mutex<Cache>,
+    opt: &Options,
+    summary: &mut Summary,
+) -> Result<(Vec<CaseResult>, Vec<Vec<usize>>), CacheError> {
+    let mut results: Vec<CaseResult> = vec![None; jobs.len()];
+    let mut missing: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    let mut over_limit = 0;
+    let c = cache.lock().expect("cache lock");
+    for (i, k) in keys.iter().enumerate() {
+        if let Err(e) = limits::check(&jobs[i].case, &jobs[i].numerics, &opt.limits) {
+            let raise = match e.waiver {
+                Some(Waiver::MemoryLimit) => "; raise the memory limit to run it",
+                _ => "; raise the step limit to run it",
+            };
+            over_limit += 1;
+            results[i] = Some(Err(format!(
+                "case {}: not run: {} = {}: {}{raise}",
+                jobs[i].case.label(),
+                e.param,
+                e.value,
+                e.rule
+            )));
+            continue;
+        }
+        match c.get(k)? {
+            Some(Entry::Done(o)) => results[i] = Some(Ok(o)),
+            Some(Entry::Failed(r)) if !opt.retry_failed => results[i] = Some(Err(r)),
+            other => {
+                if let Some(Entry::Damaged(why)) = other {
+                    let hash = &k.hash[..12];
+                    summary
+                        .damaged
+                        .push(format!("{} (entry {hash}): {why}", jobs[i].case.label()));
+                }
+                missing
+                    .entry(shared_key(&jobs[i].case, &jobs[i].numerics))
+                    .or_default()
+                    .push(i);
+            }
+        }
+    }
+    drop(c);
+    summary.cached = results.iter().filter(|r| r.is_some()).count() - over_limit;
+    Ok((results, missing.into_values().collect()))
 }
 
 /// How often a sweep looks again at cases another process is computing.
@@ -209,6 +197,41 @@ struct Work<'a> {
 }
 
 impl Work<'_> {
+    /// Evaluates the groups in parallel on `pool`, their results into `results`. Groups
+    /// another process holds are looked at again until they are stored or free.
+    fn all(
+        &self,
+        pool: &rayon::ThreadPool,
+        groups: &[Vec<usize>],
+        results: &mut [CaseResult],
+        summary: &mut Summary,
+    ) {
+        let mut pending: Vec<&Vec<usize>> = groups.iter().collect();
+        while !pending.is_empty() {
+            let passes: Vec<(&Vec<usize>, Pass)> =
+                pool.install(|| pending.par_iter().map(|g| (*g, self.group(g))).collect());
+            let mut held = Vec::new();
+            for (g, pass) in passes {
+                match pass {
+                    Pass::Computed(out) => out.into_iter().for_each(|(i, r)| results[i] = Some(r)),
+                    Pass::Stored(out) => {
+                        summary.cached += out.len();
+                        out.into_iter().for_each(|(i, r)| results[i] = Some(r));
+                    }
+                    Pass::Held => held.push(g),
+                    Pass::Stopped => {}
+                }
+            }
+            if self.stop.load(Ordering::SeqCst) {
+                break;
+            }
+            if !held.is_empty() {
+                std::thread::sleep(LEASE_POLL);
+            }
+            pending = held;
+        }
+    }
+
     /// Evaluates one group unless another process holds it (its lease, [`Cache::claim`]) or
     /// has stored it meanwhile.
     fn group(&self, group: &[usize]) -> Pass {
