@@ -4,8 +4,6 @@
 use serde::{Deserialize, Serialize};
 
 use super::numerics::{Approach, Numerics, TimeScheme};
-use super::resolve::Overrides;
-use crate::model::case::CaseSpec;
 
 /// Named fidelity tiers the rest of the product asks for, chosen from the Pareto front of the
 /// speed-against-accuracy study (results/speed/; errors against the converged references of
@@ -121,14 +119,6 @@ impl Fidelity {
             deep,
             ..Numerics::default()
         }
-    }
-
-    /// The numerics of this tier for one case, nothing given beside it
-    /// ([`super::resolve`]): N2 raised where a pocket would span fewer than
-    /// [`Self::pocket_cells`] cells across (small pockets in a wide cell, e.g. l2 = 0.0025 in
-    /// width 0.06 needs N2 = 24), so every texture is resolved alike.
-    pub fn numerics_for(self, case: &CaseSpec) -> Numerics {
-        super::resolve(self, &Overrides::default(), case)
     }
 
     /// Fewest cells across a pocket (along x2) the tier accepts before raising N2: 4, and 2

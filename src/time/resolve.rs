@@ -81,6 +81,16 @@ pub fn resolve(fidelity: Fidelity, given: &Overrides, case: &CaseSpec) -> Numeri
     n
 }
 
+impl Fidelity {
+    /// The numerics of this tier for one case, nothing given beside it ([`resolve`]): N2
+    /// raised where a pocket would span fewer than [`Self::pocket_cells`] cells across (small
+    /// pockets in a wide cell, e.g. l2 = 0.0025 in width 0.06 needs N2 = 24), so every texture
+    /// is resolved alike.
+    pub fn numerics_for(self, case: &CaseSpec) -> Numerics {
+        resolve(self, &Overrides::default(), case)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
