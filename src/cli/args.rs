@@ -41,39 +41,14 @@ pub enum Command {
 pub struct CycleArgs {
     /// The engine file (TOML).
     pub file: PathBuf,
-    /// Fidelity of the reported liners [default: fast].
-    #[arg(long, value_enum)]
-    pub fidelity: Option<Fidelity>,
-    /// Fidelity of the zones' searches [default: draft].
-    #[arg(long, value_enum)]
-    pub search_fidelity: Option<Fidelity>,
     /// Crank-angle step of the report (degrees) [default: 5].
     #[arg(long, value_name = "DEG")]
     pub step: Option<f64>,
     /// Crank-angle step of the design (degrees) [default: 20].
     #[arg(long = "design-step", value_name = "DEG")]
     pub design_step: Option<f64>,
-    /// Override the mesh of both fidelities.
-    #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
-    pub mesh: Option<(usize, usize)>,
-    /// Override the time step of both fidelities (units of L/U).
-    #[arg(long, value_name = "DT")]
-    pub dt: Option<f64>,
-    /// Particles per swarm, 2 to 10000 [default: 8].
-    #[arg(long)]
-    pub particles: Option<usize>,
-    /// Swarm iterations per search, 1 to 100000 [default: 3]. Each search's best is then
-    /// refined by a local pattern search, whose evaluations come on top of the swarm's.
-    #[arg(long)]
-    pub iterations: Option<u64>,
-    /// Random seed of the swarms [default: 1].
-    #[arg(long)]
-    pub seed: Option<u64>,
-    /// Worker threads, 1 to 256 [default: all cores].
-    #[arg(long, value_name = "N", value_parser = parse_jobs)]
-    pub jobs: Option<usize>,
     #[command(flatten)]
-    pub limits: LimitArgs,
+    pub search: SearchArgs,
     /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
     #[arg(long, value_name = "FILE")]
     pub cache: Option<PathBuf>,
@@ -162,6 +137,33 @@ pub struct OptimiseArgs {
     pub allow_thick_pockets: bool,
     #[command(flatten)]
     pub operating: OperatingArgs,
+    /// Weights on friction of the balanced searches (comma-separated, each in (0, 1), at most
+    /// 100) [default: 0.5].
+    #[arg(long, value_delimiter = ',')]
+    pub balanced: Option<Vec<f64>>,
+    #[command(flatten)]
+    pub search: SearchArgs,
+    /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
+    #[arg(long, value_name = "FILE")]
+    pub cache: Option<PathBuf>,
+    /// Directory of the report files (`optimise_R<R>.json`, .csv, _front.png, _cells.png, _z_t.png, _f_t.png)
+    /// [default: results/optimise].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print the report as JSON on stdout instead of the table.
+    #[arg(long)]
+    pub json: bool,
+    /// Also write the film over the last period of the best-friction design and of the plain
+    /// liner, at the reported fidelity, into DIR/best_friction and DIR/plain_liner (as
+    /// `simulate --snapshots`). One radius only.
+    #[arg(long, value_name = "DIR")]
+    pub snapshots: Option<PathBuf>,
+}
+
+/// The flags of every search (`optimise`, `cycle`): fidelities, numerics, swarm, threads and
+/// run limits.
+#[derive(Args, Debug, Clone, Copy)]
+pub struct SearchArgs {
     /// Fidelity of the reported designs (each is evaluated at it) [default: fast].
     #[arg(long, value_enum)]
     pub fidelity: Option<Fidelity>,
@@ -183,10 +185,6 @@ pub struct OptimiseArgs {
     /// of the swarm's.
     #[arg(long)]
     pub iterations: Option<u64>,
-    /// Weights on friction of the balanced searches (comma-separated, each in (0, 1), at most
-    /// 100) [default: 0.5].
-    #[arg(long, value_delimiter = ',')]
-    pub balanced: Option<Vec<f64>>,
     /// Random seed of the swarms (the same seed repeats the same designs, all from the
     /// cache) [default: 1].
     #[arg(long)]
@@ -196,21 +194,6 @@ pub struct OptimiseArgs {
     pub jobs: Option<usize>,
     #[command(flatten)]
     pub limits: LimitArgs,
-    /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
-    #[arg(long, value_name = "FILE")]
-    pub cache: Option<PathBuf>,
-    /// Directory of the report files (`optimise_R<R>.json`, .csv, _front.png, _cells.png, _z_t.png, _f_t.png)
-    /// [default: results/optimise].
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
-    /// Print the report as JSON on stdout instead of the table.
-    #[arg(long)]
-    pub json: bool,
-    /// Also write the film over the last period of the best-friction design and of the plain
-    /// liner, at the reported fidelity, into DIR/best_friction and DIR/plain_liner (as
-    /// `simulate --snapshots`). One radius only.
-    #[arg(long, value_name = "DIR")]
-    pub snapshots: Option<PathBuf>,
 }
 
 /// The settings of `optimise` a `--config` file may hold (same names as the flags).

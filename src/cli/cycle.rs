@@ -5,16 +5,16 @@
 use std::path::{Path, PathBuf};
 
 use super::args::{CycleArgs, CycleDesign};
-use super::optimise::{check_design_space, overrides, space_error_named, swarm_sizes, SpaceKeys};
-use super::{directory_can_be_made, install_ctrl_c, open_cache, CmdError, STOP};
+use super::optimise::{
+    check_design_space, search_settings, space_error_named, SearchKeys, SpaceKeys,
+};
+use super::{install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::case::short;
 use crate::model::engine::{three_digits, zone_label, Engine, STEP_RANGE_DEG};
 use crate::model::operating::Validity;
 use crate::optimise::cycle::{design_all, evaluate_liners, no_angle_inside, points, CycleSettings};
 use crate::optimise::cycle_report::{assemble, non_finite, table, write};
-use crate::optimise::search::SwarmSettings;
 use crate::optimise::space::Space;
-use crate::time::Fidelity;
 
 pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     let s = settings(a)?;
@@ -27,28 +27,30 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     // The design space on the first point inside the model (u = 1 and the ring's width in
     // every scaled case: one case stands for all).
     if let Some(p) = points(&s, s.step_deg).iter().find(|p| p.excluded.is_none()) {
+        let ss = &s.search;
         check_design_space(
             &p.base,
-            &s.space,
-            [s.search_fidelity, s.report_fidelity],
-            &s.overrides,
-            &s.limits,
+            &ss.space,
+            [ss.search_fidelity, ss.report_fidelity],
+            &ss.overrides,
+            &ss.limits,
         )?;
     }
     let cache = open_cache(a.cache.as_deref())?;
     install_ctrl_c();
     let cache = std::sync::Mutex::new(cache);
     let t0 = std::time::Instant::now();
-    let searched = design_all(&s, &cache, &STOP).map_err(CmdError::Other)?;
-    if s.progress {
+    let searched = design_all(&s, &cache, &STOP).map_err(|e| CmdError::Other(e.to_string()))?;
+    if s.search.progress {
         eprintln!(
             "[{:6.1} s] the three liners at {} every {}°",
             t0.elapsed().as_secs_f64(),
-            s.report_fidelity.name(),
+            s.search.report_fidelity.name(),
             s.step_deg
         );
     }
-    let (d, ev) = evaluate_liners(&s, &searched, &cache, &STOP).map_err(CmdError::Other)?;
+    let (d, ev) = evaluate_liners(&s, &searched, &cache, &STOP)
+        .map_err(|e| CmdError::Other(e.to_string()))?;
     let r = assemble(&s, &d, &ev, t0.elapsed().as_secs_f64());
     if let Some(bad) = non_finite(&r) {
         return Err(CmdError::Other(format!(
@@ -60,7 +62,7 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     } else {
         print!("{}", table(&r));
     }
-    if let Some(dir) = &s.out_dir {
+    if let Some(dir) = &s.search.out_dir {
         for f in write(dir, &r).map_err(CmdError::Other)? {
             eprintln!("wrote {}", f.display());
         }
@@ -146,46 +148,31 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
             CmdError::Input(m) => input(&a.file, m),
             other => other,
         })?;
-    let overrides = overrides(a.mesh, a.dt, &space)?;
     let in_file = |key: &str| format!("{}: [design] {key}", a.file.display());
-    let (particles, iterations) = swarm_sizes(
-        (a.particles, d.particles),
-        (a.iterations, d.iterations),
-        &in_file,
-    )?;
     let out_dir = a
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("results/cycle_{}", engine.file.engine.name)));
-    directory_can_be_made(&out_dir).map_err(|why| {
-        CmdError::Input(format!(
-            "--out {}: cannot create it: {why}; choose another directory",
-            out_dir.display()
-        ))
-    })?;
+    let keys = SearchKeys {
+        fidelity: d.fidelity,
+        search_fidelity: d.search_fidelity,
+        particles: d.particles,
+        iterations: d.iterations,
+        seed: d.seed,
+    };
+    let search = search_settings(
+        &a.search,
+        keys,
+        &in_file,
+        (space, validity),
+        out_dir,
+        !a.json,
+    )?;
     Ok(CycleSettings {
-        space,
-        validity,
+        search,
         min_clearance_um,
-        search_fidelity: a
-            .search_fidelity
-            .or(d.search_fidelity)
-            .unwrap_or(Fidelity::Draft),
-        report_fidelity: a.fidelity.or(d.fidelity).unwrap_or(Fidelity::Fast),
-        overrides,
-        swarm: SwarmSettings {
-            particles,
-            iterations,
-            seed: a.seed.or(d.seed).unwrap_or(1),
-        },
         step_deg,
         design_step_deg,
-        jobs: a
-            .jobs
-            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
-        limits: a.limits.limits()?,
-        progress: !a.json,
-        out_dir: Some(out_dir),
         engine,
     })
 }

@@ -8,6 +8,7 @@ pub mod cycle;
 pub mod cycle_report;
 pub mod design_report;
 pub mod driver;
+pub mod error;
 pub mod figures;
 pub mod front_merge;
 pub mod goal;
