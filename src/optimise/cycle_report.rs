@@ -7,6 +7,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::cycle::{Confirmation, CycleSettings, Designs, LinerRuns};
+use super::design_report::{csv_bytes, Column};
 use crate::model::case::Texture;
 use crate::model::engine::zone_label;
 use crate::plot::{self, Chart, Scale, Series, Style};
@@ -422,44 +423,7 @@ pub fn write(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, String> {
         &stem(".md"),
         format!("# Cycle `{}`\n\n{}{}", r.name, table(r), captions(r)),
     )?;
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let _ = w.write_record([
-        "crank_deg",
-        "position_mm",
-        "zone",
-        "speed_m_s",
-        "load_n_m",
-        "stribeck",
-        "d_oil_um",
-        "excluded",
-        "force_plain_n_m",
-        "force_uniform_n_m",
-        "force_zoned_n_m",
-        "c_min_plain_um",
-        "c_min_uniform_um",
-        "c_min_zoned_um",
-    ]);
-    let num = |x: Option<f64>| x.map_or(String::new(), |v| v.to_string());
-    for x in &r.samples {
-        let mut rec = vec![
-            x.crank_deg.to_string(),
-            x.position_mm.to_string(),
-            x.zone.to_string(),
-            x.speed_ms.to_string(),
-            x.load_n_per_m.to_string(),
-            x.stribeck.to_string(),
-            x.d_oil_um.to_string(),
-            x.excluded
-                .as_ref()
-                .map(ToString::to_string)
-                .unwrap_or_default(),
-        ];
-        rec.extend(x.force_n_per_m.map(num));
-        rec.extend(x.c_min_um.map(num));
-        let _ = w.write_record(rec);
-    }
-    let bytes = w.into_inner().map_err(|e| e.error().to_string())?;
-    crate::output::write(&stem(".csv"), bytes)?;
+    crate::output::write(&stem(".csv"), csv_bytes(&COLUMNS, &r.samples)?)?;
     force_plot(&stem("_force.png"), r)?;
     liner_plot(&stem("_liner.png"), r)?;
     Ok(["json", "md", "csv"]
@@ -467,6 +431,34 @@ pub fn write(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, String> {
         .map(|x| stem(&format!(".{x}")))
         .chain([stem("_force.png"), stem("_liner.png")])
         .collect())
+}
+
+/// The CSV's columns, named once: each header with how its cell is written (a liner's force
+/// and clearance empty where it has none).
+const COLUMNS: [Column<SampleRow>; 14] = [
+    ("crank_deg", |x| x.crank_deg.to_string()),
+    ("position_mm", |x| x.position_mm.to_string()),
+    ("zone", |x| x.zone.to_string()),
+    ("speed_m_s", |x| x.speed_ms.to_string()),
+    ("load_n_m", |x| x.load_n_per_m.to_string()),
+    ("stribeck", |x| x.stribeck.to_string()),
+    ("d_oil_um", |x| x.d_oil_um.to_string()),
+    ("excluded", |x| {
+        x.excluded
+            .as_ref()
+            .map(ToString::to_string)
+            .unwrap_or_default()
+    }),
+    ("force_plain_n_m", |x| cell(x.force_n_per_m[0])),
+    ("force_uniform_n_m", |x| cell(x.force_n_per_m[1])),
+    ("force_zoned_n_m", |x| cell(x.force_n_per_m[2])),
+    ("c_min_plain_um", |x| cell(x.c_min_um[0])),
+    ("c_min_uniform_um", |x| cell(x.c_min_um[1])),
+    ("c_min_zoned_um", |x| cell(x.c_min_um[2])),
+];
+
+fn cell(x: Option<f64>) -> String {
+    x.map_or(String::new(), |v| v.to_string())
 }
 
 /// Friction force against crank angle, each liner as lines over the angles inside the
