@@ -36,7 +36,7 @@ pub enum Command {
 }
 
 /// `texopt cycle ENGINE.toml`: the design's bounds, constraints and search settings come from
-/// the file's `[design]` section (keys as `optimise --config`'s), flags win.
+/// the file's `[design]` section (a [`DesignFile`]), flags win.
 #[derive(Args, Debug)]
 pub struct CycleArgs {
     /// The engine file (TOML).
@@ -58,36 +58,6 @@ pub struct CycleArgs {
     /// Print the report as JSON on stdout instead of the tables.
     #[arg(long)]
     pub json: bool,
-}
-
-/// The `[design]` section of an engine file.
-#[derive(serde::Deserialize, Default, Debug)]
-#[serde(deny_unknown_fields)]
-pub(super) struct CycleDesign {
-    #[serde(default, deserialize_with = "bounds")]
-    pub(super) l1: Option<(f64, f64)>,
-    #[serde(default, deserialize_with = "bounds")]
-    pub(super) l2: Option<(f64, f64)>,
-    #[serde(default, deserialize_with = "bounds")]
-    pub(super) per: Option<(f64, f64)>,
-    #[serde(default, deserialize_with = "bounds")]
-    pub(super) free_width: Option<(f64, f64)>,
-    #[serde(default, deserialize_with = "bounds")]
-    pub(super) depth: Option<(f64, f64)>,
-    pub(super) w_min: Option<f64>,
-    pub(super) max_area: Option<f64>,
-    pub(super) max_depth_ratio: Option<f64>,
-    pub(super) allow_thick_pockets: Option<bool>,
-    /// Least clearance every design keeps (µm) [default: the model's limit, 3 × roughness].
-    pub(super) min_clearance_um: Option<f64>,
-    pub(super) roughness_um: Option<f64>,
-    pub(super) step_deg: Option<f64>,
-    pub(super) design_step_deg: Option<f64>,
-    pub(super) particles: Option<usize>,
-    pub(super) iterations: Option<u64>,
-    pub(super) seed: Option<u64>,
-    pub(super) fidelity: Option<Fidelity>,
-    pub(super) search_fidelity: Option<Fidelity>,
 }
 
 /// Units as in `simulate`: lengths in cm, depth in µm; ranges are LO..HI. Settings come from
@@ -196,10 +166,12 @@ pub struct SearchArgs {
     pub limits: LimitArgs,
 }
 
-/// The settings of `optimise` a `--config` file may hold (same names as the flags).
+/// The settings of a search in a file: `optimise --config FILE` (same names as the flags) and
+/// an engine file's `[design]` section. The design space and the search keys are common; the
+/// rest is one command's ([`DesignFile::foreign_key`]).
 #[derive(serde::Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields)]
-pub(super) struct OptimiseFile {
+pub(super) struct DesignFile {
     #[serde(default, deserialize_with = "bounds")]
     pub(super) l1: Option<(f64, f64)>,
     #[serde(default, deserialize_with = "bounds")]
@@ -218,8 +190,9 @@ pub(super) struct OptimiseFile {
     pub(super) search_fidelity: Option<Fidelity>,
     pub(super) particles: Option<usize>,
     pub(super) iterations: Option<u64>,
-    pub(super) balanced: Option<Vec<f64>>,
     pub(super) seed: Option<u64>,
+    // `optimise --config` only: the balanced searches, files, radii and operating point.
+    pub(super) balanced: Option<Vec<f64>>,
     pub(super) out: Option<PathBuf>,
     pub(super) radii: Option<usize>,
     pub(super) speed: Option<f64>,
@@ -229,6 +202,48 @@ pub(super) struct OptimiseFile {
     pub(super) ring_mass: Option<f64>,
     pub(super) d_oil: Option<f64>,
     pub(super) roughness: Option<f64>,
+    // An engine file's `[design]` only (the engine gives the operating points).
+    /// Least clearance every design keeps (µm) [default: the model's limit, 3 × roughness].
+    pub(super) min_clearance_um: Option<f64>,
+    pub(super) roughness_um: Option<f64>,
+    pub(super) step_deg: Option<f64>,
+    pub(super) design_step_deg: Option<f64>,
+}
+
+/// Which file a [`DesignFile`] was read from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum DesignFileOf {
+    Optimise,
+    Engine,
+}
+
+impl DesignFile {
+    /// A key given that belongs to the other kind of file, if any.
+    pub(super) fn foreign_key(&self, of: DesignFileOf) -> Option<&'static str> {
+        let optimise_only = [
+            ("balanced", self.balanced.is_some()),
+            ("out", self.out.is_some()),
+            ("radii", self.radii.is_some()),
+            ("speed", self.speed.is_some()),
+            ("load", self.load.is_some()),
+            ("viscosity", self.viscosity.is_some()),
+            ("ring_width", self.ring_width.is_some()),
+            ("ring_mass", self.ring_mass.is_some()),
+            ("d_oil", self.d_oil.is_some()),
+            ("roughness", self.roughness.is_some()),
+        ];
+        let engine_only = [
+            ("min_clearance_um", self.min_clearance_um.is_some()),
+            ("roughness_um", self.roughness_um.is_some()),
+            ("step_deg", self.step_deg.is_some()),
+            ("design_step_deg", self.design_step_deg.is_some()),
+        ];
+        let foreign: &[(&'static str, bool)] = match of {
+            DesignFileOf::Optimise => &engine_only,
+            DesignFileOf::Engine => &optimise_only,
+        };
+        foreign.iter().find(|(_, given)| *given).map(|(k, _)| *k)
+    }
 }
 
 /// The operating point in physical units (defaults: the paper's, Stribeck number 1e-3), and

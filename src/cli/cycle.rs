@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::args::{CycleArgs, CycleDesign};
+use super::args::{CycleArgs, DesignFile, DesignFileOf};
 use super::optimise::{
     check_design_space, search_settings, space_error_named, SearchKeys, SpaceKeys,
 };
@@ -80,12 +80,18 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
     let text = std::fs::read_to_string(&a.file)
         .map_err(|e| input(&a.file, format!("cannot read the engine file: {e}")))?;
     let engine = Engine::parse(&text).map_err(|e| input(&a.file, e))?;
-    let d: CycleDesign = toml::Value::Table(engine.file.design.clone())
+    let d: DesignFile = toml::Value::Table(engine.file.design.clone())
         .try_into()
         .map_err(|e: toml::de::Error| {
             let why = crate::model::case::one_line(&e.to_string());
             input(&a.file, format!("[design] {why}"))
         })?;
+    if let Some(k) = d.foreign_key(DesignFileOf::Engine) {
+        return Err(input(
+            &a.file,
+            format!("[design] unknown field `{k}`: a key of `optimise --config`, not of an engine file's [design]"),
+        ));
+    }
     let roughness = d.roughness_um.unwrap_or(Validity::default().roughness_um);
     if !(roughness > 0.0 && roughness <= 10.0) {
         return Err(input(
@@ -153,16 +159,9 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("results/cycle_{}", engine.file.engine.name)));
-    let keys = SearchKeys {
-        fidelity: d.fidelity,
-        search_fidelity: d.search_fidelity,
-        particles: d.particles,
-        iterations: d.iterations,
-        seed: d.seed,
-    };
     let search = search_settings(
         &a.search,
-        keys,
+        SearchKeys::of(&d),
         &in_file,
         (space, validity),
         out_dir,
@@ -203,7 +202,7 @@ fn step(engine: &Engine, flag: &str, v: Option<f64>, def: f64) -> Result<f64, Cm
 }
 
 /// The design space of the `[design]` section (`optimise`'s defaults where absent).
-fn space(d: &CycleDesign) -> Space {
+fn space(d: &DesignFile) -> Space {
     SpaceKeys {
         l1: d.l1,
         l2: d.l2,

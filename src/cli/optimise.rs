@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::args::{OptimiseFile, Radii, SearchArgs};
+use super::args::{DesignFile, DesignFileOf, Radii, SearchArgs};
 use super::{
     directory_can_be_made, flag, input_message, install_ctrl_c, open_cache, CmdError,
     OperatingArgs, OptimiseArgs, STOP,
@@ -117,7 +117,7 @@ const MAX_R_CM: f64 = 1e4;
 /// The radii of `--R`: one, a list (sorted, repeats dropped), or a range sampled at
 /// `--radii` geometrically spaced values rounded to 3 significant digits (so that the file
 /// names read well and a rerun finds its designs in the cache).
-fn radii(a: &OptimiseArgs, file: &OptimiseFile) -> Result<Vec<f64>, CmdError> {
+fn radii(a: &OptimiseArgs, file: &DesignFile) -> Result<Vec<f64>, CmdError> {
     let count = a.radii.or(file.radii);
     let count_name = match a.radii {
         Some(_) => "--radii".to_string(),
@@ -232,7 +232,7 @@ fn range_radii(lo: f64, hi: f64, n: usize, count_name: &str) -> Result<Vec<f64>,
 }
 
 /// The operating flags, else the config file's.
-fn operating(a: &OptimiseArgs, f: &OptimiseFile) -> OperatingArgs {
+fn operating(a: &OptimiseArgs, f: &DesignFile) -> OperatingArgs {
     a.operating.or(OperatingArgs {
         speed: f.speed,
         load: f.load,
@@ -246,7 +246,7 @@ fn operating(a: &OptimiseArgs, f: &OptimiseFile) -> OperatingArgs {
 
 /// The settings of a run for ring radius `r`: each from its flag, else the config file, else
 /// its default; every one checked before anything runs.
-fn settings(a: &OptimiseArgs, file: &OptimiseFile, r: f64) -> Result<Settings, CmdError> {
+fn settings(a: &OptimiseArgs, file: &DesignFile, r: f64) -> Result<Settings, CmdError> {
     let (op, validity) = operating(a, file).resolve()?;
     let mut base = CaseSpec::paper(r);
     op.apply(&mut base);
@@ -260,14 +260,14 @@ fn settings(a: &OptimiseArgs, file: &OptimiseFile, r: f64) -> Result<Settings, C
         .clone()
         .or(file.out.clone())
         .unwrap_or_else(|| PathBuf::from("results/optimise"));
-    let keys = SearchKeys {
-        fidelity: file.fidelity,
-        search_fidelity: file.search_fidelity,
-        particles: file.particles,
-        iterations: file.iterations,
-        seed: file.seed,
-    };
-    let search = search_settings(&a.search, keys, &in_file, (space, validity), out_dir, true)?;
+    let search = search_settings(
+        &a.search,
+        SearchKeys::of(file),
+        &in_file,
+        (space, validity),
+        out_dir,
+        true,
+    )?;
     let settings = Settings {
         base,
         scales: op.scales(),
@@ -280,11 +280,23 @@ fn settings(a: &OptimiseArgs, file: &OptimiseFile, r: f64) -> Result<Settings, C
 
 /// The search keys of a `--config` file or an engine file's `[design]`.
 pub(super) struct SearchKeys {
-    pub(super) fidelity: Option<Fidelity>,
-    pub(super) search_fidelity: Option<Fidelity>,
-    pub(super) particles: Option<usize>,
-    pub(super) iterations: Option<u64>,
-    pub(super) seed: Option<u64>,
+    fidelity: Option<Fidelity>,
+    search_fidelity: Option<Fidelity>,
+    particles: Option<usize>,
+    iterations: Option<u64>,
+    seed: Option<u64>,
+}
+
+impl SearchKeys {
+    pub(super) fn of(f: &DesignFile) -> SearchKeys {
+        SearchKeys {
+            fidelity: f.fidelity,
+            search_fidelity: f.search_fidelity,
+            particles: f.particles,
+            iterations: f.iterations,
+            seed: f.seed,
+        }
+    }
 }
 
 /// The settings every search shares: each from its flag, else the file's key (named by
@@ -407,7 +419,7 @@ fn within(
 /// most [`MAX_BALANCED`], each strictly between 0 and 1.
 fn balanced(
     a: &OptimiseArgs,
-    file: &OptimiseFile,
+    file: &DesignFile,
     in_file: &dyn Fn(&str) -> String,
 ) -> Result<Vec<f64>, CmdError> {
     let (weights, name) = match (&a.balanced, &file.balanced) {
@@ -481,23 +493,30 @@ pub(super) fn check_design_space(
 }
 
 /// The `--config` file's settings (none without one).
-fn config(a: &OptimiseArgs) -> Result<OptimiseFile, CmdError> {
+fn config(a: &OptimiseArgs) -> Result<DesignFile, CmdError> {
     let Some(p) = &a.config else {
-        return Ok(OptimiseFile::default());
+        return Ok(DesignFile::default());
     };
     let text = std::fs::read_to_string(p)
         .map_err(|e| CmdError::Input(format!("--config {}: cannot read it: {e}", p.display())))?;
-    toml::from_str(&text).map_err(|e| {
+    let file: DesignFile = toml::from_str(&text).map_err(|e| {
         CmdError::Input(format!(
             "--config {}: {}",
             p.display(),
             crate::model::case::one_line(&e.to_string())
         ))
-    })
+    })?;
+    match file.foreign_key(DesignFileOf::Optimise) {
+        Some(k) => Err(CmdError::Input(format!(
+            "--config {}: unknown field `{k}`: a key of an engine file's [design], not of `optimise --config`",
+            p.display()
+        ))),
+        None => Ok(file),
+    }
 }
 
 /// The design space: bounds and constraints from the flags, the file, the defaults.
-fn space(a: &OptimiseArgs, file: &OptimiseFile) -> Space {
+fn space(a: &OptimiseArgs, file: &DesignFile) -> Space {
     SpaceKeys {
         l1: a.l1.or(file.l1),
         l2: a.l2.or(file.l2),
