@@ -63,7 +63,7 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
         print!("{}", table(&r));
     }
     if let Some(dir) = &s.search.out_dir {
-        for f in write(dir, &r).map_err(CmdError::Other)? {
+        for f in write(dir, &r).map_err(|e| CmdError::Other(e.to_string()))? {
             eprintln!("wrote {}", f.display());
         }
     }

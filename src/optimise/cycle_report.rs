@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::cycle::{Confirmation, CycleSettings, Designs, LinerRuns};
 use super::design_report::{csv_bytes, Column};
+use super::error::OptimiseError;
 use crate::model::case::Texture;
 use crate::model::engine::zone_label;
 use crate::plot::{self, Chart, Scale, Series, Style};
@@ -414,7 +415,12 @@ fn captions(r: &CycleReport) -> String {
 }
 
 /// JSON, CSV (one row per crank angle), the tables as Markdown, and the two figures.
-pub fn write(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, String> {
+pub fn write(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, OptimiseError> {
+    write_files(dir, r).map_err(OptimiseError::Files)
+}
+
+/// (The output layer's writers and plots say their errors in words: they are the files'.)
+fn write_files(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let stem = |ext: &str| dir.join(format!("cycle_{}{ext}", r.name));
     let json = serde_json::to_string_pretty(r).map_err(|e| e.to_string())?;

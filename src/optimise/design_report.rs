@@ -460,10 +460,8 @@ pub(super) fn write(dir: &Path, r: &Report, ev: &Evaluator) -> Result<(), Optimi
     let bytes =
         csv_bytes(&columns(), &lines).map_err(|e| files(format!("{}: {e}", p.display())))?;
     crate::output::write(&p, bytes).map_err(files)?;
-    super::figures::front(&PathBuf::from(format!("{}_front.png", stem.display())), r)
-        .map_err(files)?;
-    super::figures::cells(&PathBuf::from(format!("{}_cells.png", stem.display())), r)
-        .map_err(files)?;
+    super::figures::front(&PathBuf::from(format!("{}_front.png", stem.display())), r)?;
+    super::figures::cells(&PathBuf::from(format!("{}_cells.png", stem.display())), r)?;
     period_plots(&stem, r, ev)
 }
 

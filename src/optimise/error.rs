@@ -18,10 +18,10 @@ pub enum OptimiseError {
     Stopped,
     #[error("the plain liner failed: {0}")]
     PlainFailed(String),
-    /// argmin's own failure, or a search that ended without a best point (`what`: the search
-    /// or the refinement).
+    /// argmin's own failure.
     #[error("{0}")]
     Solver(String),
+    /// A search (or its refinement) that ended without a best point.
     #[error("the {0} ended without a best design")]
     NoBest(&'static str),
     #[error("cannot start {jobs} worker threads: {why}")]
@@ -32,6 +32,9 @@ pub enum OptimiseError {
     /// No crank angle of the cycle lies inside the model (the message names the first ones).
     #[error("{0}")]
     NoAngleInside(String),
+    /// The run of a report's time series failed.
+    #[error("{0}")]
+    Series(String),
     /// A report file or figure could not be written.
     #[error("{0}")]
     Files(String),

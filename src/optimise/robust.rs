@@ -166,7 +166,7 @@ pub fn robust(
         .ok_or(OptimiseError::Nothing("robust candidate"))?;
     let report = assemble(per_r, &reports, best, candidates, t0);
     if let Some(dir) = &first.search.out_dir {
-        write(dir, &report).map_err(OptimiseError::Files)?;
+        write(dir, &report)?;
     }
     Ok(report)
 }
@@ -379,7 +379,12 @@ pub fn table(r: &RobustReport) -> String {
 }
 
 /// JSON, CSV (every candidate at every R), the table as Markdown, and f̄ against R.
-fn write(dir: &Path, r: &RobustReport) -> Result<(), String> {
+fn write(dir: &Path, r: &RobustReport) -> Result<(), OptimiseError> {
+    write_files(dir, r).map_err(OptimiseError::Files)
+}
+
+/// (The output layer's writers and plots say their errors in words: they are the files'.)
+fn write_files(dir: &Path, r: &RobustReport) -> Result<(), String> {
     let stem = dir.join(&r.name);
     let path = |ext: &str| PathBuf::from(format!("{}.{ext}", stem.display()));
     let json = serde_json::to_string_pretty(r).map_err(|e| e.to_string())?;

@@ -161,7 +161,7 @@ impl Evaluator<'_> {
             ..RunOptions::default()
         };
         let res = simulate_with(&case, &numerics, &opts, &mut Watch::default())
-            .map_err(|e| OptimiseError::Solver(e.to_string()))?;
+            .map_err(|e| OptimiseError::Series(e.to_string()))?;
         let rows: Vec<SeriesRow> = res.series.unwrap_or_default();
         let t_end = rows.last().map_or(0.0, |x| x.t);
         let rows: Vec<SeriesRow> = rows
