@@ -502,6 +502,37 @@ fn feasible_work(
     Some(w)
 }
 
+/// Per zone, the texture of the least feasible work among its own design, the uniform one
+/// and the plain liner (`runs`: theirs, plain first), and the runs that carry it. A zone with
+/// no angle inside the model at the report's step has nothing to confirm its design on: it
+/// keeps the plain liner.
+fn choose<'a>(
+    s: &CycleSettings,
+    pts: &[Point],
+    d: &Designs,
+    [plain, uniform, own]: [&'a Runs; 3],
+) -> Vec<(Option<Texture>, &'a Runs)> {
+    (0..d.zones.len())
+        .map(|z| {
+            let weighed = pts
+                .iter()
+                .any(|p| p.sample.zone == z && p.excluded.is_none());
+            if !weighed {
+                return (None, plain);
+            }
+            [
+                (d.zones[z].clone(), own),
+                (d.uniform.clone(), uniform),
+                (None, plain),
+            ]
+            .into_iter()
+            .filter_map(|(t, r)| Some((feasible_work(s, pts, r, Some(z))?, t, r)))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map_or((None, plain), |(_, t, r)| (t, r))
+        })
+        .collect()
+}
+
 /// The searched designs confirmed at the report's fidelity and step: each zone keeps the best
 /// of its own design, the uniform one and the plain liner there (a design found at the search
 /// fidelity that does not beat them at the report's is not kept), and the uniform texture is
@@ -519,14 +550,6 @@ pub fn evaluate_liners(
     if pts.iter().all(|p| p.excluded.is_some()) {
         return Err(OptimiseError::NoAngleInside(no_angle_inside(&pts)));
     }
-    // A zone with no angle inside the model at the report's step has nothing to confirm its
-    // design on: it keeps the plain liner.
-    let weighed: Vec<bool> = (0..d.zones.len())
-        .map(|z| {
-            pts.iter()
-                .any(|p| p.sample.zone == z && p.excluded.is_none())
-        })
-        .collect();
     let run = |pick: &dyn Fn(usize) -> Option<Texture>| -> Result<Runs, OptimiseError> {
         let inside: Vec<&Point> = pts.iter().filter(|p| p.excluded.is_none()).collect();
         let tex: Vec<Option<Texture>> = inside.iter().map(|p| pick(p.sample.zone)).collect();
@@ -543,23 +566,7 @@ pub fn evaluate_liners(
     let uniform = run(&|_| d.uniform.clone())?;
     let own = run(&|z| d.zones[z].clone())?;
     let zones = d.zones.len();
-    // Per zone: (texture, runs) of the least feasible work.
-    let choice: Vec<(Option<Texture>, &Runs)> = (0..zones)
-        .map(|z| {
-            if !weighed[z] {
-                return (None, &plain);
-            }
-            [
-                (d.zones[z].clone(), &own),
-                (d.uniform.clone(), &uniform),
-                (None, &plain),
-            ]
-            .into_iter()
-            .filter_map(|(t, r)| Some((feasible_work(s, &pts, r, Some(z))?, t, r)))
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-            .map_or((None, &plain), |(_, t, r)| (t, r))
-        })
-        .collect();
+    let choice = choose(s, &pts, d, [&plain, &uniform, &own]);
     let zoned: Runs = pts
         .iter()
         .enumerate()

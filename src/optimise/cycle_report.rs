@@ -90,6 +90,27 @@ pub struct CycleReport {
 
 const LINERS: [&str; 3] = ["plain liner", "uniform best", "zoned"];
 
+/// Every crank angle: its operating point, its exclusion or the three liners' forces and
+/// clearances.
+fn samples(s: &CycleSettings, ev: &LinerRuns) -> Vec<SampleRow> {
+    ev.points
+        .iter()
+        .enumerate()
+        .map(|(k, p)| SampleRow {
+            crank_deg: p.sample.crank_deg,
+            position_mm: p.sample.position_mm,
+            zone: p.sample.zone + 1,
+            speed_ms: p.sample.speed_ms,
+            load_n_per_m: p.sample.load_n_per_m,
+            stribeck: s.engine.file.oil.viscosity_pa_s * p.sample.speed_ms / p.sample.load_n_per_m,
+            d_oil_um: p.sample.d_oil_um,
+            excluded: p.excluded.clone(),
+            force_n_per_m: [0, 1, 2].map(|i| ev.liners[i][k].as_ref().map(|x| x.1)),
+            c_min_um: [0, 1, 2].map(|i| ev.liners[i][k].as_ref().map(|x| x.0.c_min)),
+        })
+        .collect()
+}
+
 /// The report of the evaluated liners.
 pub fn assemble(s: &CycleSettings, d: &Designs, ev: &LinerRuns, wall: f64) -> CycleReport {
     let e = &s.engine.file.engine;
@@ -157,22 +178,7 @@ pub fn assemble(s: &CycleSettings, d: &Designs, ev: &LinerRuns, wall: f64) -> Cy
         .collect();
     let out = pts.iter().filter(|p| p.excluded.is_some());
     let total: f64 = pts.iter().map(|p| p.distance_m).sum();
-    let samples = pts
-        .iter()
-        .enumerate()
-        .map(|(k, p)| SampleRow {
-            crank_deg: p.sample.crank_deg,
-            position_mm: p.sample.position_mm,
-            zone: p.sample.zone + 1,
-            speed_ms: p.sample.speed_ms,
-            load_n_per_m: p.sample.load_n_per_m,
-            stribeck: s.engine.file.oil.viscosity_pa_s * p.sample.speed_ms / p.sample.load_n_per_m,
-            d_oil_um: p.sample.d_oil_um,
-            excluded: p.excluded.clone(),
-            force_n_per_m: [0, 1, 2].map(|i| ev.liners[i][k].as_ref().map(|x| x.1)),
-            c_min_um: [0, 1, 2].map(|i| ev.liners[i][k].as_ref().map(|x| x.0.c_min)),
-        })
-        .collect();
+    let samples = samples(s, ev);
     CycleReport {
         name: e.name.clone(),
         rpm: e.rpm,
