@@ -13,9 +13,10 @@ use texopt::model::case::CaseSpec;
 use texopt::model::engine::Engine;
 use texopt::model::operating::{Scales, Validity};
 use texopt::optimise::cycle::{design, evaluate, CycleSettings, Point};
-use texopt::optimise::driver::{REFINE_ITERS, REFINE_MIN_STEP, REFINE_STEP};
 use texopt::optimise::goal::Goal;
-use texopt::optimise::search::{refine, search, Evaluator, Search, SwarmSettings};
+use texopt::optimise::search::{
+    swarm_and_refine, Evaluator, GoalSearch, SearchSettings, SwarmSettings,
+};
 use texopt::optimise::space::{Bounds, Constraints, Space};
 use texopt::study::cache::Cache;
 use texopt::study::engine_file;
@@ -193,19 +194,21 @@ fn a_zone_met_at_one_operating_point_gets_the_design_of_optimise_there() {
     let sample = engine.samples(90.0)[1];
     let s = CycleSettings {
         engine,
-        space: space.clone(),
-        validity: Validity::default(),
+        search: SearchSettings {
+            space: space.clone(),
+            validity: Validity::default(),
+            search_fidelity: Fidelity::Draft,
+            report_fidelity: Fidelity::Draft,
+            overrides: overrides.clone(),
+            swarm,
+            jobs: 2,
+            limits: Limits::default(),
+            progress: false,
+            out_dir: None,
+        },
         min_clearance_um: 0.9,
-        search_fidelity: Fidelity::Draft,
-        report_fidelity: Fidelity::Draft,
-        overrides: overrides.clone(),
-        swarm,
         step_deg: 90.0,
         design_step_deg: 90.0,
-        jobs: 2,
-        limits: Limits::default(),
-        progress: false,
-        out_dir: None,
     };
     let path = std::env::temp_dir().join(format!("texopt-cycle-{}.sqlite", std::process::id()));
     let _ = std::fs::remove_file(&path);
@@ -254,15 +257,14 @@ fn a_zone_met_at_one_operating_point_gets_the_design_of_optimise_there() {
         progress: false,
         name: String::new(),
     };
-    let plain = ev.evaluate(&[None]).unwrap().remove(0).unwrap();
-    let pb = Search {
+    let plain = ev.plain().unwrap();
+    let pb = GoalSearch {
         space: &space,
         eval: &ev,
         goal: Goal::Friction,
         plain,
     };
-    let (u, _) = search(&pb, swarm).unwrap();
-    let (u, _) = refine(&pb, u, REFINE_STEP, REFINE_MIN_STEP, REFINE_ITERS).unwrap();
+    let (u, _) = swarm_and_refine(&pb, swarm, &[]).unwrap();
     assert_eq!(zoned, space.decode(&u));
     let _ = std::fs::remove_file(&path);
 }

@@ -14,7 +14,7 @@ use texopt::model::operating::{Scales, Validity};
 use texopt::optimise::design_report::Report;
 use texopt::optimise::driver::{optimise, Settings};
 use texopt::optimise::goal::pareto;
-use texopt::optimise::search::SwarmSettings;
+use texopt::optimise::search::{SearchSettings, SwarmSettings};
 use texopt::optimise::space::{Bounds, Constraints, Space};
 use texopt::study::cache::Cache;
 use texopt::study::NumericsOverride;
@@ -29,9 +29,7 @@ fn cache(name: &str) -> Mutex<Cache> {
 }
 
 fn settings(r: f64, w_min_um: f64) -> Settings {
-    Settings {
-        base: CaseSpec::paper(r),
-        scales: Scales::PAPER,
+    let search = SearchSettings {
         validity: Validity::default(),
         space: Space {
             bounds: Bounds {
@@ -54,16 +52,17 @@ fn settings(r: f64, w_min_um: f64) -> Settings {
             dt: Some(1.6e-3),
             ..NumericsOverride::default()
         },
-        swarm: SwarmSettings {
-            particles: 8,
-            iterations: 3,
-            seed: 1,
-        },
-        balanced: vec![0.5],
+        swarm: SwarmSettings::DEFAULT,
         jobs: 2,
         limits: texopt::time::Limits::default(),
         progress: false,
         out_dir: None,
+    };
+    Settings {
+        base: CaseSpec::paper(r),
+        scales: Scales::PAPER,
+        search,
+        balanced: vec![0.5],
     }
 }
 
@@ -97,11 +96,11 @@ fn large_ring_optimum_is_a_close_packed_array_and_reruns_are_free() {
     // The paper's bounds (l ≥ 0.0025 cm needs 128 cells along x1 to resolve the pocket),
     // periods from 0.0128 cm (8 steps a period at the quick look's dt).
     let mut s = settings(5.0, 0.0);
-    s.space.bounds = Bounds {
+    s.search.space.bounds = Bounds {
         per: (0.0128, 0.06),
         ..Bounds::default()
     };
-    s.overrides.n1 = Some(128);
+    s.search.overrides.n1 = Some(128);
     let r = run(&s, &c);
     check_contracts(&r);
     let t = r
@@ -334,7 +333,11 @@ fn f_direct(s: &Settings, r: f64, t: Option<&texopt::model::case::Texture>) -> f
         texture: t.cloned(),
         ..CaseSpec::paper(r)
     };
-    let num = texopt::time::resolve(s.report_fidelity, &(&s.overrides).into(), &case);
+    let num = texopt::time::resolve(
+        s.search.report_fidelity,
+        &(&s.search.overrides).into(),
+        &case,
+    );
     let opts = texopt::time::RunOptions::default();
     texopt::time::simulate_with(&case, &num, &opts, &mut Default::default())
         .unwrap()
@@ -351,9 +354,9 @@ fn the_robust_design_is_no_worse_over_the_range_than_any_radius_optimum() {
         .iter()
         .map(|&r| {
             let mut s = settings(r, 10.0);
-            s.swarm.particles = 4;
-            s.swarm.iterations = 2;
-            s.out_dir = Some(dir.clone());
+            s.search.swarm.particles = 4;
+            s.search.swarm.iterations = 2;
+            s.search.out_dir = Some(dir.clone());
             s
         })
         .collect();

@@ -36,44 +36,19 @@ pub enum Command {
 }
 
 /// `texopt cycle ENGINE.toml`: the design's bounds, constraints and search settings come from
-/// the file's `[design]` section (keys as `optimise --config`'s), flags win.
+/// the file's `[design]` section (a [`DesignFile`]), flags win.
 #[derive(Args, Debug)]
 pub struct CycleArgs {
     /// The engine file (TOML).
     pub file: PathBuf,
-    /// Fidelity of the reported liners [default: fast].
-    #[arg(long, value_enum)]
-    pub fidelity: Option<Fidelity>,
-    /// Fidelity of the zones' searches [default: draft].
-    #[arg(long, value_enum)]
-    pub search_fidelity: Option<Fidelity>,
     /// Crank-angle step of the report (degrees) [default: 5].
     #[arg(long, value_name = "DEG")]
     pub step: Option<f64>,
     /// Crank-angle step of the design (degrees) [default: 20].
     #[arg(long = "design-step", value_name = "DEG")]
     pub design_step: Option<f64>,
-    /// Override the mesh of both fidelities.
-    #[arg(long, value_name = "N1xN2", value_parser = parse_mesh)]
-    pub mesh: Option<(usize, usize)>,
-    /// Override the time step of both fidelities (units of L/U).
-    #[arg(long, value_name = "DT")]
-    pub dt: Option<f64>,
-    /// Particles per swarm, 2 to 10000 [default: 8].
-    #[arg(long)]
-    pub particles: Option<usize>,
-    /// Swarm iterations per search, 1 to 100000 [default: 3]. Each search's best is then
-    /// refined by a local pattern search, whose evaluations come on top of the swarm's.
-    #[arg(long)]
-    pub iterations: Option<u64>,
-    /// Random seed of the swarms [default: 1].
-    #[arg(long)]
-    pub seed: Option<u64>,
-    /// Worker threads, 1 to 256 [default: all cores].
-    #[arg(long, value_name = "N", value_parser = parse_jobs)]
-    pub jobs: Option<usize>,
     #[command(flatten)]
-    pub limits: LimitArgs,
+    pub search: SearchArgs,
     /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
     #[arg(long, value_name = "FILE")]
     pub cache: Option<PathBuf>,
@@ -83,36 +58,6 @@ pub struct CycleArgs {
     /// Print the report as JSON on stdout instead of the tables.
     #[arg(long)]
     pub json: bool,
-}
-
-/// The `[design]` section of an engine file.
-#[derive(serde::Deserialize, Default, Debug)]
-#[serde(deny_unknown_fields)]
-pub(super) struct CycleDesign {
-    #[serde(default, deserialize_with = "bounds")]
-    pub(super) l1: Option<(f64, f64)>,
-    #[serde(default, deserialize_with = "bounds")]
-    pub(super) l2: Option<(f64, f64)>,
-    #[serde(default, deserialize_with = "bounds")]
-    pub(super) per: Option<(f64, f64)>,
-    #[serde(default, deserialize_with = "bounds")]
-    pub(super) free_width: Option<(f64, f64)>,
-    #[serde(default, deserialize_with = "bounds")]
-    pub(super) depth: Option<(f64, f64)>,
-    pub(super) w_min: Option<f64>,
-    pub(super) max_area: Option<f64>,
-    pub(super) max_depth_ratio: Option<f64>,
-    pub(super) allow_thick_pockets: Option<bool>,
-    /// Least clearance every design keeps (µm) [default: the model's limit, 3 × roughness].
-    pub(super) min_clearance_um: Option<f64>,
-    pub(super) roughness_um: Option<f64>,
-    pub(super) step_deg: Option<f64>,
-    pub(super) design_step_deg: Option<f64>,
-    pub(super) particles: Option<usize>,
-    pub(super) iterations: Option<u64>,
-    pub(super) seed: Option<u64>,
-    pub(super) fidelity: Option<Fidelity>,
-    pub(super) search_fidelity: Option<Fidelity>,
 }
 
 /// Units as in `simulate`: lengths in cm, depth in µm; ranges are LO..HI. Settings come from
@@ -162,6 +107,33 @@ pub struct OptimiseArgs {
     pub allow_thick_pockets: bool,
     #[command(flatten)]
     pub operating: OperatingArgs,
+    /// Weights on friction of the balanced searches (comma-separated, each in (0, 1), at most
+    /// 100) [default: 0.5].
+    #[arg(long, value_delimiter = ',')]
+    pub balanced: Option<Vec<f64>>,
+    #[command(flatten)]
+    pub search: SearchArgs,
+    /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
+    #[arg(long, value_name = "FILE")]
+    pub cache: Option<PathBuf>,
+    /// Directory of the report files (`optimise_R<R>.json`, .csv, _front.png, _cells.png, _z_t.png, _f_t.png)
+    /// [default: results/optimise].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print the report as JSON on stdout instead of the table.
+    #[arg(long)]
+    pub json: bool,
+    /// Also write the film over the last period of the best-friction design and of the plain
+    /// liner, at the reported fidelity, into DIR/best_friction and DIR/plain_liner (as
+    /// `simulate --snapshots`). One radius only.
+    #[arg(long, value_name = "DIR")]
+    pub snapshots: Option<PathBuf>,
+}
+
+/// The flags of every search (`optimise`, `cycle`): fidelities, numerics, swarm, threads and
+/// run limits.
+#[derive(Args, Debug, Clone, Copy)]
+pub struct SearchArgs {
     /// Fidelity of the reported designs (each is evaluated at it) [default: fast].
     #[arg(long, value_enum)]
     pub fidelity: Option<Fidelity>,
@@ -183,10 +155,6 @@ pub struct OptimiseArgs {
     /// of the swarm's.
     #[arg(long)]
     pub iterations: Option<u64>,
-    /// Weights on friction of the balanced searches (comma-separated, each in (0, 1), at most
-    /// 100) [default: 0.5].
-    #[arg(long, value_delimiter = ',')]
-    pub balanced: Option<Vec<f64>>,
     /// Random seed of the swarms (the same seed repeats the same designs, all from the
     /// cache) [default: 1].
     #[arg(long)]
@@ -196,27 +164,14 @@ pub struct OptimiseArgs {
     pub jobs: Option<usize>,
     #[command(flatten)]
     pub limits: LimitArgs,
-    /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
-    #[arg(long, value_name = "FILE")]
-    pub cache: Option<PathBuf>,
-    /// Directory of the report files (`optimise_R<R>.json`, .csv, _front.png, _cells.png, _z_t.png, _f_t.png)
-    /// [default: results/optimise].
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
-    /// Print the report as JSON on stdout instead of the table.
-    #[arg(long)]
-    pub json: bool,
-    /// Also write the film over the last period of the best-friction design and of the plain
-    /// liner, at the reported fidelity, into DIR/best_friction and DIR/plain_liner (as
-    /// `simulate --snapshots`). One radius only.
-    #[arg(long, value_name = "DIR")]
-    pub snapshots: Option<PathBuf>,
 }
 
-/// The settings of `optimise` a `--config` file may hold (same names as the flags).
+/// The settings of a search in a file: `optimise --config FILE` (same names as the flags) and
+/// an engine file's `[design]` section. The design space and the search keys are common; the
+/// rest is one command's ([`DesignFile::foreign_key`]).
 #[derive(serde::Deserialize, Default, Debug)]
 #[serde(deny_unknown_fields)]
-pub(super) struct OptimiseFile {
+pub(super) struct DesignFile {
     #[serde(default, deserialize_with = "bounds")]
     pub(super) l1: Option<(f64, f64)>,
     #[serde(default, deserialize_with = "bounds")]
@@ -235,8 +190,9 @@ pub(super) struct OptimiseFile {
     pub(super) search_fidelity: Option<Fidelity>,
     pub(super) particles: Option<usize>,
     pub(super) iterations: Option<u64>,
-    pub(super) balanced: Option<Vec<f64>>,
     pub(super) seed: Option<u64>,
+    // `optimise --config` only: the balanced searches, files, radii and operating point.
+    pub(super) balanced: Option<Vec<f64>>,
     pub(super) out: Option<PathBuf>,
     pub(super) radii: Option<usize>,
     pub(super) speed: Option<f64>,
@@ -246,6 +202,48 @@ pub(super) struct OptimiseFile {
     pub(super) ring_mass: Option<f64>,
     pub(super) d_oil: Option<f64>,
     pub(super) roughness: Option<f64>,
+    // An engine file's `[design]` only (the engine gives the operating points).
+    /// Least clearance every design keeps (µm) [default: the model's limit, 3 × roughness].
+    pub(super) min_clearance_um: Option<f64>,
+    pub(super) roughness_um: Option<f64>,
+    pub(super) step_deg: Option<f64>,
+    pub(super) design_step_deg: Option<f64>,
+}
+
+/// Which file a [`DesignFile`] was read from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum DesignFileOf {
+    Optimise,
+    Engine,
+}
+
+impl DesignFile {
+    /// A key given that belongs to the other kind of file, if any.
+    pub(super) fn foreign_key(&self, of: DesignFileOf) -> Option<&'static str> {
+        let optimise_only = [
+            ("balanced", self.balanced.is_some()),
+            ("out", self.out.is_some()),
+            ("radii", self.radii.is_some()),
+            ("speed", self.speed.is_some()),
+            ("load", self.load.is_some()),
+            ("viscosity", self.viscosity.is_some()),
+            ("ring_width", self.ring_width.is_some()),
+            ("ring_mass", self.ring_mass.is_some()),
+            ("d_oil", self.d_oil.is_some()),
+            ("roughness", self.roughness.is_some()),
+        ];
+        let engine_only = [
+            ("min_clearance_um", self.min_clearance_um.is_some()),
+            ("roughness_um", self.roughness_um.is_some()),
+            ("step_deg", self.step_deg.is_some()),
+            ("design_step_deg", self.design_step_deg.is_some()),
+        ];
+        let foreign: &[(&'static str, bool)] = match of {
+            DesignFileOf::Optimise => &engine_only,
+            DesignFileOf::Engine => &optimise_only,
+        };
+        foreign.iter().find(|(_, given)| *given).map(|(k, _)| *k)
+    }
 }
 
 /// The operating point in physical units (defaults: the paper's, Stribeck number 1e-3), and

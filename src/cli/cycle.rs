@@ -4,18 +4,18 @@
 
 use std::path::{Path, PathBuf};
 
-use super::args::{CycleArgs, CycleDesign};
-use super::optimise::{check_design_space, overrides, space_error_named, swarm_sizes, SpaceKeys};
-use super::{directory_can_be_made, install_ctrl_c, open_cache, CmdError, STOP};
+use super::args::{CycleArgs, DesignFile, DesignFileOf};
+use super::optimise::{
+    check_design_space, search_settings, space_error_named, SearchKeys, SpaceKeys,
+};
+use super::{install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::case::short;
 use crate::model::engine::{three_digits, zone_label, Engine, STEP_RANGE_DEG};
 use crate::model::operating::Validity;
 use crate::optimise::cycle::{design_all, evaluate_liners, no_angle_inside, points, CycleSettings};
 use crate::optimise::cycle_report::{assemble, non_finite, table, write};
-use crate::optimise::search::SwarmSettings;
 use crate::optimise::space::Space;
 use crate::study::engine_file;
-use crate::time::Fidelity;
 
 pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     let s = settings(a)?;
@@ -28,28 +28,30 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     // The design space on the first point inside the model (u = 1 and the ring's width in
     // every scaled case: one case stands for all).
     if let Some(p) = points(&s, s.step_deg).iter().find(|p| p.excluded.is_none()) {
+        let ss = &s.search;
         check_design_space(
             &p.base,
-            &s.space,
-            [s.search_fidelity, s.report_fidelity],
-            &s.overrides,
-            &s.limits,
+            &ss.space,
+            [ss.search_fidelity, ss.report_fidelity],
+            &ss.overrides,
+            &ss.limits,
         )?;
     }
     let cache = open_cache(a.cache.as_deref())?;
     install_ctrl_c();
     let cache = std::sync::Mutex::new(cache);
     let t0 = std::time::Instant::now();
-    let searched = design_all(&s, &cache, &STOP).map_err(CmdError::Other)?;
-    if s.progress {
+    let searched = design_all(&s, &cache, &STOP).map_err(|e| CmdError::Other(e.to_string()))?;
+    if s.search.progress {
         eprintln!(
             "[{:6.1} s] the three liners at {} every {}°",
             t0.elapsed().as_secs_f64(),
-            s.report_fidelity.name(),
+            s.search.report_fidelity.name(),
             s.step_deg
         );
     }
-    let (d, ev) = evaluate_liners(&s, &searched, &cache, &STOP).map_err(CmdError::Other)?;
+    let (d, ev) = evaluate_liners(&s, &searched, &cache, &STOP)
+        .map_err(|e| CmdError::Other(e.to_string()))?;
     let r = assemble(&s, &d, &ev, t0.elapsed().as_secs_f64());
     if let Some(bad) = non_finite(&r) {
         return Err(CmdError::Other(format!(
@@ -61,8 +63,8 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     } else {
         print!("{}", table(&r));
     }
-    if let Some(dir) = &s.out_dir {
-        for f in write(dir, &r).map_err(CmdError::Other)? {
+    if let Some(dir) = &s.search.out_dir {
+        for f in write(dir, &r).map_err(|e| CmdError::Other(e.to_string()))? {
             eprintln!("wrote {}", f.display());
         }
     }
@@ -78,8 +80,14 @@ fn input(file: &Path, m: impl std::fmt::Display) -> CmdError {
 fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
     let text = std::fs::read_to_string(&a.file)
         .map_err(|e| input(&a.file, format!("cannot read the engine file: {e}")))?;
-    let (engine, d): (Engine, CycleDesign) =
+    let (engine, d): (Engine, DesignFile) =
         engine_file::parse(&text).map_err(|e| input(&a.file, e))?;
+    if let Some(k) = d.foreign_key(DesignFileOf::Engine) {
+        return Err(input(
+            &a.file,
+            format!("[design] unknown field `{k}`: a key of `optimise --config`, not of an engine file's [design]"),
+        ));
+    }
     let roughness = d.roughness_um.unwrap_or(Validity::default().roughness_um);
     if !(roughness > 0.0 && roughness <= 10.0) {
         return Err(input(
@@ -142,46 +150,24 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
             CmdError::Input(m) => input(&a.file, m),
             other => other,
         })?;
-    let overrides = overrides(a.mesh, a.dt, &space)?;
     let in_file = |key: &str| format!("{}: [design] {key}", a.file.display());
-    let (particles, iterations) = swarm_sizes(
-        (a.particles, d.particles),
-        (a.iterations, d.iterations),
-        &in_file,
-    )?;
     let out_dir = a
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("results/cycle_{}", engine.file.engine.name)));
-    directory_can_be_made(&out_dir).map_err(|why| {
-        CmdError::Input(format!(
-            "--out {}: cannot create it: {why}; choose another directory",
-            out_dir.display()
-        ))
-    })?;
+    let search = search_settings(
+        &a.search,
+        SearchKeys::of(&d),
+        &in_file,
+        (space, validity),
+        out_dir,
+        !a.json,
+    )?;
     Ok(CycleSettings {
-        space,
-        validity,
+        search,
         min_clearance_um,
-        search_fidelity: a
-            .search_fidelity
-            .or(d.search_fidelity)
-            .unwrap_or(Fidelity::Draft),
-        report_fidelity: a.fidelity.or(d.fidelity).unwrap_or(Fidelity::Fast),
-        overrides,
-        swarm: SwarmSettings {
-            particles,
-            iterations,
-            seed: a.seed.or(d.seed).unwrap_or(1),
-        },
         step_deg,
         design_step_deg,
-        jobs: a
-            .jobs
-            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
-        limits: a.limits.limits()?,
-        progress: !a.json,
-        out_dir: Some(out_dir),
         engine,
     })
 }
@@ -212,7 +198,7 @@ fn step(engine: &Engine, flag: &str, v: Option<f64>, def: f64) -> Result<f64, Cm
 }
 
 /// The design space of the `[design]` section (`optimise`'s defaults where absent).
-fn space(d: &CycleDesign) -> Space {
+fn space(d: &DesignFile) -> Space {
     SpaceKeys {
         l1: d.l1,
         l2: d.l2,

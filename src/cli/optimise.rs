@@ -3,16 +3,17 @@
 
 use std::path::{Path, PathBuf};
 
-use super::args::{OptimiseFile, Radii};
+use super::args::{DesignFile, DesignFileOf, Radii, SearchArgs};
 use super::{
     directory_can_be_made, flag, input_message, install_ctrl_c, open_cache, CmdError,
     OperatingArgs, OptimiseArgs, STOP,
 };
 use crate::model::case::{CaseSpec, InputError, Texture};
+use crate::model::operating::Validity;
 use crate::optimise::design_report::table;
 use crate::optimise::driver::{optimise, Settings};
 use crate::optimise::robust::{robust, table as robust_table};
-use crate::optimise::search::SwarmSettings;
+use crate::optimise::search::{SearchSettings, SwarmSettings};
 use crate::optimise::space::{Bounds, Constraints, Space};
 use crate::snapshot::{run_recorded, write_all, Context, Request};
 use crate::study::NumericsOverride;
@@ -25,7 +26,7 @@ pub(super) fn run(a: &OptimiseArgs) -> Result<i32, CmdError> {
         .iter()
         .map(|&r| settings(a, &file, r))
         .collect::<Result<Vec<_>, _>>()?;
-    let out_dir = all[0].out_dir.clone().unwrap_or_default();
+    let out_dir = all[0].search.out_dir.clone().unwrap_or_default();
     if let Some(dir) = &a.snapshots {
         if all.len() > 1 {
             return Err(CmdError::Input(format!(
@@ -42,7 +43,7 @@ pub(super) fn run(a: &OptimiseArgs) -> Result<i32, CmdError> {
     install_ctrl_c();
     let cache = std::sync::Mutex::new(cache);
     if all.len() > 1 {
-        let report = robust(&all, &cache, &STOP).map_err(CmdError::Other)?;
+        let report = robust(&all, &cache, &STOP).map_err(|e| CmdError::Other(e.to_string()))?;
         if a.json {
             println!(
                 "{}",
@@ -59,7 +60,7 @@ pub(super) fn run(a: &OptimiseArgs) -> Result<i32, CmdError> {
         return Ok(0);
     }
     let settings = &all[0];
-    let report = optimise(settings, &cache, &STOP).map_err(CmdError::Other)?;
+    let report = optimise(settings, &cache, &STOP).map_err(|e| CmdError::Other(e.to_string()))?;
     if a.json {
         println!(
             "{}",
@@ -92,7 +93,11 @@ fn snapshots(s: &Settings, texture: Option<Texture>, dir: &Path) -> Result<(), S
         texture,
         ..s.base.clone()
     };
-    let num = crate::time::resolve(s.report_fidelity, &(&s.overrides).into(), &case);
+    let num = crate::time::resolve(
+        s.search.report_fidelity,
+        &(&s.search.overrides).into(),
+        &case,
+    );
     let request = Request {
         frames: crate::snapshot::DEFAULT_FRAMES,
         animation_stride: None,
@@ -116,7 +121,7 @@ const MAX_R_CM: f64 = 1e4;
 /// The radii of `--R`: one, a list (sorted, repeats dropped), or a range sampled at
 /// `--radii` geometrically spaced values rounded to 3 significant digits (so that the file
 /// names read well and a rerun finds its designs in the cache).
-fn radii(a: &OptimiseArgs, file: &OptimiseFile) -> Result<Vec<f64>, CmdError> {
+fn radii(a: &OptimiseArgs, file: &DesignFile) -> Result<Vec<f64>, CmdError> {
     let count = a.radii.or(file.radii);
     let count_name = match a.radii {
         Some(_) => "--radii".to_string(),
@@ -231,7 +236,7 @@ fn range_radii(lo: f64, hi: f64, n: usize, count_name: &str) -> Result<Vec<f64>,
 }
 
 /// The operating flags, else the config file's.
-fn operating(a: &OptimiseArgs, f: &OptimiseFile) -> OperatingArgs {
+fn operating(a: &OptimiseArgs, f: &DesignFile) -> OperatingArgs {
     a.operating.or(OperatingArgs {
         speed: f.speed,
         load: f.load,
@@ -245,7 +250,7 @@ fn operating(a: &OptimiseArgs, f: &OptimiseFile) -> OperatingArgs {
 
 /// The settings of a run for ring radius `r`: each from its flag, else the config file, else
 /// its default; every one checked before anything runs.
-fn settings(a: &OptimiseArgs, file: &OptimiseFile, r: f64) -> Result<Settings, CmdError> {
+fn settings(a: &OptimiseArgs, file: &DesignFile, r: f64) -> Result<Settings, CmdError> {
     let (op, validity) = operating(a, file).resolve()?;
     let mut base = CaseSpec::paper(r);
     op.apply(&mut base);
@@ -253,17 +258,67 @@ fn settings(a: &OptimiseArgs, file: &OptimiseFile, r: f64) -> Result<Settings, C
     let space = space(a, file);
     space.validate().map_err(|e| space_error(&e))?;
     let in_file = |key: &str| config_key(a, key);
-    let (particles, iterations) = swarm_sizes(
-        (a.particles, file.particles),
-        (a.iterations, file.iterations),
-        &in_file,
-    )?;
     let balanced = balanced(a, file, &in_file)?;
     let out_dir = a
         .out
         .clone()
         .or(file.out.clone())
         .unwrap_or_else(|| PathBuf::from("results/optimise"));
+    let search = search_settings(
+        &a.search,
+        SearchKeys::of(file),
+        &in_file,
+        (space, validity),
+        out_dir,
+        true,
+    )?;
+    let settings = Settings {
+        base,
+        scales: op.scales(),
+        search,
+        balanced,
+    };
+    check_corners(&settings)?;
+    Ok(settings)
+}
+
+/// The search keys of a `--config` file or an engine file's `[design]`.
+pub(super) struct SearchKeys {
+    fidelity: Option<Fidelity>,
+    search_fidelity: Option<Fidelity>,
+    particles: Option<usize>,
+    iterations: Option<u64>,
+    seed: Option<u64>,
+}
+
+impl SearchKeys {
+    pub(super) fn of(f: &DesignFile) -> SearchKeys {
+        SearchKeys {
+            fidelity: f.fidelity,
+            search_fidelity: f.search_fidelity,
+            particles: f.particles,
+            iterations: f.iterations,
+            seed: f.seed,
+        }
+    }
+}
+
+/// The settings every search shares: each from its flag, else the file's key (named by
+/// `in_file`), else its default; the numerics' overrides, the swarm's sizes, the output
+/// directory and the limits checked before anything runs.
+pub(super) fn search_settings(
+    a: &SearchArgs,
+    file: SearchKeys,
+    in_file: &dyn Fn(&str) -> String,
+    (space, validity): (Space, Validity),
+    out_dir: PathBuf,
+    progress: bool,
+) -> Result<SearchSettings, CmdError> {
+    let (particles, iterations) = swarm_sizes(
+        (a.particles, file.particles),
+        (a.iterations, file.iterations),
+        in_file,
+    )?;
     let overrides = overrides(a.mesh, a.dt, &space)?;
     // A directory that cannot be made stops the search now, not after its simulations.
     directory_can_be_made(&out_dir).map_err(|why| {
@@ -272,37 +327,33 @@ fn settings(a: &OptimiseArgs, file: &OptimiseFile, r: f64) -> Result<Settings, C
             out_dir.display()
         ))
     })?;
-    let settings = Settings {
-        base,
-        scales: op.scales(),
-        validity,
+    Ok(SearchSettings {
         space,
+        validity,
         search_fidelity: a
             .search_fidelity
             .or(file.search_fidelity)
-            .unwrap_or(Fidelity::Draft),
-        report_fidelity: a.fidelity.or(file.fidelity).unwrap_or(Fidelity::Fast),
+            .unwrap_or(SearchSettings::SEARCH_FIDELITY),
+        report_fidelity: a
+            .fidelity
+            .or(file.fidelity)
+            .unwrap_or(SearchSettings::REPORT_FIDELITY),
         overrides,
         swarm: SwarmSettings {
             particles,
             iterations,
-            seed: a.seed.or(file.seed).unwrap_or(1),
+            seed: a.seed.or(file.seed).unwrap_or(SwarmSettings::DEFAULT.seed),
         },
-        balanced,
-        jobs: a
-            .jobs
-            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
+        jobs: a.jobs.unwrap_or_else(SearchSettings::default_jobs),
         limits: a.limits.limits()?,
-        progress: true,
+        progress,
         out_dir: Some(out_dir),
-    };
-    check_corners(&settings)?;
-    Ok(settings)
+    })
 }
 
 /// Most particles a swarm, iterations a search and balanced searches a run: typo guards,
 /// checked before anything runs (every particle of every iteration is a simulation; the
-/// defaults are 8, 3 and one).
+/// defaults are in `SwarmSettings::DEFAULT`, one balanced search).
 pub(super) const MAX_PARTICLES: usize = 10_000;
 pub(super) const MAX_ITERATIONS: u64 = 100_000;
 pub(super) const MAX_BALANCED: usize = 100;
@@ -328,14 +379,18 @@ pub(super) fn swarm_sizes(
         ),
         ("--particles", "particles"),
         in_file,
-        (2, 8, MAX_PARTICLES as u64),
+        (
+            2,
+            SwarmSettings::DEFAULT.particles as u64,
+            MAX_PARTICLES as u64,
+        ),
         "particles per swarm",
     )?;
     let iterations = within(
         (iterations_flag, iterations_file),
         ("--iterations", "iterations"),
         in_file,
-        (1, 3, MAX_ITERATIONS),
+        (1, SwarmSettings::DEFAULT.iterations, MAX_ITERATIONS),
         "swarm iterations per search",
     )?;
     Ok((particles as usize, iterations))
@@ -368,7 +423,7 @@ fn within(
 /// most [`MAX_BALANCED`], each strictly between 0 and 1.
 fn balanced(
     a: &OptimiseArgs,
-    file: &OptimiseFile,
+    file: &DesignFile,
     in_file: &dyn Fn(&str) -> String,
 ) -> Result<Vec<f64>, CmdError> {
     let (weights, name) = match (&a.balanced, &file.balanced) {
@@ -394,12 +449,13 @@ fn balanced(
 /// pockets: the tiers raise N2 to resolve them): each corner's run at either tier must stay
 /// within the run limits, or the search is refused before it starts.
 fn check_corners(s: &Settings) -> Result<(), CmdError> {
+    let ss = &s.search;
     check_design_space(
         &s.base,
-        &s.space,
-        [s.search_fidelity, s.report_fidelity],
-        &s.overrides,
-        &s.limits,
+        &ss.space,
+        [ss.search_fidelity, ss.report_fidelity],
+        &ss.overrides,
+        &ss.limits,
     )
 }
 
@@ -441,23 +497,30 @@ pub(super) fn check_design_space(
 }
 
 /// The `--config` file's settings (none without one).
-fn config(a: &OptimiseArgs) -> Result<OptimiseFile, CmdError> {
+fn config(a: &OptimiseArgs) -> Result<DesignFile, CmdError> {
     let Some(p) = &a.config else {
-        return Ok(OptimiseFile::default());
+        return Ok(DesignFile::default());
     };
     let text = std::fs::read_to_string(p)
         .map_err(|e| CmdError::Input(format!("--config {}: cannot read it: {e}", p.display())))?;
-    toml::from_str(&text).map_err(|e| {
+    let file: DesignFile = toml::from_str(&text).map_err(|e| {
         CmdError::Input(format!(
             "--config {}: {}",
             p.display(),
             crate::model::case::one_line(&e.to_string())
         ))
-    })
+    })?;
+    match file.foreign_key(DesignFileOf::Optimise) {
+        Some(k) => Err(CmdError::Input(format!(
+            "--config {}: unknown field `{k}`: a key of an engine file's [design], not of `optimise --config`",
+            p.display()
+        ))),
+        None => Ok(file),
+    }
 }
 
 /// The design space: bounds and constraints from the flags, the file, the defaults.
-fn space(a: &OptimiseArgs, file: &OptimiseFile) -> Space {
+fn space(a: &OptimiseArgs, file: &DesignFile) -> Space {
     SpaceKeys {
         l1: a.l1.or(file.l1),
         l2: a.l2.or(file.l2),

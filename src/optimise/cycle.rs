@@ -5,41 +5,30 @@
 //! texture minimises the zone's friction work over the cycle under a least clearance; the single
 //! best texture for the whole liner and the plain liner are the references.
 
-use argmin::core::{CostFunction, Error as ArgminError};
-use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 use std::time::Instant;
 
-use super::driver::{REFINE_ITERS, REFINE_MIN_STEP, REFINE_STEP};
+use super::error::OptimiseError;
 use super::goal::FAILED_COST;
-use super::search::{refine, swarm, SwarmSettings};
+use super::search::{swarm_and_refine, Objective, SearchSettings};
 use super::space::Space;
 use crate::model::case::{CaseSpec, Texture};
 use crate::model::engine::{Engine, Sample};
-use crate::model::operating::{Scales, Validity, VALIDATED_STRIBECK};
+use crate::model::operating::{Scales, VALIDATED_STRIBECK};
 use crate::study::cache::Cache;
-use crate::study::{sweep, Job, NumericsOverride};
-use crate::time::{Fidelity, Limits, Outcome};
+use crate::study::{sweep, Job};
+use crate::time::{Fidelity, Outcome};
 
 /// Everything `cycle` needs.
 pub struct CycleSettings {
     pub engine: Engine,
-    pub space: Space,
-    /// Where the film model stops, and the least clearance a design must keep (µm).
-    pub validity: Validity,
+    pub search: SearchSettings,
+    /// The least clearance a design must keep (µm).
     pub min_clearance_um: f64,
-    pub search_fidelity: Fidelity,
-    pub report_fidelity: Fidelity,
-    pub overrides: NumericsOverride,
-    pub swarm: SwarmSettings,
     /// Crank-angle steps of the report and of the design (degrees).
     pub step_deg: f64,
     pub design_step_deg: f64,
-    pub jobs: usize,
-    pub limits: Limits,
-    pub progress: bool,
-    pub out_dir: Option<PathBuf>,
 }
 
 /// One sample of the cycle, ready to evaluate: its plain case and scales, and its sliding
@@ -225,7 +214,7 @@ pub fn evaluate(
     fidelity: Fidelity,
     cache: &Mutex<Cache>,
     stop: &AtomicBool,
-) -> Result<Forces, String> {
+) -> Result<Forces, OptimiseError> {
     let jobs: Vec<Job> = pts
         .iter()
         .zip(textures)
@@ -234,7 +223,7 @@ pub fn evaluate(
                 texture: t.clone(),
                 ..p.base.clone()
             };
-            let numerics = crate::time::resolve(fidelity, &(&s.overrides).into(), &case);
+            let numerics = crate::time::resolve(fidelity, &(&s.search.overrides).into(), &case);
             Job {
                 case,
                 numerics,
@@ -242,15 +231,10 @@ pub fn evaluate(
             }
         })
         .collect();
-    let options = sweep::Options {
-        jobs: s.jobs,
-        retry_failed: false,
-        progress: false,
-        limits: s.limits,
-    };
-    let (sum, results) = sweep::run(&jobs, cache, &options, stop).map_err(|e| e.to_string())?;
+    let (sum, results) = sweep::run(&jobs, cache, &s.search.sweep_options(), stop)
+        .map_err(|e| OptimiseError::Cache(e.to_string()))?;
     if sum.stopped {
-        return Err("stopped (Ctrl-C); finished evaluations are in the cache".into());
+        return Err(OptimiseError::Stopped);
     }
     Ok(results
         .into_iter()
@@ -274,7 +258,7 @@ fn plain_and_exclude(
     fidelity: Fidelity,
     cache: &Mutex<Cache>,
     stop: &AtomicBool,
-) -> Result<Vec<Option<f64>>, String> {
+) -> Result<Vec<Option<f64>>, OptimiseError> {
     let idx: Vec<usize> = (0..pts.len())
         .filter(|&k| pts[k].excluded.is_none())
         .collect();
@@ -283,7 +267,7 @@ fn plain_and_exclude(
     let mut force = vec![None; pts.len()];
     for (&k, r) in idx.iter().zip(plain) {
         match r {
-            Ok((o, f)) => match s.validity.outside(&pts[k].base, o.c_min) {
+            Ok((o, f)) => match s.search.validity.outside(&pts[k].base, o.c_min) {
                 Some(why) => pts[k].excluded = Some(Exclusion::PlainBelowLimit(why.to_string())),
                 None => force[k] = Some(f),
             },
@@ -304,8 +288,12 @@ struct ZoneWork<'a> {
     stop: &'a AtomicBool,
 }
 
-impl ZoneWork<'_> {
-    fn cost_of(&self, designs: &[Texture]) -> Result<Vec<f64>, String> {
+impl Objective for ZoneWork<'_> {
+    fn space(&self) -> &Space {
+        &self.s.search.space
+    }
+
+    fn costs(&self, designs: &[Texture]) -> Result<Vec<f64>, OptimiseError> {
         let n = self.pts.len();
         let mut pts = Vec::with_capacity(n * designs.len());
         let mut tex = Vec::with_capacity(n * designs.len());
@@ -317,7 +305,7 @@ impl ZoneWork<'_> {
             self.s,
             &pts,
             &tex,
-            self.s.search_fidelity,
+            self.s.search.search_fidelity,
             self.cache,
             self.stop,
         )?;
@@ -338,26 +326,6 @@ impl ZoneWork<'_> {
     }
 }
 
-impl CostFunction for &ZoneWork<'_> {
-    type Param = Vec<f64>;
-    type Output = f64;
-
-    fn cost(&self, u: &Vec<f64>) -> Result<f64, ArgminError> {
-        Ok(self.bulk_cost(std::slice::from_ref(u))?[0])
-    }
-
-    fn bulk_cost<P>(&self, params: &[P]) -> Result<Vec<f64>, ArgminError>
-    where
-        P: std::borrow::Borrow<Vec<f64>> + argmin::core::SyncAlias,
-    {
-        let designs: Vec<Texture> = params
-            .iter()
-            .map(|u| self.s.space.decode(u.borrow()))
-            .collect();
-        self.cost_of(&designs).map_err(ArgminError::msg)
-    }
-}
-
 /// The texture that minimises the friction work at `pts` relative to the plain liner's
 /// (`plain`: its forces there), or None when none beats the plain liner or there is no point:
 /// a particle swarm polished by a compass search, as `optimise`'s friction search.
@@ -367,7 +335,7 @@ pub fn design(
     plain: &[f64],
     cache: &Mutex<Cache>,
     stop: &AtomicBool,
-) -> Result<Option<(Texture, f64)>, String> {
+) -> Result<Option<(Texture, f64)>, OptimiseError> {
     let plain_work: f64 = pts.iter().zip(plain).map(|(p, f)| f * p.distance_m).sum();
     if pts.is_empty() || plain_work <= 0.0 {
         return Ok(None);
@@ -379,9 +347,8 @@ pub fn design(
         cache,
         stop,
     };
-    let (u, _) = swarm(&problem, s.space.dim(), s.swarm)?;
-    let (u, c) = refine(&problem, u, REFINE_STEP, REFINE_MIN_STEP, REFINE_ITERS)?;
-    Ok((c < 1.0).then(|| (s.space.decode(&u), c)))
+    let (u, c) = swarm_and_refine(&problem, s.search.swarm, &[])?;
+    Ok((c < 1.0).then(|| (s.search.space.decode(&u), c)))
 }
 
 /// The designs of a cycle: the plain liner's forces, each zone's texture and the uniform one,
@@ -413,10 +380,10 @@ pub fn design_all(
     s: &CycleSettings,
     cache: &Mutex<Cache>,
     stop: &AtomicBool,
-) -> Result<Designs, String> {
+) -> Result<Designs, OptimiseError> {
     let t0 = Instant::now();
     let say = |m: String| {
-        if s.progress {
+        if s.search.progress {
             eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
         }
     };
@@ -426,10 +393,10 @@ pub fn design_all(
         pts.len(),
         s.design_step_deg
     ));
-    let plain = plain_and_exclude(s, &mut pts, s.search_fidelity, cache, stop)?;
+    let plain = plain_and_exclude(s, &mut pts, s.search.search_fidelity, cache, stop)?;
     let inside: Vec<usize> = (0..pts.len()).filter(|&k| plain[k].is_some()).collect();
     if inside.is_empty() {
-        return Err(no_angle_inside(&pts));
+        return Err(OptimiseError::NoAngleInside(no_angle_inside(&pts)));
     }
     say(format!(
         "{} of {} design angles inside the model",
@@ -535,6 +502,37 @@ fn feasible_work(
     Some(w)
 }
 
+/// Per zone, the texture of the least feasible work among its own design, the uniform one
+/// and the plain liner (`runs`: theirs, plain first), and the runs that carry it. A zone with
+/// no angle inside the model at the report's step has nothing to confirm its design on: it
+/// keeps the plain liner.
+fn choose<'a>(
+    s: &CycleSettings,
+    pts: &[Point],
+    d: &Designs,
+    [plain, uniform, own]: [&'a Runs; 3],
+) -> Vec<(Option<Texture>, &'a Runs)> {
+    (0..d.zones.len())
+        .map(|z| {
+            let weighed = pts
+                .iter()
+                .any(|p| p.sample.zone == z && p.excluded.is_none());
+            if !weighed {
+                return (None, plain);
+            }
+            [
+                (d.zones[z].clone(), own),
+                (d.uniform.clone(), uniform),
+                (None, plain),
+            ]
+            .into_iter()
+            .filter_map(|(t, r)| Some((feasible_work(s, pts, r, Some(z))?, t, r)))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map_or((None, plain), |(_, t, r)| (t, r))
+        })
+        .collect()
+}
+
 /// The searched designs confirmed at the report's fidelity and step: each zone keeps the best
 /// of its own design, the uniform one and the plain liner there (a design found at the search
 /// fidelity that does not beat them at the report's is not kept), and the uniform texture is
@@ -545,24 +543,17 @@ pub fn evaluate_liners(
     d: &Designs,
     cache: &Mutex<Cache>,
     stop: &AtomicBool,
-) -> Result<(Designs, LinerRuns), String> {
+) -> Result<(Designs, LinerRuns), OptimiseError> {
+    let fidelity = s.search.report_fidelity;
     let mut pts = points(s, s.step_deg);
-    plain_and_exclude(s, &mut pts, s.report_fidelity, cache, stop)?;
+    plain_and_exclude(s, &mut pts, fidelity, cache, stop)?;
     if pts.iter().all(|p| p.excluded.is_some()) {
-        return Err(no_angle_inside(&pts));
+        return Err(OptimiseError::NoAngleInside(no_angle_inside(&pts)));
     }
-    // A zone with no angle inside the model at the report's step has nothing to confirm its
-    // design on: it keeps the plain liner.
-    let weighed: Vec<bool> = (0..d.zones.len())
-        .map(|z| {
-            pts.iter()
-                .any(|p| p.sample.zone == z && p.excluded.is_none())
-        })
-        .collect();
-    let run = |pick: &dyn Fn(usize) -> Option<Texture>| -> Result<Runs, String> {
+    let run = |pick: &dyn Fn(usize) -> Option<Texture>| -> Result<Runs, OptimiseError> {
         let inside: Vec<&Point> = pts.iter().filter(|p| p.excluded.is_none()).collect();
         let tex: Vec<Option<Texture>> = inside.iter().map(|p| pick(p.sample.zone)).collect();
-        let mut it = evaluate(s, &inside, &tex, s.report_fidelity, cache, stop)?.into_iter();
+        let mut it = evaluate(s, &inside, &tex, fidelity, cache, stop)?.into_iter();
         Ok(pts
             .iter()
             .map(|p| match p.excluded {
@@ -575,23 +566,7 @@ pub fn evaluate_liners(
     let uniform = run(&|_| d.uniform.clone())?;
     let own = run(&|z| d.zones[z].clone())?;
     let zones = d.zones.len();
-    // Per zone: (texture, runs) of the least feasible work.
-    let choice: Vec<(Option<Texture>, &Runs)> = (0..zones)
-        .map(|z| {
-            if !weighed[z] {
-                return (None, &plain);
-            }
-            [
-                (d.zones[z].clone(), &own),
-                (d.uniform.clone(), &uniform),
-                (None, &plain),
-            ]
-            .into_iter()
-            .filter_map(|(t, r)| Some((feasible_work(s, &pts, r, Some(z))?, t, r)))
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-            .map_or((None, &plain), |(_, t, r)| (t, r))
-        })
-        .collect();
+    let choice = choose(s, &pts, d, [&plain, &uniform, &own]);
     let zoned: Runs = pts
         .iter()
         .enumerate()

@@ -7,6 +7,8 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::cycle::{Confirmation, CycleSettings, Designs, LinerRuns};
+use super::design_report::{csv_bytes, Column};
+use super::error::OptimiseError;
 use crate::model::case::Texture;
 use crate::model::engine::zone_label;
 use crate::plot::{self, Chart, Scale, Series, Style};
@@ -88,6 +90,27 @@ pub struct CycleReport {
 
 const LINERS: [&str; 3] = ["plain liner", "uniform best", "zoned"];
 
+/// Every crank angle: its operating point, its exclusion or the three liners' forces and
+/// clearances.
+fn samples(s: &CycleSettings, ev: &LinerRuns) -> Vec<SampleRow> {
+    ev.points
+        .iter()
+        .enumerate()
+        .map(|(k, p)| SampleRow {
+            crank_deg: p.sample.crank_deg,
+            position_mm: p.sample.position_mm,
+            zone: p.sample.zone + 1,
+            speed_ms: p.sample.speed_ms,
+            load_n_per_m: p.sample.load_n_per_m,
+            stribeck: s.engine.file.oil.viscosity_pa_s * p.sample.speed_ms / p.sample.load_n_per_m,
+            d_oil_um: p.sample.d_oil_um,
+            excluded: p.excluded.clone(),
+            force_n_per_m: [0, 1, 2].map(|i| ev.liners[i][k].as_ref().map(|x| x.1)),
+            c_min_um: [0, 1, 2].map(|i| ev.liners[i][k].as_ref().map(|x| x.0.c_min)),
+        })
+        .collect()
+}
+
 /// The report of the evaluated liners.
 pub fn assemble(s: &CycleSettings, d: &Designs, ev: &LinerRuns, wall: f64) -> CycleReport {
     let e = &s.engine.file.engine;
@@ -155,22 +178,7 @@ pub fn assemble(s: &CycleSettings, d: &Designs, ev: &LinerRuns, wall: f64) -> Cy
         .collect();
     let out = pts.iter().filter(|p| p.excluded.is_some());
     let total: f64 = pts.iter().map(|p| p.distance_m).sum();
-    let samples = pts
-        .iter()
-        .enumerate()
-        .map(|(k, p)| SampleRow {
-            crank_deg: p.sample.crank_deg,
-            position_mm: p.sample.position_mm,
-            zone: p.sample.zone + 1,
-            speed_ms: p.sample.speed_ms,
-            load_n_per_m: p.sample.load_n_per_m,
-            stribeck: s.engine.file.oil.viscosity_pa_s * p.sample.speed_ms / p.sample.load_n_per_m,
-            d_oil_um: p.sample.d_oil_um,
-            excluded: p.excluded.clone(),
-            force_n_per_m: [0, 1, 2].map(|i| ev.liners[i][k].as_ref().map(|x| x.1)),
-            c_min_um: [0, 1, 2].map(|i| ev.liners[i][k].as_ref().map(|x| x.0.c_min)),
-        })
-        .collect();
+    let samples = samples(s, ev);
     CycleReport {
         name: e.name.clone(),
         rpm: e.rpm,
@@ -178,8 +186,8 @@ pub fn assemble(s: &CycleSettings, d: &Designs, ev: &LinerRuns, wall: f64) -> Cy
         bore_mm: e.bore_mm,
         step_deg: s.step_deg,
         design_step_deg: s.design_step_deg,
-        search_fidelity: s.search_fidelity.name().into(),
-        report_fidelity: s.report_fidelity.name().into(),
+        search_fidelity: s.search.search_fidelity.name().into(),
+        report_fidelity: s.search.report_fidelity.name().into(),
         min_clearance_um: s.min_clearance_um,
         uniform: d.uniform.clone(),
         uniform_searched: ev.confirmed[d.zones.len()].clone(),
@@ -413,7 +421,12 @@ fn captions(r: &CycleReport) -> String {
 }
 
 /// JSON, CSV (one row per crank angle), the tables as Markdown, and the two figures.
-pub fn write(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, String> {
+pub fn write(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, OptimiseError> {
+    write_files(dir, r).map_err(OptimiseError::Files)
+}
+
+/// (The output layer's writers and plots say their errors in words: they are the files'.)
+fn write_files(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let stem = |ext: &str| dir.join(format!("cycle_{}{ext}", r.name));
     let json = serde_json::to_string_pretty(r).map_err(|e| e.to_string())?;
@@ -422,44 +435,7 @@ pub fn write(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, String> {
         &stem(".md"),
         format!("# Cycle `{}`\n\n{}{}", r.name, table(r), captions(r)),
     )?;
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let _ = w.write_record([
-        "crank_deg",
-        "position_mm",
-        "zone",
-        "speed_m_s",
-        "load_n_m",
-        "stribeck",
-        "d_oil_um",
-        "excluded",
-        "force_plain_n_m",
-        "force_uniform_n_m",
-        "force_zoned_n_m",
-        "c_min_plain_um",
-        "c_min_uniform_um",
-        "c_min_zoned_um",
-    ]);
-    let num = |x: Option<f64>| x.map_or(String::new(), |v| v.to_string());
-    for x in &r.samples {
-        let mut rec = vec![
-            x.crank_deg.to_string(),
-            x.position_mm.to_string(),
-            x.zone.to_string(),
-            x.speed_ms.to_string(),
-            x.load_n_per_m.to_string(),
-            x.stribeck.to_string(),
-            x.d_oil_um.to_string(),
-            x.excluded
-                .as_ref()
-                .map(ToString::to_string)
-                .unwrap_or_default(),
-        ];
-        rec.extend(x.force_n_per_m.map(num));
-        rec.extend(x.c_min_um.map(num));
-        let _ = w.write_record(rec);
-    }
-    let bytes = w.into_inner().map_err(|e| e.error().to_string())?;
-    crate::output::write(&stem(".csv"), bytes)?;
+    crate::output::write(&stem(".csv"), csv_bytes(&COLUMNS, &r.samples)?)?;
     force_plot(&stem("_force.png"), r)?;
     liner_plot(&stem("_liner.png"), r)?;
     Ok(["json", "md", "csv"]
@@ -467,6 +443,34 @@ pub fn write(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, String> {
         .map(|x| stem(&format!(".{x}")))
         .chain([stem("_force.png"), stem("_liner.png")])
         .collect())
+}
+
+/// The CSV's columns, named once: each header with how its cell is written (a liner's force
+/// and clearance empty where it has none).
+const COLUMNS: [Column<SampleRow>; 14] = [
+    ("crank_deg", |x| x.crank_deg.to_string()),
+    ("position_mm", |x| x.position_mm.to_string()),
+    ("zone", |x| x.zone.to_string()),
+    ("speed_m_s", |x| x.speed_ms.to_string()),
+    ("load_n_m", |x| x.load_n_per_m.to_string()),
+    ("stribeck", |x| x.stribeck.to_string()),
+    ("d_oil_um", |x| x.d_oil_um.to_string()),
+    ("excluded", |x| {
+        x.excluded
+            .as_ref()
+            .map(ToString::to_string)
+            .unwrap_or_default()
+    }),
+    ("force_plain_n_m", |x| cell(x.force_n_per_m[0])),
+    ("force_uniform_n_m", |x| cell(x.force_n_per_m[1])),
+    ("force_zoned_n_m", |x| cell(x.force_n_per_m[2])),
+    ("c_min_plain_um", |x| cell(x.c_min_um[0])),
+    ("c_min_uniform_um", |x| cell(x.c_min_um[1])),
+    ("c_min_zoned_um", |x| cell(x.c_min_um[2])),
+];
+
+fn cell(x: Option<f64>) -> String {
+    x.map_or(String::new(), |v| v.to_string())
 }
 
 /// Friction force against crank angle, each liner as lines over the angles inside the

@@ -7,16 +7,95 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::driver::Settings;
+use super::error::OptimiseError;
 use super::front_merge::Merged;
+use super::search::Evaluator;
 use super::space::{depth_ratio, wall, Space};
 use crate::model::case::{CaseSpec, Texture};
 use crate::plot::{self, Chart, Scale, Series, Style};
-use crate::time::{simulate_with, Numerics, Outcome, RunOptions, SeriesRow, Watch};
+use crate::time::{Outcome, SeriesRow};
+
+/// What a reported design is on the front, in the order a label names them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Role {
+    BestFriction,
+    BestClearance,
+    Balanced,
+    PlainLiner,
+}
+
+impl Role {
+    pub fn name(self) -> &'static str {
+        match self {
+            Role::BestFriction => "best friction",
+            Role::BestClearance => "best clearance",
+            Role::Balanced => "balanced",
+            Role::PlainLiner => "plain liner",
+        }
+    }
+}
+
+/// A reported design's label: its roles (none before the front is labelled), named joined by
+/// " + " (a kept design carries the roles of the designs merged into it).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Label(Vec<Role>);
+
+impl Label {
+    pub fn of(role: Role) -> Label {
+        Label(vec![role])
+    }
+
+    pub fn has(&self, role: Role) -> bool {
+        self.0.contains(&role)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// The label of a kept row carrying `labels`: each role once, the best designs first;
+    /// "balanced" says nothing once a row is a best design.
+    pub fn joined<'a>(labels: impl IntoIterator<Item = &'a Label>) -> Label {
+        let mut roles: Vec<Role> = Vec::new();
+        for &r in labels.into_iter().flat_map(|l| &l.0) {
+            if !roles.contains(&r) {
+                roles.push(r);
+            }
+        }
+        roles.sort_by_key(|r| match r {
+            Role::BestClearance => 1,
+            Role::Balanced => 2,
+            Role::BestFriction | Role::PlainLiner => 0,
+        });
+        if roles.len() > 1 {
+            roles.retain(|r| *r != Role::Balanced);
+        }
+        Label(roles)
+    }
+}
+
+impl std::fmt::Display for Label {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for (i, r) in self.0.iter().enumerate() {
+            if i > 0 {
+                f.write_str(" + ")?;
+            }
+            f.write_str(r.name())?;
+        }
+        Ok(())
+    }
+}
+
+impl Serialize for Label {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
 
 /// One reported design.
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
-    pub label: String,
+    pub label: Label,
     /// None: the plain liner.
     pub texture: Option<Texture>,
     pub f_mean: f64,
@@ -88,13 +167,13 @@ pub struct EvaluatedDesign {
 /// The row of a design (None: the plain liner) against the plain liner's outcome.
 pub(super) fn row(
     s: &Settings,
-    label: &str,
+    label: Label,
     t: Option<&Texture>,
     o: &Outcome,
     plain: &Outcome,
 ) -> Row {
     let (w1, w2) = t.map_or((f64::NAN, f64::NAN), wall);
-    let space = &s.space;
+    let space = &s.search.space;
     let case = CaseSpec {
         texture: t.cloned(),
         ..s.base.clone()
@@ -103,8 +182,8 @@ pub(super) fn row(
     Row {
         friction_n_per_m: physical.friction_n_per_m,
         power_w_per_m: physical.power_w_per_m,
-        outside_model: s.validity.outside(&case, o.c_min),
-        label: label.into(),
+        outside_model: s.search.validity.outside(&case, o.c_min),
+        label,
         texture: t.cloned(),
         f_mean: o.f_mean,
         c_min: o.c_min,
@@ -220,26 +299,31 @@ pub fn table(r: &Report) -> String {
 /// the plain liner.
 pub fn table_rows(r: &Report) -> Vec<(String, &Row)> {
     let mut rows: Vec<(String, &Row)> = Vec::new();
-    for (x, fallback) in [
-        (&r.best_friction, "best friction"),
-        (&r.best_clearance, "best clearance"),
+    for (x, role) in [
+        (&r.best_friction, Role::BestFriction),
+        (&r.best_clearance, Role::BestClearance),
     ] {
         if x.texture.is_some() && !rows.iter().any(|(_, y)| y.texture == x.texture) {
-            let label = if x.label.is_empty() {
-                fallback
-            } else {
-                &x.label
-            };
-            rows.push((label.to_string(), x));
+            rows.push((labelled(x, role), x));
         }
     }
     for x in &r.front {
         if x.texture.is_some() && !rows.iter().any(|(_, y)| y.texture == x.texture) {
-            rows.push((x.label.clone(), x));
+            rows.push((x.label.to_string(), x));
         }
     }
-    rows.push(("plain liner".into(), &r.plain));
+    rows.push((Role::PlainLiner.name().into(), &r.plain));
     rows
+}
+
+/// A best design's label: its own, or its role where it has none (a best design off the
+/// front after merging).
+fn labelled(x: &Row, role: Role) -> String {
+    if x.label.is_empty() {
+        role.name().into()
+    } else {
+        x.label.to_string()
+    }
 }
 
 /// The table's account of the merged designs, also when there were none (the rule ran).
@@ -278,134 +362,117 @@ fn merged_note(s: &mut String, r: &Report) {
     }
 }
 
-/// The time series of the last texture period of a case, kept in `path` with the case's
-/// cache key so that a warm rerun does not simulate it again.
-fn last_period(
-    path: &Path,
-    case: &CaseSpec,
-    num: &Numerics,
-    period: f64,
-) -> Result<Vec<SeriesRow>, String> {
-    #[derive(Serialize, serde::Deserialize)]
-    struct Kept {
-        key: String,
-        rows: Vec<SeriesRow>,
-    }
-    let key = crate::study::cache::Key::of(case, num).hash;
-    if let Some(text) = crate::output::read_regular(path) {
-        if let Ok(k) = serde_json::from_str::<Kept>(&text) {
-            if k.key == key {
-                return Ok(k.rows);
-            }
-        }
-    }
-    let opts = RunOptions {
-        series: true,
-        ..RunOptions::default()
-    };
-    let res = simulate_with(case, num, &opts, &mut Watch::default()).map_err(|e| e.to_string())?;
-    let rows: Vec<SeriesRow> = res.series.unwrap_or_default();
-    let t_end = rows.last().map_or(0.0, |x| x.t);
-    let rows: Vec<SeriesRow> = rows
-        .into_iter()
-        .filter(|x| x.t > t_end - period - 1e-12)
-        .collect();
-    let kept = Kept { key, rows };
-    let json = serde_json::to_string(&kept).map_err(|e| format!("{}: {e}", path.display()))?;
-    crate::output::write(path, json)?;
-    Ok(kept.rows)
-}
-
 fn stem(dir: &Path, r: f64) -> PathBuf {
     dir.join(format!("optimise_R{r}"))
 }
 
+/// A line of the CSV: a reported design under its label.
+struct Line<'a> {
+    label: String,
+    row: &'a Row,
+    fidelity: &'a str,
+}
+
+/// The CSV's columns, named once: each header with how its cell is written (empty where a design has no
+/// texture).
+fn columns<'a>() -> [Column<Line<'a>>; 18] {
+    [
+        ("design", |x| x.label.clone()),
+        ("l1", |x| texture_cell(x, |t| t.l1)),
+        ("l2", |x| texture_cell(x, |t| t.l2)),
+        ("per", |x| texture_cell(x, |t| t.per)),
+        ("width", |x| texture_cell(x, |t| t.width)),
+        ("depth", |x| texture_cell(x, |t| t.depth)),
+        ("f_mean", |x| x.row.f_mean.to_string()),
+        ("f_change_pct", |x| x.row.f_change_pct.to_string()),
+        ("c_min", |x| x.row.c_min.to_string()),
+        ("c_min_change_pct", |x| x.row.c_min_change_pct.to_string()),
+        ("area_fraction", |x| x.row.area_fraction.to_string()),
+        ("wall_x1_cm", |x| texture_cell(x, |t| t.per - 2.0 * t.l1)),
+        ("wall_x2_cm", |x| texture_cell(x, |t| t.width - 2.0 * t.l2)),
+        ("active", |x| x.row.active_constraints.join(" ")),
+        ("fidelity", |x| x.fidelity.to_string()),
+        ("friction_n_per_m", |x| x.row.friction_n_per_m.to_string()),
+        ("power_w_per_m", |x| x.row.power_w_per_m.to_string()),
+        ("outside_model", |x| {
+            x.row.outside_model.clone().unwrap_or_default()
+        }),
+    ]
+}
+
+fn texture_cell(x: &Line, f: fn(&Texture) -> f64) -> String {
+    x.row
+        .texture
+        .as_ref()
+        .map_or(String::new(), |t| f(t).to_string())
+}
+
+/// A CSV column: its header, and its cell of a record.
+pub(super) type Column<R> = (&'static str, fn(&R) -> String);
+
+/// The CSV of `records` in `columns`.
+pub(super) fn csv_bytes<'a, R: 'a>(
+    columns: &[Column<R>],
+    records: impl IntoIterator<Item = &'a R>,
+) -> Result<Vec<u8>, String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let _ = w.write_record(columns.iter().map(|c| c.0));
+    for x in records {
+        let _ = w.write_record(columns.iter().map(|c| (c.1)(x)));
+    }
+    w.into_inner().map_err(|e| e.error().to_string())
+}
+
 /// Writes the report's files under `dir`: JSON (everything), CSV (the table), the front, and
-/// Z(t), f(t) over a period of the best design against the plain liner.
-pub(super) fn write(dir: &Path, r: &Report, s: &Settings) -> Result<(), String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+/// Z(t), f(t) over a period of the best design against the plain liner (`ev`: the evaluation
+/// service at the reported fidelity).
+pub(super) fn write(dir: &Path, r: &Report, ev: &Evaluator) -> Result<(), OptimiseError> {
+    let files = OptimiseError::Files;
+    std::fs::create_dir_all(dir)
+        .map_err(|e| files(format!("cannot create {}: {e}", dir.display())))?;
     let stem = stem(dir, r.r);
     // Not `with_extension`: R = 6.84 would lose its ".84".
     let p = PathBuf::from(format!("{}.json", stem.display()));
-    let json = serde_json::to_string_pretty(r).map_err(|e| format!("{}: {e}", p.display()))?;
+    let json =
+        serde_json::to_string_pretty(r).map_err(|e| files(format!("{}: {e}", p.display())))?;
     crate::output::write(&p, json)?;
     let p = PathBuf::from(format!("{}.csv", stem.display()));
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let _ = w.write_record([
-        "design",
-        "l1",
-        "l2",
-        "per",
-        "width",
-        "depth",
-        "f_mean",
-        "f_change_pct",
-        "c_min",
-        "c_min_change_pct",
-        "area_fraction",
-        "wall_x1_cm",
-        "wall_x2_cm",
-        "active",
-        "fidelity",
-        "friction_n_per_m",
-        "power_w_per_m",
-        "outside_model",
-    ]);
-    let mut rows = vec![&r.best_friction, &r.best_clearance];
-    rows.extend(r.front.iter());
-    rows.push(&r.plain);
-    for (i, x) in rows.iter().enumerate() {
-        let t = x.texture.as_ref();
-        let f = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
-        let label = match i {
-            0 if x.label.is_empty() => "best friction".to_string(),
-            1 if x.label.is_empty() => "best clearance".to_string(),
-            _ => x.label.clone(),
-        };
-        let _ = w.write_record([
+    let mut rows = vec![
+        (
+            labelled(&r.best_friction, Role::BestFriction),
+            &r.best_friction,
+        ),
+        (
+            labelled(&r.best_clearance, Role::BestClearance),
+            &r.best_clearance,
+        ),
+    ];
+    rows.extend(r.front.iter().map(|x| (x.label.to_string(), x)));
+    rows.push((r.plain.label.to_string(), &r.plain));
+    let lines: Vec<Line> = rows
+        .into_iter()
+        .map(|(label, row)| Line {
             label,
-            f(t.map(|t| t.l1)),
-            f(t.map(|t| t.l2)),
-            f(t.map(|t| t.per)),
-            f(t.map(|t| t.width)),
-            f(t.map(|t| t.depth)),
-            x.f_mean.to_string(),
-            x.f_change_pct.to_string(),
-            x.c_min.to_string(),
-            x.c_min_change_pct.to_string(),
-            x.area_fraction.to_string(),
-            f(t.map(|t| t.per - 2.0 * t.l1)),
-            f(t.map(|t| t.width - 2.0 * t.l2)),
-            x.active_constraints.join(" "),
-            r.report_fidelity.clone(),
-            x.friction_n_per_m.to_string(),
-            x.power_w_per_m.to_string(),
-            x.outside_model.clone().unwrap_or_default(),
-        ]);
-    }
-    let bytes = w
-        .into_inner()
-        .map_err(|e| format!("{}: {}", p.display(), e.error()))?;
+            row,
+            fidelity: &r.report_fidelity,
+        })
+        .collect();
+    let bytes =
+        csv_bytes(&columns(), &lines).map_err(|e| files(format!("{}: {e}", p.display())))?;
     crate::output::write(&p, bytes)?;
     super::figures::front(&PathBuf::from(format!("{}_front.png", stem.display())), r)?;
     super::figures::cells(&PathBuf::from(format!("{}_cells.png", stem.display())), r)?;
-    period_plots(&stem, r, s)
+    period_plots(&stem, r, ev)
 }
 
 /// Z(t) and f(t) over one period: the best-friction design against the plain liner.
-fn period_plots(stem: &Path, r: &Report, s: &Settings) -> Result<(), String> {
+fn period_plots(stem: &Path, r: &Report, ev: &Evaluator) -> Result<(), OptimiseError> {
     if let Some(t) = &r.best_friction.texture {
-        let case = CaseSpec {
-            texture: Some(t.clone()),
-            ..s.base.clone()
-        };
-        let num = crate::time::resolve(s.report_fidelity, &(&s.overrides).into(), &case);
-        let period = t.per / case.u;
-        let kept = last_period(
-            &PathBuf::from(format!("{}_series.json", stem.display())),
-            &case,
-            &num,
+        let period = t.per / ev.base.u;
+        let kept = ev.last_period(
+            t,
             period,
+            &PathBuf::from(format!("{}_series.json", stem.display())),
         )?;
         let last: Vec<&SeriesRow> = kept.iter().collect();
         let t0 = last.first().map_or(0.0, |x| x.t);

@@ -2,63 +2,52 @@
 //! for the ideal point, balanced ones between), the front of every searched design confirmed
 //! at the reported fidelity, and the report.
 
-use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
-use super::design_report::{row, write, EvaluatedDesign, Report, Row};
+use super::design_report::{row, write, EvaluatedDesign, Label, Report, Role, Row};
+use super::error::OptimiseError;
 use super::front_merge::merge;
 use super::goal::{pareto, Goal};
-use super::search::{refine, search, Evaluation, Evaluator, Search, SwarmSettings};
-use super::space::Space;
+use super::search::{
+    swarm_and_refine, Evaluation, Evaluator, GoalSearch, SearchSettings, SwarmSettings,
+};
 use crate::model::case::{CaseSpec, Texture};
-use crate::model::operating::{Scales, Validity};
+use crate::model::operating::Scales;
 use crate::study::cache::Cache;
-use crate::study::sweep;
-use crate::study::NumericsOverride;
-use crate::time::{Fidelity, Limits, Outcome};
+use crate::time::{Fidelity, Outcome};
 
 /// Everything `optimise` needs.
 pub struct Settings {
     /// The ring and operating point (texture ignored).
     pub base: CaseSpec,
-    /// The scales of the operating point, and where the film model stops.
+    /// The scales of the operating point.
     pub scales: Scales,
-    pub validity: Validity,
-    pub space: Space,
-    /// Fidelity of the searches, and of the reported (confirmed) designs.
-    pub search_fidelity: Fidelity,
-    pub report_fidelity: Fidelity,
-    /// Mesh/time-step overrides for both (coarse meshes for quick looks).
-    pub overrides: NumericsOverride,
-    pub swarm: SwarmSettings,
+    pub search: SearchSettings,
     /// Weights w of the balanced (Chebyshev) searches between the two single-objective ones.
     pub balanced: Vec<f64>,
-    pub jobs: usize,
-    /// What one evaluation may cost (a design over them fails unrun).
-    pub limits: Limits,
-    pub progress: bool,
-    /// Output directory; None: write nothing.
-    pub out_dir: Option<PathBuf>,
 }
-
-/// Compass refinement after each swarm: first step, last step and most polls (cube units).
-pub const REFINE_STEP: f64 = 0.25;
-pub const REFINE_MIN_STEP: f64 = 1.0 / 16.0;
-pub const REFINE_ITERS: u64 = 8;
 
 /// Most front points confirmed at the reported fidelity.
 const MAX_CONFIRM: usize = 10;
 
-/// Searches, confirms and reports (the files too, when `s.out_dir` is set), on at most
-/// `s.jobs` threads: the searches that run side by side share them (each evaluation batch
-/// has its own pool of `s.jobs` as well, so `--jobs 1` runs everything on one core).
-pub fn optimise(s: &Settings, cache: &Mutex<Cache>, stop: &AtomicBool) -> Result<Report, String> {
+/// Searches, confirms and reports (the files too, when `out_dir` is set), on at most
+/// `jobs` threads: the searches that run side by side share them (each evaluation batch
+/// has its own pool of `jobs` as well, so `--jobs 1` runs everything on one core).
+pub fn optimise(
+    s: &Settings,
+    cache: &Mutex<Cache>,
+    stop: &AtomicBool,
+) -> Result<Report, OptimiseError> {
+    let jobs = s.search.jobs;
     rayon::ThreadPoolBuilder::new()
-        .num_threads(s.jobs.max(1))
+        .num_threads(jobs.max(1))
         .build()
-        .map_err(|e| format!("cannot start {} worker threads: {e}", s.jobs))?
+        .map_err(|e| OptimiseError::Threads {
+            jobs,
+            why: e.to_string(),
+        })?
         .install(|| optimise_on_pool(s, cache, stop))
 }
 
@@ -66,17 +55,18 @@ fn optimise_on_pool(
     s: &Settings,
     cache: &Mutex<Cache>,
     stop: &AtomicBool,
-) -> Result<Report, String> {
+) -> Result<Report, OptimiseError> {
     let t0 = Instant::now();
-    s.space.validate().map_err(|e| e.to_string())?;
+    let ss = &s.search;
+    ss.space.validate().map_err(OptimiseError::Space)?;
     let say = |m: String| {
-        if s.progress {
+        if ss.progress {
             eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
         }
     };
-    let ev_s = evaluator(s, s.search_fidelity, cache, stop);
-    let ev_r = evaluator(s, s.report_fidelity, cache, stop);
-    let (plain_s, plain_r) = rayon::join(|| plain(&ev_s), || plain(&ev_r));
+    let ev_s = evaluator(s, ss.search_fidelity, cache, stop);
+    let ev_r = evaluator(s, ss.report_fidelity, cache, stop);
+    let (plain_s, plain_r) = rayon::join(|| ev_s.plain(), || ev_r.plain());
     let (plain_s, plain_r) = (plain_s?, plain_r?);
     searches(s, &ev_s, &plain_s, &say)?;
     let log_s = ev_s.log.lock().expect("lock").clone();
@@ -84,31 +74,42 @@ fn optimise_on_pool(
     say(format!(
         "{} designs evaluated at {}; confirming {} front designs at {}",
         log_s.len(),
-        s.search_fidelity.name(),
+        ss.search_fidelity.name(),
         cand.len(),
-        s.report_fidelity.name()
+        ss.report_fidelity.name()
     ));
     let designs: Vec<Option<Texture>> = cand.iter().cloned().map(Some).collect();
     let confirmed = ev_r.evaluate(&designs)?;
     // The reported front: confirmed designs plus the plain liner.
-    let mut rows: Vec<Row> = vec![row(s, "plain liner", None, &plain_r, &plain_r)];
+    let plain_label = Label::of(Role::PlainLiner);
+    let mut rows: Vec<Row> = vec![row(s, plain_label, None, &plain_r, &plain_r)];
     for (t, o) in cand.iter().zip(&confirmed) {
         if let Ok(o) = o {
-            rows.push(row(s, "", Some(t), o, &plain_r));
+            rows.push(row(s, Label::default(), Some(t), o, &plain_r));
         }
     }
     let log_r = ev_r.log.lock().expect("lock").clone();
-    let sims = *ev_s.simulations.lock().expect("lock") + *ev_r.simulations.lock().expect("lock");
-    let mut report = report(s, rows, &plain_r, [log_s, log_r])?;
-    report.evaluations_confirm = cand.len();
-    report.plain_search_f_mean = plain_s.f_mean;
-    report.plain_search_c_min = plain_s.c_min;
-    report.simulations = sims;
-    report.wall_time_s = t0.elapsed().as_secs_f64();
-    if let Some(dir) = &s.out_dir {
-        write(dir, &report, s)?;
+    let run = Run {
+        plain_search: plain_s,
+        confirmed: cand.len(),
+        simulations: *ev_s.simulations.lock().expect("lock")
+            + *ev_r.simulations.lock().expect("lock"),
+        t0,
+    };
+    let report = report(s, rows, &plain_r, [log_s, log_r], run)?;
+    if let Some(dir) = &ss.out_dir {
+        write(dir, &report, &ev_r)?;
     }
     Ok(report)
+}
+
+/// What a run counted besides its rows: the plain liner at the search fidelity, the designs
+/// confirmed, the simulations run and when it started.
+struct Run {
+    plain_search: Outcome,
+    confirmed: usize,
+    simulations: usize,
+    t0: Instant,
 }
 
 /// The evaluation service of a run at one fidelity: its ring and operating point, through
@@ -126,27 +127,15 @@ pub(super) fn evaluator<'a>(
         },
         scales: s.scales,
         fidelity,
-        overrides: s.overrides.clone(),
+        overrides: s.search.overrides.clone(),
         cache,
-        options: sweep::Options {
-            jobs: s.jobs,
-            retry_failed: false,
-            progress: false,
-            limits: s.limits,
-        },
+        options: s.search.sweep_options(),
         stop,
         log: Mutex::new(Vec::new()),
         simulations: Mutex::new(0),
-        progress: s.progress,
+        progress: s.search.progress,
         name: String::new(),
     }
-}
-
-/// The plain liner's outcome at an evaluator's fidelity.
-pub(super) fn plain(ev: &Evaluator) -> Result<Outcome, String> {
-    ev.evaluate(&[None])?
-        .remove(0)
-        .map_err(|e| format!("the plain liner failed: {e}"))
 }
 
 /// The searches at the search fidelity: single-objective ones give the ideal point, balanced
@@ -161,9 +150,10 @@ fn searches(
     ev: &Evaluator,
     plain: &Outcome,
     say: &dyn Fn(String),
-) -> Result<(), String> {
-    let seed = s.swarm.seed;
-    let run = |goal: Goal, seed: u64| -> Result<(Vec<f64>, f64, Evaluator), String> {
+) -> Result<(), OptimiseError> {
+    let ss = &s.search;
+    let seed = ss.swarm.seed;
+    let run = |goal: Goal, seed: u64| -> Result<(Vec<f64>, f64, Evaluator), OptimiseError> {
         let own = Evaluator {
             name: match goal {
                 Goal::Friction => "friction search: ".into(),
@@ -172,14 +162,13 @@ fn searches(
             },
             ..evaluator(s, ev.fidelity, ev.cache, ev.stop)
         };
-        let pb = Search {
-            space: &s.space,
+        let pb = GoalSearch {
+            space: &ss.space,
             eval: &own,
             goal,
             plain: plain.clone(),
         };
-        let (u, _) = search(&pb, SwarmSettings { seed, ..s.swarm })?;
-        let (u, c) = refine(&pb, u, REFINE_STEP, REFINE_MIN_STEP, REFINE_ITERS)?;
+        let (u, c) = swarm_and_refine(&pb, SwarmSettings { seed, ..ss.swarm }, &[])?;
         Ok((u, c, own))
     };
     let absorb = |own: Evaluator| {
@@ -204,10 +193,10 @@ fn searches(
         let so_far = absorb(own);
         say(format!(
             "{goal:?} search: best {} (relative cost {c:.4}); {so_far} evaluations so far",
-            s.space.decode(&u).rounded_label()
+            ss.space.decode(&u).rounded_label()
         ));
     }
-    let balanced = side_by_side(s.jobs, &s.balanced, |i, &w| {
+    let balanced = side_by_side(ss.jobs, &s.balanced, |i, &w| {
         run(Goal::Balanced { w, ideal }, seed + 2 + i as u64)
     });
     for (&w, r) in s.balanced.iter().zip(balanced) {
@@ -215,7 +204,7 @@ fn searches(
         absorb(own);
         say(format!(
             "balanced search w = {w}: best {} (cost {c:.4})",
-            s.space.decode(&u).rounded_label()
+            ss.space.decode(&u).rounded_label()
         ));
     }
     Ok(())
@@ -282,7 +271,9 @@ fn report(
     mut rows: Vec<Row>,
     plain: &Outcome,
     logs: [Vec<Evaluation>; 2],
-) -> Result<Report, String> {
+    run: Run,
+) -> Result<Report, OptimiseError> {
+    let ss = &s.search;
     let pts: Vec<(f64, f64)> = rows.iter().map(|r| (r.f_mean, r.c_min)).collect();
     for i in pareto(&pts) {
         rows[i].on_front = true;
@@ -291,71 +282,54 @@ fn report(
         .iter()
         .min_by(|a, b| a.f_mean.total_cmp(&b.f_mean))
         .cloned()
-        .ok_or("no design")?;
+        .ok_or(OptimiseError::Nothing("design"))?;
     let best_c = rows
         .iter()
         .max_by(|a, b| a.c_min.total_cmp(&b.c_min))
         .cloned()
-        .ok_or("no design")?;
+        .ok_or(OptimiseError::Nothing("design"))?;
     let mut front: Vec<Row> = rows.iter().filter(|r| r.on_front).cloned().collect();
     front.sort_by(|a, b| a.f_mean.total_cmp(&b.f_mean));
     for r in &mut front {
-        r.label = if r.texture.is_none() {
-            "plain liner".into()
+        r.label = Label::of(if r.texture.is_none() {
+            Role::PlainLiner
         } else if r.f_mean == best_f.f_mean {
-            "best friction".into()
+            Role::BestFriction
         } else if r.c_min == best_c.c_min {
-            "best clearance".into()
+            Role::BestClearance
         } else {
-            "balanced".into()
-        };
+            Role::Balanced
+        });
     }
-    let err = s.report_fidelity.f_error();
+    let err = ss.report_fidelity.f_error();
     let beats = best_f.texture.is_some() && best_f.f_mean < plain.f_mean * (1.0 - err);
-    let verdict = if beats {
-        format!(
-            "a texture beats the plain liner: f̄ {:+.1} % (beyond the {:.1} % error of fidelity {})",
-            best_f.f_change_pct,
-            100.0 * err,
-            s.report_fidelity.name()
-        )
-    } else {
-        format!(
-            "the plain liner is best: no texture lowers f̄ by more than the {:.1} % error of fidelity {} (best texture {:+.2} %)",
-            100.0 * err,
-            s.report_fidelity.name(),
-            rows.iter()
-                .filter(|r| r.texture.is_some())
-                .map(|r| r.f_change_pct)
-                .fold(f64::INFINITY, f64::min)
-        )
-    };
+    let verdict = verdict(s, &rows, &best_f, beats);
     // Merged after the verdict, which is about the least f̄ found, whichever row carries it.
-    let (front, merged) = merge(front, err, s.report_fidelity.c_error());
-    let carrying = |label: &str, fallback: Row| {
+    let (front, merged) = merge(front, err, ss.report_fidelity.c_error());
+    let carrying = |role: Role, fallback: Row| {
         front
             .iter()
-            .find(|r| r.label.split(" + ").any(|l| l == label))
+            .find(|r| r.label.has(role))
             .cloned()
             .unwrap_or(fallback)
     };
     let (best_f, best_c) = (
-        carrying("best friction", best_f),
-        carrying("best clearance", best_c),
+        carrying(Role::BestFriction, best_f),
+        carrying(Role::BestClearance, best_c),
     );
     let evaluated = evaluated(s, logs);
     Ok(Report {
         r: s.base.r,
         stribeck: crate::model::units::stribeck(s.base.u, s.base.w_ps),
-        roughness_um: s.validity.roughness_um,
-        space: s.space.clone(),
-        search_fidelity: s.search_fidelity.name().into(),
-        report_fidelity: s.report_fidelity.name().into(),
+        roughness_um: ss.validity.roughness_um,
+        space: ss.space.clone(),
+        search_fidelity: ss.search_fidelity.name().into(),
+        report_fidelity: ss.report_fidelity.name().into(),
         fidelity_error: err,
-        fidelity_c_error: s.report_fidelity.c_error(),
+        fidelity_c_error: ss.report_fidelity.c_error(),
         plain: rows[0].clone(),
-        plain_search_f_mean: f64::NAN,
-        plain_search_c_min: f64::NAN,
+        plain_search_f_mean: run.plain_search.f_mean,
+        plain_search_c_min: run.plain_search.c_min,
         best_friction: best_f,
         best_clearance: best_c,
         front,
@@ -365,26 +339,51 @@ fn report(
         verdict,
         evaluations_search: evaluated
             .iter()
-            .filter(|e| e.fidelity == s.search_fidelity.name())
+            .filter(|e| e.fidelity == ss.search_fidelity.name())
             .count(),
-        evaluations_confirm: 0,
-        simulations: 0,
-        wall_time_s: 0.0,
+        evaluations_confirm: run.confirmed,
+        simulations: run.simulations,
+        wall_time_s: run.t0.elapsed().as_secs_f64(),
         evaluated,
     })
 }
 
+/// Whether a texture beats the plain liner beyond the reported fidelity's error, in words.
+fn verdict(s: &Settings, rows: &[Row], best_f: &Row, beats: bool) -> String {
+    let fidelity = s.search.report_fidelity;
+    let err = fidelity.f_error();
+    if beats {
+        format!(
+            "a texture beats the plain liner: f̄ {:+.1} % (beyond the {:.1} % error of fidelity {})",
+            best_f.f_change_pct,
+            100.0 * err,
+            fidelity.name()
+        )
+    } else {
+        format!(
+            "the plain liner is best: no texture lowers f̄ by more than the {:.1} % error of fidelity {} (best texture {:+.2} %)",
+            100.0 * err,
+            fidelity.name(),
+            rows.iter()
+                .filter(|r| r.texture.is_some())
+                .map(|r| r.f_change_pct)
+                .fold(f64::INFINITY, f64::min)
+        )
+    }
+}
+
 /// Every evaluation of the search and the reported fidelity, for the plot and the audit.
 fn evaluated(s: &Settings, [log_s, log_r]: [Vec<Evaluation>; 2]) -> Vec<EvaluatedDesign> {
+    let ss = &s.search;
     let mut evaluated = Vec::new();
-    for (fid, log) in [(s.search_fidelity, log_s), (s.report_fidelity, log_r)] {
+    for (fid, log) in [(ss.search_fidelity, log_s), (ss.report_fidelity, log_r)] {
         for e in log {
             evaluated.push(EvaluatedDesign {
                 fidelity: fid.name().into(),
                 f_mean: e.outcome.as_ref().ok().map(|o| o.f_mean),
                 c_min: e.outcome.as_ref().ok().map(|o| o.c_min),
                 failure: e.outcome.as_ref().err().cloned(),
-                active_constraints: s
+                active_constraints: ss
                     .space
                     .active(&e.texture)
                     .iter()

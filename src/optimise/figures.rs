@@ -7,6 +7,7 @@ use plotters::prelude::*;
 use std::path::Path;
 
 use super::design_report::{table_rows, Report, Row};
+use super::error::OptimiseError;
 use crate::model::case::Texture;
 
 fn err(e: &dyn std::fmt::Display) -> String {
@@ -37,8 +38,8 @@ fn span(v: &[f64], least: f64) -> (f64, f64) {
 
 /// The front plot: changes of f̄ and C_min against the plain liner (%), the confirmed front
 /// large and labelled with the tier's errors as bars, the searched designs faint behind.
-pub fn front(path: &Path, r: &Report) -> Result<(), String> {
-    crate::output::atomically(path, |tmp| draw_front(tmp, r)).map_err(String::from)
+pub fn front(path: &Path, r: &Report) -> Result<(), OptimiseError> {
+    crate::output::atomically(path, |tmp| draw_front(tmp, r)).map_err(OptimiseError::Output)
 }
 
 fn draw_front(path: &Path, r: &Report) -> Result<(), String> {
@@ -213,7 +214,7 @@ fn labels(
 
 /// One panel per reported design (the plain liner has none): its lattice cell with the
 /// pocket centred and the neighbours' edges, the walls dimensioned in µm, the depth.
-pub fn cells(path: &Path, r: &Report) -> Result<(), String> {
+pub fn cells(path: &Path, r: &Report) -> Result<(), OptimiseError> {
     let designs: Vec<(String, Texture)> = table_rows(r)
         .into_iter()
         .filter_map(|(l, x)| Some((l, x.texture.clone()?)))
@@ -221,7 +222,8 @@ pub fn cells(path: &Path, r: &Report) -> Result<(), String> {
     if designs.is_empty() {
         return Ok(());
     }
-    crate::output::atomically(path, |tmp| draw_cells(tmp, r, &designs)).map_err(String::from)
+    crate::output::atomically(path, |tmp| draw_cells(tmp, r, &designs))
+        .map_err(OptimiseError::Output)
 }
 
 fn draw_cells(path: &Path, r: &Report, designs: &[(String, Texture)]) -> Result<(), String> {

@@ -13,14 +13,14 @@
 
 use serde::Serialize;
 
-use super::design_report::Row;
+use super::design_report::{Label, Row};
 use crate::model::case::Texture;
 
 /// A design left out of the table because a thicker-walled one gives the same f̄ and C_min.
 #[derive(Clone, Debug, Serialize)]
 pub struct Merged {
     /// Its label before merging.
-    pub label: String,
+    pub label: Label,
     pub texture: Texture,
     pub f_mean: f64,
     pub c_min: f64,
@@ -39,25 +39,6 @@ fn walls(r: &Row) -> (f64, f64) {
 /// Whether two values differ by less than `err` relative to the smaller.
 fn within(a: f64, b: f64, err: f64) -> bool {
     (a - b).abs() < err * a.abs().min(b.abs())
-}
-
-/// Labels in the order a merged row names them.
-const LABEL_ORDER: [&str; 3] = ["best friction", "best clearance", "balanced"];
-
-/// The label of a kept row carrying the labels of the rows merged into it.
-fn joined(labels: &[String]) -> String {
-    let mut parts: Vec<&str> = Vec::new();
-    for l in labels.iter().flat_map(|l| l.split(" + ")) {
-        if !parts.contains(&l) {
-            parts.push(l);
-        }
-    }
-    parts.sort_by_key(|p| LABEL_ORDER.iter().position(|o| o == p).unwrap_or(0));
-    // "balanced" says nothing once a row is a best design.
-    if parts.len() > 1 {
-        parts.retain(|p| *p != "balanced");
-    }
-    parts.join(" + ")
 }
 
 /// Merges the rows within `f_err` in f̄ and `c_err` in C_min of a thicker-walled row into
@@ -88,7 +69,7 @@ pub fn merge(rows: Vec<Row>, f_err: f64, c_err: f64) -> (Vec<Row>, Vec<Merged>) 
             None => kept.push(i),
         }
     }
-    let mut labels: Vec<Vec<String>> = rows.iter().map(|r| vec![r.label.clone()]).collect();
+    let mut labels: Vec<Vec<Label>> = rows.iter().map(|r| vec![r.label.clone()]).collect();
     let mut merged = Vec::new();
     for (i, k) in into.iter().enumerate() {
         let Some(k) = *k else { continue };
@@ -106,7 +87,7 @@ pub fn merge(rows: Vec<Row>, f_err: f64, c_err: f64) -> (Vec<Row>, Vec<Merged>) 
         .enumerate()
         .filter(|(i, _)| into[*i].is_none())
         .map(|(i, mut r)| {
-            r.label = joined(&labels[i]);
+            r.label = Label::joined(&labels[i]);
             r
         })
         .collect();
@@ -116,9 +97,10 @@ pub fn merge(rows: Vec<Row>, f_err: f64, c_err: f64) -> (Vec<Row>, Vec<Merged>) 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::optimise::design_report::Role;
 
     /// A textured row with the given f̄, C_min and walls (µm).
-    fn row(label: &str, f: f64, c: f64, w1_um: f64, w2_um: f64) -> Row {
+    fn row(label: Role, f: f64, c: f64, w1_um: f64, w2_um: f64) -> Row {
         let (per, width) = (0.06, 0.06);
         let t = Texture {
             l1: (per - w1_um * 1e-4) / 2.0,
@@ -129,7 +111,7 @@ mod tests {
             phase: 0.0,
         };
         Row {
-            label: label.into(),
+            label: Label::of(label),
             texture: Some(t),
             f_mean: f,
             c_min: c,
@@ -153,7 +135,7 @@ mod tests {
             texture: None,
             wall_x1_cm: f64::NAN,
             wall_x2_cm: f64::NAN,
-            ..row("plain liner", f, c, 0.0, 0.0)
+            ..row(Role::PlainLiner, f, c, 0.0, 0.0)
         }
     }
 
@@ -163,41 +145,41 @@ mod tests {
     #[test]
     fn designs_apart_beyond_either_error_are_all_kept() {
         let rows = vec![
-            row("best friction", 0.0900, 4.50, 10.0, 10.0),
+            row(Role::BestFriction, 0.0900, 4.50, 10.0, 10.0),
             // f̄ apart by 2 % (beyond 1.5 %), C_min equal.
-            row("balanced", 0.0918, 4.50, 40.0, 10.0),
+            row(Role::Balanced, 0.0918, 4.50, 40.0, 10.0),
             // C_min apart by 1 % (beyond 0.7 %), f̄ equal.
-            row("balanced", 0.0900, 4.545, 60.0, 20.0),
+            row(Role::Balanced, 0.0900, 4.545, 60.0, 20.0),
             // Both apart.
-            row("best clearance", 0.0950, 5.00, 100.0, 10.0),
+            row(Role::BestClearance, 0.0950, 5.00, 100.0, 10.0),
             plain(0.1177, 5.18),
         ];
         let (kept, merged) = merge(rows.clone(), F_ERR, C_ERR);
         assert!(merged.is_empty(), "{merged:?}");
-        let labels: Vec<&str> = kept.iter().map(|r| r.label.as_str()).collect();
+        let labels: Vec<String> = kept.iter().map(|r| r.label.to_string()).collect();
         assert_eq!(
             labels,
-            rows.iter().map(|r| r.label.as_str()).collect::<Vec<_>>()
+            rows.iter().map(|r| r.label.to_string()).collect::<Vec<_>>()
         );
     }
 
     #[test]
     fn designs_within_both_errors_merge_into_the_thickest_walled_one() {
         let rows = vec![
-            row("best friction", 0.08858, 4.800, 10.0, 10.0),
+            row(Role::BestFriction, 0.08858, 4.800, 10.0, 10.0),
             // Within both errors of best friction, thicker walls: kept, takes its label.
-            row("balanced", 0.08862, 4.810, 43.8, 10.0),
+            row(Role::Balanced, 0.08862, 4.810, 43.8, 10.0),
             // Within both, thinnest wall thicker still (20 > 10): the one kept of the three.
-            row("balanced", 0.08870, 4.805, 20.0, 20.0),
+            row(Role::Balanced, 0.08870, 4.805, 20.0, 20.0),
             // Beyond the C_min error of all three.
-            row("best clearance", 0.0936, 5.19, 145.0, 10.0),
+            row(Role::BestClearance, 0.0936, 5.19, 145.0, 10.0),
             // A texture within the errors of the plain liner stays, and so does the liner.
-            row("balanced", 0.11780, 5.180, 200.0, 10.0),
+            row(Role::Balanced, 0.11780, 5.180, 200.0, 10.0),
             plain(0.11774, 5.178),
         ];
         let (kept, merged) = merge(rows, F_ERR, C_ERR);
         assert_eq!(merged.len(), 2, "{merged:?}");
-        let labels: Vec<&str> = kept.iter().map(|r| r.label.as_str()).collect();
+        let labels: Vec<String> = kept.iter().map(|r| r.label.to_string()).collect();
         assert_eq!(
             labels,
             ["best friction", "best clearance", "balanced", "plain liner"]
@@ -207,7 +189,7 @@ mod tests {
         assert!((kept[0].wall_x2_cm - 20e-4).abs() < 1e-12);
         let into = kept[0].texture.clone().unwrap();
         assert!(merged.iter().all(|m| m.into == into));
-        let mut gone: Vec<&str> = merged.iter().map(|m| m.label.as_str()).collect();
+        let mut gone: Vec<String> = merged.iter().map(|m| m.label.to_string()).collect();
         gone.sort();
         assert_eq!(gone, ["balanced", "best friction"]);
     }
@@ -215,13 +197,13 @@ mod tests {
     #[test]
     fn a_row_merging_both_best_designs_carries_both_labels() {
         let rows = vec![
-            row("best friction", 0.0900, 4.80, 10.0, 10.0),
-            row("best clearance", 0.0901, 4.81, 30.0, 10.0),
-            row("balanced", 0.0902, 4.805, 40.0, 20.0),
+            row(Role::BestFriction, 0.0900, 4.80, 10.0, 10.0),
+            row(Role::BestClearance, 0.0901, 4.81, 30.0, 10.0),
+            row(Role::Balanced, 0.0902, 4.805, 40.0, 20.0),
         ];
         let (kept, merged) = merge(rows, F_ERR, C_ERR);
         assert_eq!(merged.len(), 2);
         assert_eq!(kept.len(), 1);
-        assert_eq!(kept[0].label, "best friction + best clearance");
+        assert_eq!(kept[0].label.to_string(), "best friction + best clearance");
     }
 }

@@ -1,13 +1,18 @@
-//! Texture optimisation for one ring: the design space mapped feasibly from the unit cube
-//! (`space`), what a search minimises (`goal`), the searches through argmin (`search`), the
-//! driver (`driver`), its report (`design_report`, with designs the reported fidelity cannot tell
-//! apart merged by `front_merge`) and its pictures (`figures`). The simulator knows nothing of this module:
-//! every evaluation is a study job run through the cache.
+//! Texture optimisation: the design space mapped feasibly from the unit cube (`space`), what
+//! a search minimises (`goal`), and one search layer (`search`: the settings every search
+//! shares, the evaluation service through the cache, the `Objective` trait over which the
+//! argmin cost is written once, the swarm and its compass refinement). On it run `optimise`
+//! for one ring (`driver`, its report `design_report`, with designs the reported fidelity
+//! cannot tell apart merged by `front_merge`, and its pictures `figures`), over a range of
+//! radii (`robust`), and over an engine cycle (`cycle`, `cycle_report`); what stops them is
+//! an `error::OptimiseError`. The simulator knows nothing of this module: every evaluation is
+//! a study job run through the cache.
 
 pub mod cycle;
 pub mod cycle_report;
 pub mod design_report;
 pub mod driver;
+pub mod error;
 pub mod figures;
 pub mod front_merge;
 pub mod goal;

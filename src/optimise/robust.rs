@@ -6,7 +6,6 @@
 //! The robust design is chosen at the reported fidelity among the robust search's best and
 //! every R's own optimum, so its worst ratio is never above that of an R's optimum.
 
-use argmin::core::{CostFunction, Error as ArgminError};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -14,12 +13,11 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 use std::time::Instant;
 
-use super::design_report::Report;
-use super::driver::{
-    evaluator, optimise, plain, Settings, REFINE_ITERS, REFINE_MIN_STEP, REFINE_STEP,
-};
+use super::design_report::{csv_bytes, Column, Report};
+use super::driver::{evaluator, optimise, Settings};
+use super::error::OptimiseError;
 use super::goal::FAILED_COST;
-use super::search::{refine, swarm, Evaluator, SwarmSettings};
+use super::search::{swarm_and_refine, Evaluator, Objective, SwarmSettings};
 use super::space::Space;
 use crate::model::case::{CaseSpec, Texture};
 use crate::plot::{self, Chart, Scale, Series, Style};
@@ -77,23 +75,13 @@ struct WorstRatio<'a> {
     plains: Vec<Outcome>,
 }
 
-impl CostFunction for &WorstRatio<'_> {
-    type Param = Vec<f64>;
-    type Output = f64;
-
-    fn cost(&self, u: &Vec<f64>) -> Result<f64, ArgminError> {
-        Ok(self.bulk_cost(std::slice::from_ref(u))?[0])
+impl Objective for WorstRatio<'_> {
+    fn space(&self) -> &Space {
+        self.space
     }
 
-    fn bulk_cost<P>(&self, params: &[P]) -> Result<Vec<f64>, ArgminError>
-    where
-        P: std::borrow::Borrow<Vec<f64>> + argmin::core::SyncAlias,
-    {
-        let designs: Vec<Texture> = params
-            .iter()
-            .map(|u| self.space.decode(u.borrow()))
-            .collect();
-        let runs = outcomes(&self.evals, &designs).map_err(ArgminError::msg)?;
+    fn costs(&self, designs: &[Texture]) -> Result<Vec<f64>, OptimiseError> {
+        let runs = outcomes(&self.evals, designs)?;
         Ok(runs
             .iter()
             .map(|r| worst(&ratios(r, &self.plains)).min(FAILED_COST))
@@ -102,7 +90,10 @@ impl CostFunction for &WorstRatio<'_> {
 }
 
 /// The outcome of each design at each R (None where a run failed): one batch per R.
-fn outcomes(evals: &[Evaluator], designs: &[Texture]) -> Result<Vec<Vec<Option<Outcome>>>, String> {
+fn outcomes(
+    evals: &[Evaluator],
+    designs: &[Texture],
+) -> Result<Vec<Vec<Option<Outcome>>>, OptimiseError> {
     let mut out = vec![Vec::with_capacity(evals.len()); designs.len()];
     let batch: Vec<Option<Texture>> = designs.iter().cloned().map(Some).collect();
     for ev in evals {
@@ -134,12 +125,12 @@ pub fn robust(
     per_r: &[Settings],
     cache: &Mutex<Cache>,
     stop: &AtomicBool,
-) -> Result<RobustReport, String> {
+) -> Result<RobustReport, OptimiseError> {
     let t0 = Instant::now();
-    let first = per_r.first().ok_or("no radius")?;
+    let first = per_r.first().ok_or(OptimiseError::Nothing("radius"))?;
     let mut reports = Vec::new();
     for (i, s) in per_r.iter().enumerate() {
-        if first.progress {
+        if first.search.progress {
             eprintln!(
                 "== R = {} cm ({} of {}) ==",
                 crate::time::short(s.base.r),
@@ -149,7 +140,7 @@ pub fn robust(
         }
         reports.push(optimise(s, cache, stop)?);
     }
-    if first.progress {
+    if first.search.progress {
         eprintln!("== robust design over R = {:?} cm ==", radii(per_r));
     }
     let optima: Vec<Texture> = reports
@@ -172,9 +163,9 @@ pub fn robust(
         .iter()
         .min_by(|a, b| a.worst.total_cmp(&b.worst).then(a.mean.total_cmp(&b.mean)))
         .cloned()
-        .ok_or("no robust candidate")?;
+        .ok_or(OptimiseError::Nothing("robust candidate"))?;
     let report = assemble(per_r, &reports, best, candidates, t0);
-    if let Some(dir) = &first.out_dir {
+    if let Some(dir) = &first.search.out_dir {
         write(dir, &report)?;
     }
     Ok(report)
@@ -193,13 +184,16 @@ fn search_robust(
     cache: &Mutex<Cache>,
     stop: &AtomicBool,
     optima: &[Texture],
-) -> Result<Texture, String> {
-    let s = &per_r[0];
+) -> Result<Texture, OptimiseError> {
+    let s = &per_r[0].search;
     let evals: Vec<Evaluator> = per_r
         .iter()
-        .map(|x| evaluator(x, x.search_fidelity, cache, stop))
+        .map(|x| evaluator(x, x.search.search_fidelity, cache, stop))
         .collect();
-    let plains = evals.iter().map(plain).collect::<Result<Vec<_>, _>>()?;
+    let plains = evals
+        .iter()
+        .map(Evaluator::plain)
+        .collect::<Result<Vec<_>, _>>()?;
     let problem = WorstRatio {
         space: &s.space,
         evals,
@@ -210,14 +204,8 @@ fn search_robust(
         seed: s.swarm.seed + 1000,
         ..s.swarm
     };
-    let (u, c) = swarm(&problem, s.space.dim(), settings)?;
     let starts: Vec<Vec<f64>> = optima.iter().map(|t| s.space.encode(t)).collect();
-    let costs = (&problem).bulk_cost(&starts).map_err(|e| e.to_string())?;
-    let (u, _) = starts
-        .into_iter()
-        .zip(costs)
-        .fold((u, c), |best, p| if p.1 < best.1 { p } else { best });
-    let (u, c) = refine(&problem, u, REFINE_STEP, REFINE_MIN_STEP, REFINE_ITERS)?;
+    let (u, c) = swarm_and_refine(&problem, settings, &starts)?;
     if s.progress {
         eprintln!(
             "  robust search: worst ratio {c:.4} at {}",
@@ -233,12 +221,15 @@ fn confirm(
     cache: &Mutex<Cache>,
     stop: &AtomicBool,
     designs: &[(String, Texture)],
-) -> Result<Vec<Candidate>, String> {
+) -> Result<Vec<Candidate>, OptimiseError> {
     let evals: Vec<Evaluator> = per_r
         .iter()
-        .map(|x| evaluator(x, x.report_fidelity, cache, stop))
+        .map(|x| evaluator(x, x.search.report_fidelity, cache, stop))
         .collect();
-    let plains = evals.iter().map(plain).collect::<Result<Vec<_>, _>>()?;
+    let plains = evals
+        .iter()
+        .map(Evaluator::plain)
+        .collect::<Result<Vec<_>, _>>()?;
     let textures: Vec<Texture> = designs.iter().map(|(_, t)| t.clone()).collect();
     let runs = outcomes(&evals, &textures)?;
     Ok(designs
@@ -255,7 +246,7 @@ fn confirm(
                         ..s.base.clone()
                     };
                     match o {
-                        Some(o) => s.validity.outside(&case, o.c_min),
+                        Some(o) => s.search.validity.outside(&case, o.c_min),
                         None => Some("the run failed".into()),
                     }
                 })
@@ -311,8 +302,8 @@ fn assemble(
     RobustReport {
         name: format!("robust_R{lo}-{hi}"),
         radii,
-        search_fidelity: per_r[0].search_fidelity.name().into(),
-        report_fidelity: per_r[0].report_fidelity.name().into(),
+        search_fidelity: per_r[0].search.search_fidelity.name().into(),
+        report_fidelity: per_r[0].search.report_fidelity.name().into(),
         robust,
         at_radius,
         candidates,
@@ -388,47 +379,52 @@ pub fn table(r: &RobustReport) -> String {
 }
 
 /// JSON, CSV (every candidate at every R), the table as Markdown, and f̄ against R.
-fn write(dir: &Path, r: &RobustReport) -> Result<(), String> {
+fn write(dir: &Path, r: &RobustReport) -> Result<(), OptimiseError> {
+    write_files(dir, r).map_err(OptimiseError::Files)
+}
+
+/// (The output layer's writers and plots say their errors in words: they are the files'.)
+fn write_files(dir: &Path, r: &RobustReport) -> Result<(), String> {
     let stem = dir.join(&r.name);
     let path = |ext: &str| PathBuf::from(format!("{}.{ext}", stem.display()));
     let json = serde_json::to_string_pretty(r).map_err(|e| e.to_string())?;
     crate::output::write(&path("json"), json)?;
     crate::output::write(&path("md"), format!("# {}\n\n{}", r.name, table(r)))?;
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let _ = w.write_record([
-        "candidate",
-        "robust",
-        "l1",
-        "l2",
-        "per",
-        "width",
-        "depth",
-        "R",
-        "f_mean",
-        "f_over_plain",
-        "outside_model",
-    ]);
-    for c in &r.candidates {
-        for (i, x) in r.radii.iter().enumerate() {
-            let t = &c.texture;
-            let _ = w.write_record([
-                c.origin.clone(),
-                (c.texture == r.robust.texture).to_string(),
-                t.l1.to_string(),
-                t.l2.to_string(),
-                t.per.to_string(),
-                t.width.to_string(),
-                t.depth.to_string(),
-                x.to_string(),
-                c.f_mean[i].to_string(),
-                c.ratio[i].to_string(),
-                c.outside_model[i].clone().unwrap_or_default(),
-            ]);
-        }
-    }
-    let bytes = w.into_inner().map_err(|e| e.error().to_string())?;
-    crate::output::write(&path("csv"), bytes)?;
+    let lines: Vec<AtOneRadius> = r
+        .candidates
+        .iter()
+        .flat_map(|c| (0..r.radii.len()).map(move |i| AtOneRadius { r, c, i }))
+        .collect();
+    crate::output::write(&path("csv"), csv_bytes(&columns(), &lines)?)?;
     plot_f_against_r(&path("png"), r)
+}
+
+/// A line of the CSV: candidate `c` at the `i`-th radius of `r`.
+struct AtOneRadius<'a> {
+    r: &'a RobustReport,
+    c: &'a Candidate,
+    i: usize,
+}
+
+/// The CSV's columns, named once: each header with how its cell is written.
+fn columns<'a>() -> [Column<AtOneRadius<'a>>; 11] {
+    [
+        ("candidate", |x| x.c.origin.clone()),
+        ("robust", |x| {
+            (x.c.texture == x.r.robust.texture).to_string()
+        }),
+        ("l1", |x| x.c.texture.l1.to_string()),
+        ("l2", |x| x.c.texture.l2.to_string()),
+        ("per", |x| x.c.texture.per.to_string()),
+        ("width", |x| x.c.texture.width.to_string()),
+        ("depth", |x| x.c.texture.depth.to_string()),
+        ("R", |x| x.r.radii[x.i].to_string()),
+        ("f_mean", |x| x.c.f_mean[x.i].to_string()),
+        ("f_over_plain", |x| x.c.ratio[x.i].to_string()),
+        ("outside_model", |x| {
+            x.c.outside_model[x.i].clone().unwrap_or_default()
+        }),
+    ]
 }
 
 /// f̄ against R: the plain liner, the robust design, each R's own optimum over the range

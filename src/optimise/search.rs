@@ -1,6 +1,7 @@
-//! The searches through argmin: the evaluation service (designs → study jobs → cache), the
-//! cost function a search minimises, a particle swarm, and a compass search polishing its
-//! best point. The simulator knows nothing of this: every evaluation is a study job.
+//! The search layer every optimisation runs on: its settings, the evaluation service
+//! (designs → study jobs → cache), what a search minimises (an [`Objective`], over which the
+//! argmin cost function is written once), a particle swarm, and a compass search polishing
+//! its best point. The simulator knows nothing of this: every evaluation is a study job.
 
 use argmin::core::{
     CostFunction, Error as ArgminError, Executor, IterState, Problem, Solver, State,
@@ -9,16 +10,18 @@ use argmin::core::{
 use argmin::solver::particleswarm::ParticleSwarm;
 use rand::SeedableRng;
 use serde::Serialize;
-use std::sync::atomic::AtomicBool;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 
+use super::error::OptimiseError;
 use super::goal::{Goal, FAILED_COST};
 use super::space::Space;
 use crate::model::case::{CaseSpec, Texture};
-use crate::model::operating::Scales;
+use crate::model::operating::{Scales, Validity};
 use crate::study::cache::Cache;
 use crate::study::{sweep, Job, NumericsOverride};
-use crate::time::{Fidelity, Outcome};
+use crate::time::{simulate_with, Fidelity, Limits, Outcome, RunOptions, SeriesRow, Watch};
 
 /// One evaluated design.
 #[derive(Clone, Debug, Serialize)]
@@ -66,15 +69,18 @@ impl Evaluator<'_> {
     pub fn evaluate(
         &self,
         designs: &[Option<Texture>],
-    ) -> Result<Vec<Result<Outcome, String>>, String> {
+    ) -> Result<Vec<Result<Outcome, String>>, OptimiseError> {
         let jobs: Vec<Job> = designs.iter().map(|t| self.job(t.as_ref())).collect();
         for j in &jobs {
             j.numerics
                 .validate(&j.case)
-                .map_err(|e| format!("{}: {e}", j.case.label()))?;
+                .map_err(|error| OptimiseError::Numerics {
+                    case: j.case.label(),
+                    error,
+                })?;
         }
-        let (sum, results) =
-            sweep::run(&jobs, self.cache, &self.options, self.stop).map_err(|e| e.to_string())?;
+        let (sum, results) = sweep::run(&jobs, self.cache, &self.options, self.stop)
+            .map_err(|e| OptimiseError::Cache(e.to_string()))?;
         let total_sims = {
             let mut n = self.simulations.lock().expect("lock");
             *n += sum.simulations;
@@ -92,7 +98,7 @@ impl Evaluator<'_> {
             );
         }
         if sum.stopped {
-            return Err("stopped (Ctrl-C); finished evaluations are in the cache".into());
+            return Err(OptimiseError::Stopped);
         }
         let out: Vec<Result<Outcome, String>> = results
             .into_iter()
@@ -110,17 +116,138 @@ impl Evaluator<'_> {
         }
         Ok(out)
     }
+
+    /// The plain liner's outcome.
+    pub fn plain(&self) -> Result<Outcome, OptimiseError> {
+        self.evaluate(&[None])?
+            .remove(0)
+            .map_err(OptimiseError::PlainFailed)
+    }
+
+    /// The time series of the last `period` of a design's run, under the same limits and
+    /// stop flag as its evaluation. The cache keeps outcomes, not series: the series is kept
+    /// in `path` with the case's cache key, so that a warm rerun does not simulate it again.
+    pub fn last_period(
+        &self,
+        t: &Texture,
+        period: f64,
+        path: &Path,
+    ) -> Result<Vec<SeriesRow>, OptimiseError> {
+        #[derive(Serialize, serde::Deserialize)]
+        struct Kept {
+            key: String,
+            rows: Vec<SeriesRow>,
+        }
+        let Job { case, numerics, .. } = self.job(Some(t));
+        let key = crate::study::cache::Key::of(&case, &numerics).hash;
+        if let Some(text) = crate::output::read_regular(path) {
+            if let Ok(k) = serde_json::from_str::<Kept>(&text) {
+                if k.key == key {
+                    return Ok(k.rows);
+                }
+            }
+        }
+        crate::time::limits::check(&case, &numerics, &self.options.limits).map_err(|error| {
+            OptimiseError::Numerics {
+                case: case.label(),
+                error,
+            }
+        })?;
+        if self.stop.load(Ordering::SeqCst) {
+            return Err(OptimiseError::Stopped);
+        }
+        let opts = RunOptions {
+            series: true,
+            ..RunOptions::default()
+        };
+        let res = simulate_with(&case, &numerics, &opts, &mut Watch::default())
+            .map_err(|e| OptimiseError::Series(e.to_string()))?;
+        let rows: Vec<SeriesRow> = res.series.unwrap_or_default();
+        let t_end = rows.last().map_or(0.0, |x| x.t);
+        let rows: Vec<SeriesRow> = rows
+            .into_iter()
+            .filter(|x| x.t > t_end - period - 1e-12)
+            .collect();
+        let kept = Kept { key, rows };
+        let json = serde_json::to_string(&kept)
+            .map_err(|e| OptimiseError::Files(format!("{}: {e}", path.display())))?;
+        crate::output::write(path, json)?;
+        Ok(kept.rows)
+    }
 }
 
-/// The argmin problem of one search: minimise `goal` over the unit cube of `space`.
-pub struct Search<'a> {
-    pub space: &'a Space,
-    pub eval: &'a Evaluator<'a>,
-    pub goal: Goal,
-    pub plain: Outcome,
+/// The swarm settings, fidelities, numerics, threads, limits and files every search shares:
+/// `optimise` for one ring or a range of them, and `cycle`.
+#[derive(Clone, Debug)]
+pub struct SearchSettings {
+    pub space: Space,
+    /// Where the film model stops.
+    pub validity: Validity,
+    /// Fidelity of the searches, and of the reported (confirmed) designs.
+    pub search_fidelity: Fidelity,
+    pub report_fidelity: Fidelity,
+    /// Mesh/time-step overrides for both (coarse meshes for quick looks).
+    pub overrides: NumericsOverride,
+    pub swarm: SwarmSettings,
+    /// Worker threads.
+    pub jobs: usize,
+    /// What one evaluation may cost (a design over them fails unrun).
+    pub limits: Limits,
+    pub progress: bool,
+    /// Output directory; None: write nothing.
+    pub out_dir: Option<PathBuf>,
 }
 
-impl CostFunction for Search<'_> {
+impl SearchSettings {
+    /// The defaults: searches at draft (within 2 % of the converged answer on the benchmark
+    /// cases), designs reported at fast.
+    pub const SEARCH_FIDELITY: Fidelity = Fidelity::Draft;
+    pub const REPORT_FIDELITY: Fidelity = Fidelity::Fast;
+
+    /// Threads by default: every core.
+    pub fn default_jobs() -> usize {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    }
+
+    /// The sweep options of one evaluation batch.
+    pub fn sweep_options(&self) -> sweep::Options {
+        sweep::Options {
+            jobs: self.jobs,
+            retry_failed: false,
+            progress: false,
+            limits: self.limits,
+        }
+    }
+}
+
+/// Particle-swarm settings of one search.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct SwarmSettings {
+    pub particles: usize,
+    pub iterations: u64,
+    pub seed: u64,
+}
+
+impl SwarmSettings {
+    pub const DEFAULT: SwarmSettings = SwarmSettings {
+        particles: 8,
+        iterations: 3,
+        seed: 1,
+    };
+}
+
+/// What a search minimises over the unit cube of its design space: the costs of a batch of
+/// designs (a batch, so that the evaluations run in parallel). Every search is one of these;
+/// the argmin cost function over them is [`Cost`].
+pub trait Objective: Sync {
+    fn space(&self) -> &Space;
+    fn costs(&self, designs: &[Texture]) -> Result<Vec<f64>, OptimiseError>;
+}
+
+/// The argmin cost function of an [`Objective`]: unit-cube points decoded into designs.
+pub struct Cost<'a, O: ?Sized>(pub &'a O);
+
+impl<O: Objective + ?Sized> CostFunction for Cost<'_, O> {
     type Param = Vec<f64>;
     type Output = f64;
 
@@ -133,12 +260,36 @@ impl CostFunction for Search<'_> {
     where
         P: std::borrow::Borrow<Vec<f64>> + argmin::core::SyncAlias,
     {
-        let designs: Vec<Option<Texture>> = params
-            .iter()
-            .map(|u| Some(self.space.decode(u.borrow())))
-            .collect();
-        let out = self.eval.evaluate(&designs).map_err(ArgminError::msg)?;
-        Ok(out
+        let space = self.0.space();
+        let designs: Vec<Texture> = params.iter().map(|u| space.decode(u.borrow())).collect();
+        Ok(self.0.costs(&designs)?)
+    }
+}
+
+/// An argmin run's error as ours: an objective's own error comes back as it was.
+fn solver_error(e: ArgminError) -> OptimiseError {
+    e.downcast::<OptimiseError>()
+        .unwrap_or_else(|e| OptimiseError::Solver(e.to_string()))
+}
+
+/// One ring's search: minimise `goal` relative to the plain liner's outcome.
+pub struct GoalSearch<'a> {
+    pub space: &'a Space,
+    pub eval: &'a Evaluator<'a>,
+    pub goal: Goal,
+    pub plain: Outcome,
+}
+
+impl Objective for GoalSearch<'_> {
+    fn space(&self) -> &Space {
+        self.space
+    }
+
+    fn costs(&self, designs: &[Texture]) -> Result<Vec<f64>, OptimiseError> {
+        let designs: Vec<Option<Texture>> = designs.iter().cloned().map(Some).collect();
+        Ok(self
+            .eval
+            .evaluate(&designs)?
             .iter()
             .map(|o| match o {
                 Ok(o) => self.goal.cost(o, &self.plain),
@@ -148,37 +299,52 @@ impl CostFunction for Search<'_> {
     }
 }
 
-/// Particle-swarm settings of one search.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct SwarmSettings {
-    pub particles: usize,
-    pub iterations: u64,
-    pub seed: u64,
-}
-
-/// Runs one particle-swarm search; returns the best unit-cube point and its cost.
-pub fn search(s: &Search, settings: SwarmSettings) -> Result<(Vec<f64>, f64), String> {
-    swarm(s, s.space.dim(), settings)
-}
-
-/// A particle swarm over the unit cube of dimension `n` minimising `problem`.
-pub fn swarm<C>(problem: C, n: usize, settings: SwarmSettings) -> Result<(Vec<f64>, f64), String>
-where
-    C: CostFunction<Param = Vec<f64>, Output = f64> + argmin::core::SyncAlias,
-{
+/// A particle swarm over the unit cube of `problem`'s space; returns the best point and its
+/// cost.
+pub fn swarm<O: Objective + ?Sized>(
+    problem: &O,
+    settings: SwarmSettings,
+) -> Result<(Vec<f64>, f64), OptimiseError> {
+    let n = problem.space().dim();
     let solver = ParticleSwarm::new((vec![0.0; n], vec![1.0; n]), settings.particles)
         .with_rng_generator(rand::rngs::StdRng::seed_from_u64(settings.seed));
-    let res = Executor::new(problem, solver)
+    let res = Executor::new(Cost(problem), solver)
         .configure(|st| st.max_iters(settings.iterations))
         .run()
-        .map_err(|e| e.to_string())?;
+        .map_err(solver_error)?;
     let best = res
         .state()
         .get_best_param()
         .map(|p| p.position.clone())
-        .ok_or("the search ended without a best design")?;
+        .ok_or(OptimiseError::NoBest("search"))?;
     Ok((best, res.state().get_best_cost()))
 }
+
+/// Every search: a particle swarm, the best of its answer and the `starts` (points worth
+/// trying, e.g. other searches' optima), polished by a compass search; returns the point and
+/// its cost.
+pub fn swarm_and_refine<O: Objective + ?Sized>(
+    problem: &O,
+    settings: SwarmSettings,
+    starts: &[Vec<f64>],
+) -> Result<(Vec<f64>, f64), OptimiseError> {
+    let (mut u, mut c) = swarm(problem, settings)?;
+    if !starts.is_empty() {
+        let space = problem.space();
+        let designs: Vec<Texture> = starts.iter().map(|x| space.decode(x)).collect();
+        for (x, cost) in starts.iter().zip(problem.costs(&designs)?) {
+            if cost < c {
+                (u, c) = (x.clone(), cost);
+            }
+        }
+    }
+    refine(problem, u)
+}
+
+/// Compass refinement after each swarm: first step, last step and most polls (cube units).
+pub const REFINE_STEP: f64 = 0.25;
+pub const REFINE_MIN_STEP: f64 = 1.0 / 16.0;
+pub const REFINE_ITERS: u64 = 8;
 
 /// Compass (pattern) search on the unit cube, an argmin `Solver`: polls ±step along every
 /// axis (clamped to the cube) in one bulk evaluation, moves to the best poll point that
@@ -257,39 +423,24 @@ where
     }
 }
 
-/// Refines a point by compass search; returns the best point and its cost.
-pub fn refine<C>(
-    problem: C,
+/// Refines a point by compass search ([`REFINE_STEP`] down to [`REFINE_MIN_STEP`], at most
+/// [`REFINE_ITERS`] polls); returns the best point and its cost.
+pub fn refine<O: Objective + ?Sized>(
+    problem: &O,
     start: Vec<f64>,
-    step: f64,
-    min_step: f64,
-    max_iters: u64,
-) -> Result<(Vec<f64>, f64), String>
-where
-    C: CostFunction<Param = Vec<f64>, Output = f64> + argmin::core::SyncAlias,
-{
-    let res = Executor::new(problem, CompassSearch { step, min_step })
-        .configure(|st| st.param(start).max_iters(max_iters))
+) -> Result<(Vec<f64>, f64), OptimiseError> {
+    let compass = CompassSearch {
+        step: REFINE_STEP,
+        min_step: REFINE_MIN_STEP,
+    };
+    let res = Executor::new(Cost(problem), compass)
+        .configure(|st| st.param(start).max_iters(REFINE_ITERS))
         .run()
-        .map_err(|e| e.to_string())?;
+        .map_err(solver_error)?;
     let best = res
         .state()
         .get_best_param()
         .cloned()
-        .ok_or("the refinement ended without a best design")?;
+        .ok_or(OptimiseError::NoBest("refinement"))?;
     Ok((best, res.state().get_best_cost()))
-}
-
-impl CostFunction for &Search<'_> {
-    type Param = Vec<f64>;
-    type Output = f64;
-    fn cost(&self, u: &Vec<f64>) -> Result<f64, ArgminError> {
-        (*self).cost(u)
-    }
-    fn bulk_cost<P>(&self, params: &[P]) -> Result<Vec<f64>, ArgminError>
-    where
-        P: std::borrow::Borrow<Vec<f64>> + argmin::core::SyncAlias,
-    {
-        (*self).bulk_cost(params)
-    }
 }
