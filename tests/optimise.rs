@@ -11,7 +11,7 @@ use std::sync::Mutex;
 
 use texopt::model::case::CaseSpec;
 use texopt::model::operating::{Scales, Validity};
-use texopt::optimise::design_report::Report;
+use texopt::optimise::design::Report;
 use texopt::optimise::driver::{optimise, Settings};
 use texopt::optimise::goal::pareto;
 use texopt::optimise::search::{SearchSettings, SwarmSettings};
@@ -82,7 +82,7 @@ fn check_contracts(r: &Report) {
     }
     let pts: Vec<(f64, f64)> = r.front.iter().map(|x| (x.f_mean, x.c_min)).collect();
     assert_eq!(pareto(&pts).len(), pts.len(), "the front is non-dominated");
-    let has = |x: &texopt::optimise::design_report::Row| {
+    let has = |x: &texopt::optimise::design::Row| {
         r.front
             .iter()
             .any(|f| f.texture == x.texture && f.f_mean == x.f_mean)

@@ -6,7 +6,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
-use super::design_report::{table_rows, Report, Row};
+use super::design::{table_rows, Report, Row};
 use super::error::OptimiseError;
 use crate::model::case::Texture;
 

@@ -11,22 +11,7 @@
 //! ("best friction" and "best clearance" first, then "balanced"), so a merged-away best design
 //! still has its row, carried by a design within the error of it.
 
-use serde::Serialize;
-
-use super::design_report::{Label, Row};
-use crate::model::case::Texture;
-
-/// A design left out of the table because a thicker-walled one gives the same f̄ and C_min.
-#[derive(Clone, Debug, Serialize)]
-pub struct Merged {
-    /// Its label before merging.
-    pub label: Label,
-    pub texture: Texture,
-    pub f_mean: f64,
-    pub c_min: f64,
-    /// The kept design it was merged into.
-    pub into: Texture,
-}
+use super::design::{Label, Merged, Row};
 
 /// Walls of a row as (thinner, thicker) in cm; the plain liner has none.
 fn walls(r: &Row) -> (f64, f64) {
@@ -97,7 +82,8 @@ pub fn merge(rows: Vec<Row>, f_err: f64, c_err: f64) -> (Vec<Row>, Vec<Merged>) 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::optimise::design_report::Role;
+    use crate::model::case::Texture;
+    use crate::optimise::design::Role;
 
     /// A textured row with the given f̄, C_min and walls (µm).
     fn row(label: Role, f: f64, c: f64, w1_um: f64, w2_um: f64) -> Row {

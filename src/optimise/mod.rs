@@ -2,7 +2,7 @@
 //! a search minimises (`goal`), and one search layer (`search`: the settings every search
 //! shares, the evaluation service through the cache, the `Objective` trait over which the
 //! argmin cost is written once, the swarm and its compass refinement). On it run `optimise`
-//! for one ring (`driver`, its report `design_report`, with designs the reported fidelity
+//! for one ring (`driver`; what it reports of its designs `design`, written by `design_report`; designs the reported fidelity
 //! cannot tell apart merged by `front_merge`, and its pictures `figures`), over a range of
 //! radii (`robust`), and over an engine cycle (`cycle`, `cycle_report`); what stops them is
 //! an `error::OptimiseError`. The simulator knows nothing of this module: every evaluation is
@@ -10,6 +10,7 @@
 
 pub mod cycle;
 pub mod cycle_report;
+pub mod design;
 pub mod design_report;
 pub mod driver;
 pub mod error;

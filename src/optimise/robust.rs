@@ -13,7 +13,8 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 use std::time::Instant;
 
-use super::design_report::{csv_bytes, Column, Report};
+use super::design::Report;
+use super::design_report::{csv_bytes, Column};
 use super::driver::{evaluator, optimise, Settings};
 use super::error::OptimiseError;
 use super::goal::FAILED_COST;
