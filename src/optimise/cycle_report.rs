@@ -422,14 +422,11 @@ fn captions(r: &CycleReport) -> String {
 
 /// JSON, CSV (one row per crank angle), the tables as Markdown, and the two figures.
 pub fn write(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, OptimiseError> {
-    write_files(dir, r).map_err(OptimiseError::Files)
-}
-
-/// (The output layer's writers and plots say their errors in words: they are the files'.)
-fn write_files(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let files = OptimiseError::Files;
+    std::fs::create_dir_all(dir)
+        .map_err(|e| files(format!("cannot create {}: {e}", dir.display())))?;
     let stem = |ext: &str| dir.join(format!("cycle_{}{ext}", r.name));
-    let json = serde_json::to_string_pretty(r).map_err(|e| e.to_string())?;
+    let json = serde_json::to_string_pretty(r).map_err(|e| files(e.to_string()))?;
     crate::output::write(&stem(".json"), json)?;
     crate::output::write(
         &stem(".md"),
@@ -475,7 +472,7 @@ fn cell(x: Option<f64>) -> String {
 
 /// Friction force against crank angle, each liner as lines over the angles inside the
 /// model; the excluded angles marked on the axis.
-fn force_plot(path: &Path, r: &CycleReport) -> Result<(), String> {
+fn force_plot(path: &Path, r: &CycleReport) -> Result<(), OptimiseError> {
     let mut runs: Vec<(usize, Vec<(f64, f64)>)> = Vec::new();
     for i in 0..3 {
         let mut cur: Vec<(f64, f64)> = Vec::new();
@@ -527,12 +524,12 @@ fn force_plot(path: &Path, r: &CycleReport) -> Result<(), String> {
         },
         &series,
     )
-    .map_err(String::from)
+    .map_err(OptimiseError::Output)
 }
 
 /// The liner along the stroke: each zone's pocket depth over its span (0: plain), named with
 /// its texture; the uniform best as a faint line.
-fn liner_plot(path: &Path, r: &CycleReport) -> Result<(), String> {
+fn liner_plot(path: &Path, r: &CycleReport) -> Result<(), OptimiseError> {
     let depth = |t: &Option<Texture>| t.as_ref().map_or(0.0, |t| t.depth);
     let spans: Vec<Vec<(f64, f64)>> = r
         .zones
@@ -567,7 +564,7 @@ fn liner_plot(path: &Path, r: &CycleReport) -> Result<(), String> {
         },
         &series,
     )
-    .map_err(String::from)
+    .map_err(OptimiseError::Output)
 }
 
 #[cfg(test)]

@@ -190,17 +190,18 @@ fn texture_cell(x: &Line, f: fn(&Texture) -> f64) -> String {
 /// A CSV column: its header, and its cell of a record.
 pub(super) type Column<R> = (&'static str, fn(&R) -> String);
 
-/// The CSV of `records` in `columns`.
+/// The CSV of `records` in `columns` (its error: the CSV writer's, in words).
 pub(super) fn csv_bytes<'a, R: 'a>(
     columns: &[Column<R>],
     records: impl IntoIterator<Item = &'a R>,
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>, OptimiseError> {
     let mut w = csv::Writer::from_writer(Vec::new());
     let _ = w.write_record(columns.iter().map(|c| c.0));
     for x in records {
         let _ = w.write_record(columns.iter().map(|c| (c.1)(x)));
     }
-    w.into_inner().map_err(|e| e.error().to_string())
+    w.into_inner()
+        .map_err(|e| OptimiseError::Files(e.error().to_string()))
 }
 
 /// Writes the report's files under `dir`: JSON (everything), CSV (the table), the front, and

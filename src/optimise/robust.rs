@@ -381,14 +381,9 @@ pub fn table(r: &RobustReport) -> String {
 
 /// JSON, CSV (every candidate at every R), the table as Markdown, and f̄ against R.
 fn write(dir: &Path, r: &RobustReport) -> Result<(), OptimiseError> {
-    write_files(dir, r).map_err(OptimiseError::Files)
-}
-
-/// (The output layer's writers and plots say their errors in words: they are the files'.)
-fn write_files(dir: &Path, r: &RobustReport) -> Result<(), String> {
     let stem = dir.join(&r.name);
     let path = |ext: &str| PathBuf::from(format!("{}.{ext}", stem.display()));
-    let json = serde_json::to_string_pretty(r).map_err(|e| e.to_string())?;
+    let json = serde_json::to_string_pretty(r).map_err(|e| OptimiseError::Files(e.to_string()))?;
     crate::output::write(&path("json"), json)?;
     crate::output::write(&path("md"), format!("# {}\n\n{}", r.name, table(r)))?;
     let lines: Vec<AtOneRadius> = r
@@ -430,7 +425,7 @@ fn columns<'a>() -> [Column<AtOneRadius<'a>>; 11] {
 
 /// f̄ against R: the plain liner, the robust design, each R's own optimum over the range
 /// (faint) and at its own R (rings).
-fn plot_f_against_r(path: &Path, r: &RobustReport) -> Result<(), String> {
+fn plot_f_against_r(path: &Path, r: &RobustReport) -> Result<(), OptimiseError> {
     let plain: Vec<(f64, f64)> = r.at_radius.iter().map(|a| (a.r, a.plain_f_mean)).collect();
     let own: Vec<(f64, f64)> = r
         .at_radius
@@ -512,7 +507,7 @@ fn plot_f_against_r(path: &Path, r: &RobustReport) -> Result<(), String> {
         },
         &series,
     )
-    .map_err(String::from)
+    .map_err(OptimiseError::Output)
 }
 
 #[cfg(test)]
