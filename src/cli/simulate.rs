@@ -4,7 +4,8 @@ use std::io::{IsTerminal, Write};
 
 use super::{flag, input_message, CmdError, SimulateArgs};
 use crate::model::case::{bad, short, CaseSpec, InputError, Texture};
-use crate::model::operating::{Operating, Physical};
+use crate::model::operating::{Operating, Physical, Validity};
+use crate::snapshot::Recording;
 use crate::time::limits::Kept;
 use crate::time::{
     simulate_with, unresolved_depth, Approach, Numerics, Outcome, Overrides, Progress, RunOptions,
@@ -285,81 +286,11 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
         check_series(path, transient)?;
     }
 
-    // On a terminal the line is redrawn every period; elsewhere (or beside --json output) a
-    // plain line at most every `--progress-every` seconds, so that long runs in batch jobs
-    // show that they advance without flooding the log.
-    let show = std::io::stderr().is_terminal() && !a.json;
-    // Beyond what a Duration holds (1e300 s): never, as far as a run can tell.
-    let every = std::time::Duration::try_from_secs_f64(a.progress_every)
-        .unwrap_or(std::time::Duration::MAX);
-    let began = std::time::Instant::now();
-    let mut last_line = began;
-    // Times are in units of L/U, U the run's speed: 1 ms at 10 m/s (docs/model.md §1).
-    let ms_per_t = op.scales().time_ms();
-    let mut observe = |p: &Progress| {
-        let line = format!(
-            "  period {:4}  t = {:7.3} ms  f̄ = {:.5}  Z̄ = {:.4} µm  est. periodic error {:.1e}",
-            p.period,
-            p.t * ms_per_t,
-            p.f_mean,
-            p.z_mean,
-            p.periodic_error
-        );
-        if show {
-            eprint!("\r{line}   ");
-            let _ = std::io::stderr().flush();
-        } else if last_line.elapsed() >= every {
-            last_line = std::time::Instant::now();
-            eprintln!("{line}  ({:.0} s)", began.elapsed().as_secs_f64());
-        }
-    };
-    let opts = RunOptions {
-        series: a.series.is_some(),
-        transient,
-        ..RunOptions::default()
-    };
-    let (result, recording) = match &wanted {
-        Some(w) => {
-            let (r, rec) =
-                crate::snapshot::run_recorded(&case, &num, &opts, w.request, Some(&mut observe))
-                    .map_err(|e| CmdError::Other(e.into()))?;
-            (r, Some(rec))
-        }
-        None => {
-            let mut watch = Watch {
-                on_window: Some(&mut observe),
-                on_step: None,
-            };
-            let r = simulate_with(&case, &num, &opts, &mut watch)
-                .map_err(|e| CmdError::Other(e.to_string()))?;
-            (r, None)
-        }
-    };
-    if show && transient {
-        eprintln!();
-    }
+    let (result, recording) = solve(a, &case, &num, &op, transient, wanted.as_ref())?;
     let RunResult {
         outcome, series, ..
     } = result;
-
-    let physical = op.scales().physical(&case, outcome.f_mean, outcome.c_min);
-    let outside = validity.outside(&case, outcome.c_min);
-    if a.json {
-        let report = serde_json::json!({
-            "inputs": { "case": case, "numerics": num, "mesh": mesh_name(outcome.mesh((num.n1, num.n2))),
-                        "operating": op, "roughness_um": validity.roughness_um },
-            "physical": physical,
-            "outside_model": outside,
-        });
-        let mut obj = report.as_object().cloned().unwrap_or_default();
-        if let serde_json::Value::Object(o) = serde_json::to_value(&outcome).unwrap_or_default() {
-            obj.extend(o);
-        }
-        println!("{}", serde_json::Value::Object(obj));
-    } else {
-        print_summary(&case, &num, &outcome, ms_per_t);
-        print_physical(&op, &physical, outside.as_deref());
-    }
+    print_result(a, &case, &num, &op, &validity, &outcome);
     if let Some(t) = case.texture.as_ref() {
         deep_pocket_note(t.depth, &outcome);
     }
@@ -385,6 +316,106 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
         return Ok(1);
     }
     Ok(0)
+}
+
+/// The run itself, its progress on stderr, and the recording that --snapshots/--animate
+/// asked for.
+fn solve(
+    a: &SimulateArgs,
+    case: &CaseSpec,
+    num: &Numerics,
+    op: &Operating,
+    transient: bool,
+    wanted: Option<&super::snapshots::Wanted>,
+) -> Result<(RunResult, Option<Recording>), CmdError> {
+    // On a terminal the line is redrawn every period; elsewhere (or beside --json output) a
+    // plain line at most every `--progress-every` seconds, so that long runs in batch jobs
+    // show that they advance without flooding the log.
+    let show = std::io::stderr().is_terminal() && !a.json;
+    let mut observe = progress(show, a.progress_every, op.scales().time_ms());
+    let opts = RunOptions {
+        series: a.series.is_some(),
+        transient,
+        ..RunOptions::default()
+    };
+    let ran = match wanted {
+        Some(w) => {
+            let (r, rec) =
+                crate::snapshot::run_recorded(case, num, &opts, w.request, Some(&mut observe))
+                    .map_err(|e| CmdError::Other(e.into()))?;
+            (r, Some(rec))
+        }
+        None => {
+            let mut watch = Watch {
+                on_window: Some(&mut observe),
+                on_step: None,
+            };
+            let r = simulate_with(case, num, &opts, &mut watch)
+                .map_err(|e| CmdError::Other(e.to_string()))?;
+            (r, None)
+        }
+    };
+    if show && transient {
+        eprintln!();
+    }
+    Ok(ran)
+}
+
+/// The progress line of each averaging window: redrawn in place when `redraw` (a terminal),
+/// else printed at most every `every_s` seconds. `ms_per_t`: the time scale L/U in ms.
+fn progress(redraw: bool, every_s: f64, ms_per_t: f64) -> impl FnMut(&Progress) {
+    // Beyond what a Duration holds (1e300 s): never, as far as a run can tell.
+    let every = std::time::Duration::try_from_secs_f64(every_s).unwrap_or(std::time::Duration::MAX);
+    let began = std::time::Instant::now();
+    let mut last_line = began;
+    move |p: &Progress| {
+        let line = format!(
+            "  period {:4}  t = {:7.3} ms  f̄ = {:.5}  Z̄ = {:.4} µm  est. periodic error {:.1e}",
+            p.period,
+            p.t * ms_per_t,
+            p.f_mean,
+            p.z_mean,
+            p.periodic_error
+        );
+        if redraw {
+            eprint!("\r{line}   ");
+            let _ = std::io::stderr().flush();
+        } else if last_line.elapsed() >= every {
+            last_line = std::time::Instant::now();
+            eprintln!("{line}  ({:.0} s)", began.elapsed().as_secs_f64());
+        }
+    }
+}
+
+/// The run's answer on stdout: one JSON object with --json, else the summary and its
+/// physical values.
+fn print_result(
+    a: &SimulateArgs,
+    case: &CaseSpec,
+    num: &Numerics,
+    op: &Operating,
+    validity: &Validity,
+    outcome: &Outcome,
+) {
+    let physical = op.scales().physical(case, outcome.f_mean, outcome.c_min);
+    let outside = validity.outside(case, outcome.c_min);
+    if a.json {
+        let report = serde_json::json!({
+            "inputs": { "case": case, "numerics": num, "mesh": mesh_name(outcome.mesh((num.n1, num.n2))),
+                        "operating": op, "roughness_um": validity.roughness_um },
+            "physical": physical,
+            "outside_model": outside,
+        });
+        let mut obj = report.as_object().cloned().unwrap_or_default();
+        if let serde_json::Value::Object(o) = serde_json::to_value(outcome).unwrap_or_default() {
+            obj.extend(o);
+        }
+        println!("{}", serde_json::Value::Object(obj));
+    } else {
+        // Times are in units of L/U, U the run's speed: 1 ms at 10 m/s (docs/model.md §1).
+        print_summary(case, num, outcome, op.scales().time_ms());
+        print_physical(op, &physical, outside.as_deref());
+    }
 }
 
 /// Whether `--series PATH` can be written: a transient run, an existing and writable

@@ -42,33 +42,10 @@ pub fn front(path: &Path, r: &Report) -> Result<(), OptimiseError> {
     crate::output::atomically(path, |tmp| draw_front(tmp, r)).map_err(OptimiseError::Output)
 }
 
+/// The front plot's axes and marks, the searched designs' behind the front's.
 fn draw_front(path: &Path, r: &Report) -> Result<(), String> {
-    let pct = |v: f64, plain: f64| 100.0 * (v / plain - 1.0);
-    let fe = 100.0 * r.fidelity_error;
-    let ce = 100.0 * r.fidelity_c_error;
-    let front: Vec<&Row> = r.front.iter().collect();
-    // Bars: the tier's relative error of each value, in % of the plain liner's.
-    let bar = |x: &Row| (fe * x.f_mean / r.plain.f_mean, ce * x.c_min / r.plain.c_min);
-    let mut xs = vec![0.0];
-    let mut ys = vec![0.0];
-    for x in &front {
-        let (bx, by) = bar(x);
-        xs.extend([x.f_change_pct - bx, x.f_change_pct + bx]);
-        ys.extend([x.c_min_change_pct - by, x.c_min_change_pct + by]);
-    }
-    let (x0, x1) = span(&xs, 4.0);
-    let (y0, y1) = span(&ys, 4.0);
-    let searched: Vec<(f64, f64)> = r
-        .evaluated
-        .iter()
-        .filter(|e| e.fidelity == r.search_fidelity)
-        .filter_map(|e| {
-            Some((
-                pct(e.f_mean?, r.plain_search_f_mean),
-                pct(e.c_min?, r.plain_search_c_min),
-            ))
-        })
-        .collect();
+    let ((x0, x1), (y0, y1)) = front_axes(r);
+    let searched = searched_changes(r);
     let inside = |p: &&(f64, f64)| (x0..=x1).contains(&p.0) && (y0..=y1).contains(&p.1);
     let shown: Vec<(f64, f64)> = searched.iter().filter(inside).copied().collect();
 
@@ -110,15 +87,69 @@ fn draw_front(path: &Path, r: &Report) -> Result<(), String> {
             searched.len() - shown.len()
         ))
         .legend(|(x, y)| Circle::new((x + 10, y), 3, SEARCHED.filled()));
-    let pts: Vec<(f64, f64)> = front
+    draw_confirmed(&mut chart, r)?;
+    draw_outside(&mut chart, r)?;
+    labels(&root, &chart, r)?;
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| err(&e))?;
+    root.present().map_err(|e| err(&e))
+}
+
+/// A front design's error bars: the report tier's relative errors of f̄ and C_min, in % of
+/// the plain liner's values.
+fn error_bar(r: &Report, x: &Row) -> (f64, f64) {
+    let fe = 100.0 * r.fidelity_error;
+    let ce = 100.0 * r.fidelity_c_error;
+    (fe * x.f_mean / r.plain.f_mean, ce * x.c_min / r.plain.c_min)
+}
+
+/// The front plot's x and y ranges (%): the plain liner and every front design with its
+/// error bars.
+fn front_axes(r: &Report) -> ((f64, f64), (f64, f64)) {
+    let mut xs = vec![0.0];
+    let mut ys = vec![0.0];
+    for x in &r.front {
+        let (bx, by) = error_bar(r, x);
+        xs.extend([x.f_change_pct - bx, x.f_change_pct + bx]);
+        ys.extend([x.c_min_change_pct - by, x.c_min_change_pct + by]);
+    }
+    (span(&xs, 4.0), span(&ys, 4.0))
+}
+
+/// The designs evaluated at the search tier, as changes of f̄ and C_min (%) against the
+/// plain liner at that tier.
+fn searched_changes(r: &Report) -> Vec<(f64, f64)> {
+    let pct = |v: f64, plain: f64| 100.0 * (v / plain - 1.0);
+    r.evaluated
+        .iter()
+        .filter(|e| e.fidelity == r.search_fidelity)
+        .filter_map(|e| {
+            Some((
+                pct(e.f_mean?, r.plain_search_f_mean),
+                pct(e.c_min?, r.plain_search_c_min),
+            ))
+        })
+        .collect()
+}
+
+/// The confirmed front: its line, each textured design's error bars and point, and the
+/// plain liner at the origin.
+fn draw_confirmed(chart: &mut Cell, r: &Report) -> Result<(), String> {
+    let pts: Vec<(f64, f64)> = r
+        .front
         .iter()
         .map(|x| (x.f_change_pct, x.c_min_change_pct))
         .collect();
     chart
         .draw_series(LineSeries::new(pts.iter().copied(), FRONT.stroke_width(2)))
         .map_err(|e| err(&e))?;
-    for x in front.iter().filter(|x| x.texture.is_some()) {
-        let (bx, by) = bar(x);
+    for x in r.front.iter().filter(|x| x.texture.is_some()) {
+        let (bx, by) = error_bar(r, x);
         let (px, py) = (x.f_change_pct, x.c_min_change_pct);
         chart
             .draw_series([
@@ -129,7 +160,7 @@ fn draw_front(path: &Path, r: &Report) -> Result<(), String> {
     }
     chart
         .draw_series(
-            front
+            r.front
                 .iter()
                 .filter(|x| x.texture.is_some())
                 .map(|x| Circle::new((x.f_change_pct, x.c_min_change_pct), 6, FRONT.filled())),
@@ -137,7 +168,9 @@ fn draw_front(path: &Path, r: &Report) -> Result<(), String> {
         .map_err(|e| err(&e))?
         .label(format!(
             "confirmed front at {} (bars: its errors, ±{:.2} % friction, ±{:.2} % C_min)",
-            r.report_fidelity, fe, ce
+            r.report_fidelity,
+            100.0 * r.fidelity_error,
+            100.0 * r.fidelity_c_error
         ))
         .legend(|(x, y)| Circle::new((x + 10, y), 6, FRONT.filled()));
     chart
@@ -145,36 +178,34 @@ fn draw_front(path: &Path, r: &Report) -> Result<(), String> {
         .map_err(|e| err(&e))?
         .label("plain liner (the origin)")
         .legend(|(x, y)| TriangleMarker::new((x + 10, y), 7, BLACK.filled()));
-    let outside: Vec<&Row> = front
+    Ok(())
+}
+
+/// A ring around each front design whose least clearance is outside the hydrodynamic model.
+fn draw_outside(chart: &mut Cell, r: &Report) -> Result<(), String> {
+    let outside: Vec<&Row> = r
+        .front
         .iter()
-        .copied()
         .filter(|x| x.outside_model.is_some())
         .collect();
-    if !outside.is_empty() {
-        chart
-            .draw_series(outside.iter().map(|x| {
-                Circle::new(
-                    (x.f_change_pct, x.c_min_change_pct),
-                    11,
-                    OUTSIDE.stroke_width(2),
-                )
-            }))
-            .map_err(|e| err(&e))?
-            .label(format!(
-                "outside the hydrodynamic model (C_min < {:.2} µm)",
-                crate::model::operating::FULL_FILM_LAMBDA * r.roughness_um
-            ))
-            .legend(|(x, y)| Circle::new((x + 10, y), 7, OUTSIDE.stroke_width(2)));
+    if outside.is_empty() {
+        return Ok(());
     }
-    labels(&root, &chart, r)?;
     chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerRight)
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|e| err(&e))?;
-    root.present().map_err(|e| err(&e))
+        .draw_series(outside.iter().map(|x| {
+            Circle::new(
+                (x.f_change_pct, x.c_min_change_pct),
+                11,
+                OUTSIDE.stroke_width(2),
+            )
+        }))
+        .map_err(|e| err(&e))?
+        .label(format!(
+            "outside the hydrodynamic model (C_min < {:.2} µm)",
+            crate::model::operating::FULL_FILM_LAMBDA * r.roughness_um
+        ))
+        .legend(|(x, y)| Circle::new((x + 10, y), 7, OUTSIDE.stroke_width(2)));
+    Ok(())
 }
 
 /// Each reported design's name beside its point, and the plain liner's values.
