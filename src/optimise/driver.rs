@@ -398,6 +398,37 @@ fn evaluated(s: &Settings, [log_s, log_r]: [Vec<Evaluation>; 2]) -> Vec<Evaluate
     evaluated
 }
 
+/// The row of a design (None: the plain liner) against the plain liner's outcome.
+fn row(s: &Settings, label: Label, t: Option<&Texture>, o: &Outcome, plain: &Outcome) -> Row {
+    let (w1, w2) = t.map_or((f64::NAN, f64::NAN), wall);
+    let space = &s.search.space;
+    let case = CaseSpec {
+        texture: t.cloned(),
+        ..s.base.clone()
+    };
+    let physical = s.scales.physical(&case, o.f_mean, o.c_min);
+    Row {
+        friction_n_per_m: physical.friction_n_per_m,
+        power_w_per_m: physical.power_w_per_m,
+        outside_model: s.search.validity.outside(&case, o.c_min),
+        label,
+        texture: t.cloned(),
+        f_mean: o.f_mean,
+        c_min: o.c_min,
+        z_mean: o.z_mean,
+        f_change_pct: 100.0 * (o.f_mean / plain.f_mean - 1.0),
+        c_min_change_pct: 100.0 * (o.c_min / plain.c_min - 1.0),
+        area_fraction: t.map_or(0.0, Texture::area_fraction),
+        wall_x1_cm: w1,
+        wall_x2_cm: w2,
+        depth_ratio: t.map_or(0.0, depth_ratio),
+        active_constraints: t.map_or(Vec::new(), |t| {
+            space.active(t).iter().map(|s| s.to_string()).collect()
+        }),
+        on_front: false,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -431,36 +462,5 @@ mod tests {
         assert_eq!(out, items.iter().map(|x| 3 * x).collect::<Vec<_>>());
         let most = most.load(Ordering::SeqCst);
         assert!(most <= 2, "{most} items at once on 2 jobs");
-    }
-}
-
-/// The row of a design (None: the plain liner) against the plain liner's outcome.
-fn row(s: &Settings, label: Label, t: Option<&Texture>, o: &Outcome, plain: &Outcome) -> Row {
-    let (w1, w2) = t.map_or((f64::NAN, f64::NAN), wall);
-    let space = &s.search.space;
-    let case = CaseSpec {
-        texture: t.cloned(),
-        ..s.base.clone()
-    };
-    let physical = s.scales.physical(&case, o.f_mean, o.c_min);
-    Row {
-        friction_n_per_m: physical.friction_n_per_m,
-        power_w_per_m: physical.power_w_per_m,
-        outside_model: s.search.validity.outside(&case, o.c_min),
-        label,
-        texture: t.cloned(),
-        f_mean: o.f_mean,
-        c_min: o.c_min,
-        z_mean: o.z_mean,
-        f_change_pct: 100.0 * (o.f_mean / plain.f_mean - 1.0),
-        c_min_change_pct: 100.0 * (o.c_min / plain.c_min - 1.0),
-        area_fraction: t.map_or(0.0, Texture::area_fraction),
-        wall_x1_cm: w1,
-        wall_x2_cm: w2,
-        depth_ratio: t.map_or(0.0, depth_ratio),
-        active_constraints: t.map_or(Vec::new(), |t| {
-            space.active(t).iter().map(|s| s.to_string()).collect()
-        }),
-        on_front: false,
     }
 }
