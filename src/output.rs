@@ -71,13 +71,6 @@ pub enum Failure {
     Copy(std::io::Error),
 }
 
-/// For callers whose errors are still text.
-impl From<OutputError> for String {
-    fn from(e: OutputError) -> String {
-        e.to_string()
-    }
-}
-
 /// Where an output goes once its path is resolved.
 #[derive(Debug, Clone, PartialEq, Eq)]
 enum Destination {

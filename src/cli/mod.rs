@@ -220,7 +220,7 @@ pub(super) fn directory_can_be_made(dir: &std::path::Path) -> Result<(), String>
     loop {
         if p.exists() {
             return if p.is_dir() {
-                crate::output::check_writable(&p.join(".texopt-probe")).map_err(String::from)
+                crate::output::check_writable(&p.join(".texopt-probe")).map_err(|e| e.to_string())
             } else {
                 Err(format!("{} is not a directory", p.display()))
             };

@@ -103,8 +103,10 @@ fn snapshots(s: &Settings, texture: Option<Texture>, dir: &Path) -> Result<(), S
         animation_stride: None,
     };
     crate::snapshot::check_request(&request, &case, &num).map_err(|e| e.to_string())?;
-    let (_, rec) = run_recorded(&case, &num, &RunOptions::default(), request, None)?;
-    let written = write_all(dir, &rec, &Context::new(&case, s.scales, &rec))?;
+    let (_, rec) = run_recorded(&case, &num, &RunOptions::default(), request, None)
+        .map_err(|e| e.to_string())?;
+    let written =
+        write_all(dir, &rec, &Context::new(&case, s.scales, &rec)).map_err(|e| e.to_string())?;
     eprintln!(
         "snapshots: {} files in {}",
         written.files.len(),

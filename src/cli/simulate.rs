@@ -342,7 +342,7 @@ fn solve(
         Some(w) => {
             let (r, rec) =
                 crate::snapshot::run_recorded(case, num, &opts, w.request, Some(&mut observe))
-                    .map_err(|e| CmdError::Other(e.into()))?;
+                    .map_err(|e| CmdError::Other(e.to_string()))?;
             (r, Some(rec))
         }
         None => {
@@ -462,7 +462,7 @@ fn write_series(path: &std::path::Path, rows: &[SeriesRow], ms_per_t: f64) -> Re
         }
         Ok(())
     })
-    .map_err(String::from)
+    .map_err(|e| e.to_string())
 }
 
 /// The operating point and the outcomes in physical units; a run outside the hydrodynamic

@@ -253,7 +253,7 @@ set -euo pipefail\n\
         merge: dir.join("merge.sbatch"),
     };
     for (path, text) in [(&s.array, array), (&s.merge, merge)] {
-        crate::output::write(path, text).map_err(|e| CmdError::Other(e.into()))?;
+        crate::output::write(path, text).map_err(|e| CmdError::Other(e.to_string()))?;
     }
     Ok(s)
 }

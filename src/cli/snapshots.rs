@@ -71,7 +71,7 @@ pub(super) fn write(
 ) -> Result<(), String> {
     let cx = Context::new(case, scales, rec);
     if let Some(dir) = &w.dir {
-        let written = snapshot::write_all(dir, rec, &cx)?;
+        let written = snapshot::write_all(dir, rec, &cx).map_err(|e| e.to_string())?;
         eprintln!(
             "snapshots: {} instants of the last period, {} files in {}",
             rec.frames.len(),
@@ -80,7 +80,7 @@ pub(super) fn write(
         );
     }
     if let Some(gif) = &w.gif {
-        snapshot::animate(gif, rec, &cx)?;
+        snapshot::animate(gif, rec, &cx).map_err(|e| e.to_string())?;
         eprintln!(
             "animation: {} frames of the last period in {}",
             rec.animation.len(),

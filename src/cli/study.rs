@@ -155,8 +155,8 @@ fn write_report(
     note: &str,
 ) -> Result<(), CmdError> {
     keep_fuller_report(a, study, results)?;
-    let w =
-        crate::study::report::write(study, results, note).map_err(|e| CmdError::Other(e.into()))?;
+    let w = crate::study::report::write(study, results, note)
+        .map_err(|e| CmdError::Other(e.to_string()))?;
     for l in &w.headline {
         println!("  {l}");
     }

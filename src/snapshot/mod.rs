@@ -426,13 +426,6 @@ pub enum SnapshotError {
     Output(#[from] OutputError),
 }
 
-/// For callers whose errors are still text.
-impl From<SnapshotError> for String {
-    fn from(e: SnapshotError) -> String {
-        e.to_string()
-    }
-}
-
 /// plotters' error in a picture.
 fn drawing(e: impl std::error::Error + Send + Sync + 'static) -> PlotError {
     crate::plot::drawing(e)

@@ -86,13 +86,6 @@ pub enum ReportError {
     Output(#[from] OutputError),
 }
 
-/// For callers whose errors are still text.
-impl From<ReportError> for String {
-    fn from(e: ReportError) -> String {
-        e.to_string()
-    }
-}
-
 /// Writes the report of a finished study into `study.report.dir`.
 pub fn write(
     study: &Study,
