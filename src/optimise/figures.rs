@@ -9,10 +9,7 @@ use std::path::Path;
 use super::design::{table_rows, Report, Row};
 use super::error::OptimiseError;
 use crate::model::case::Texture;
-
-fn err(e: &dyn std::fmt::Display) -> String {
-    e.to_string()
-}
+use crate::plot::{drawing, PlotError};
 
 const FRONT: RGBColor = RGBColor(20, 70, 200);
 const SEARCHED: RGBColor = RGBColor(185, 185, 185);
@@ -43,14 +40,14 @@ pub fn front(path: &Path, r: &Report) -> Result<(), OptimiseError> {
 }
 
 /// The front plot's axes and marks, the searched designs' behind the front's.
-fn draw_front(path: &Path, r: &Report) -> Result<(), String> {
+fn draw_front(path: &Path, r: &Report) -> Result<(), PlotError> {
     let ((x0, x1), (y0, y1)) = front_axes(r);
     let searched = searched_changes(r);
     let inside = |p: &&(f64, f64)| (x0..=x1).contains(&p.0) && (y0..=y1).contains(&p.1);
     let shown: Vec<(f64, f64)> = searched.iter().filter(inside).copied().collect();
 
     let root = BitMapBackend::new(path, (1000, 700)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(&e))?;
+    root.fill(&WHITE).map_err(drawing)?;
     let title = format!(
         "Confirmed front against the plain liner, R = {} cm ({}; searched at {})",
         r.r, r.report_fidelity, r.search_fidelity
@@ -61,7 +58,7 @@ fn draw_front(path: &Path, r: &Report) -> Result<(), String> {
         .x_label_area_size(50)
         .y_label_area_size(70)
         .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(|e| err(&e))?;
+        .map_err(drawing)?;
     chart
         .configure_mesh()
         .x_desc("change of the mean friction coefficient against the plain liner (%)")
@@ -69,17 +66,17 @@ fn draw_front(path: &Path, r: &Report) -> Result<(), String> {
         .x_label_formatter(&signed)
         .y_label_formatter(&signed)
         .draw()
-        .map_err(|e| err(&e))?;
+        .map_err(drawing)?;
     // The plain liner's lines: left of x = 0 less friction, above y = 0 more clearance.
     let grey = BLACK.mix(0.5);
     for line in [vec![(0.0, y0), (0.0, y1)], vec![(x0, 0.0), (x1, 0.0)]] {
         chart
             .draw_series(LineSeries::new(line, grey.stroke_width(1)))
-            .map_err(|e| err(&e))?;
+            .map_err(drawing)?;
     }
     chart
         .draw_series(shown.iter().map(|&p| Circle::new(p, 3, SEARCHED.filled())))
-        .map_err(|e| err(&e))?
+        .map_err(drawing)?
         .label(format!(
             "{} designs searched at {} ({} beyond the axes)",
             searched.len(),
@@ -96,8 +93,8 @@ fn draw_front(path: &Path, r: &Report) -> Result<(), String> {
         .background_style(WHITE.mix(0.9))
         .border_style(BLACK)
         .draw()
-        .map_err(|e| err(&e))?;
-    root.present().map_err(|e| err(&e))
+        .map_err(drawing)?;
+    root.present().map_err(drawing)
 }
 
 /// A front design's error bars: the report tier's relative errors of f̄ and C_min, in % of
@@ -139,7 +136,7 @@ fn searched_changes(r: &Report) -> Vec<(f64, f64)> {
 
 /// The confirmed front: its line, each textured design's error bars and point, and the
 /// plain liner at the origin.
-fn draw_confirmed(chart: &mut Cell, r: &Report) -> Result<(), String> {
+fn draw_confirmed(chart: &mut Cell, r: &Report) -> Result<(), PlotError> {
     let pts: Vec<(f64, f64)> = r
         .front
         .iter()
@@ -147,7 +144,7 @@ fn draw_confirmed(chart: &mut Cell, r: &Report) -> Result<(), String> {
         .collect();
     chart
         .draw_series(LineSeries::new(pts.iter().copied(), FRONT.stroke_width(2)))
-        .map_err(|e| err(&e))?;
+        .map_err(drawing)?;
     for x in r.front.iter().filter(|x| x.texture.is_some()) {
         let (bx, by) = error_bar(r, x);
         let (px, py) = (x.f_change_pct, x.c_min_change_pct);
@@ -156,7 +153,7 @@ fn draw_confirmed(chart: &mut Cell, r: &Report) -> Result<(), String> {
                 PathElement::new(vec![(px - bx, py), (px + bx, py)], FRONT.stroke_width(1)),
                 PathElement::new(vec![(px, py - by), (px, py + by)], FRONT.stroke_width(1)),
             ])
-            .map_err(|e| err(&e))?;
+            .map_err(drawing)?;
     }
     chart
         .draw_series(
@@ -165,7 +162,7 @@ fn draw_confirmed(chart: &mut Cell, r: &Report) -> Result<(), String> {
                 .filter(|x| x.texture.is_some())
                 .map(|x| Circle::new((x.f_change_pct, x.c_min_change_pct), 6, FRONT.filled())),
         )
-        .map_err(|e| err(&e))?
+        .map_err(drawing)?
         .label(format!(
             "confirmed front at {} (bars: its errors, ±{:.2} % friction, ±{:.2} % C_min)",
             r.report_fidelity,
@@ -175,14 +172,14 @@ fn draw_confirmed(chart: &mut Cell, r: &Report) -> Result<(), String> {
         .legend(|(x, y)| Circle::new((x + 10, y), 6, FRONT.filled()));
     chart
         .draw_series([TriangleMarker::new((0.0, 0.0), 9, BLACK.filled())])
-        .map_err(|e| err(&e))?
+        .map_err(drawing)?
         .label("plain liner (the origin)")
         .legend(|(x, y)| TriangleMarker::new((x + 10, y), 7, BLACK.filled()));
     Ok(())
 }
 
 /// A ring around each front design whose least clearance is outside the hydrodynamic model.
-fn draw_outside(chart: &mut Cell, r: &Report) -> Result<(), String> {
+fn draw_outside(chart: &mut Cell, r: &Report) -> Result<(), PlotError> {
     let outside: Vec<&Row> = r
         .front
         .iter()
@@ -199,7 +196,7 @@ fn draw_outside(chart: &mut Cell, r: &Report) -> Result<(), String> {
                 OUTSIDE.stroke_width(2),
             )
         }))
-        .map_err(|e| err(&e))?
+        .map_err(drawing)?
         .label(format!(
             "outside the hydrodynamic model (C_min < {:.2} µm)",
             crate::model::operating::FULL_FILM_LAMBDA * r.roughness_um
@@ -213,7 +210,7 @@ fn labels(
     root: &DrawingArea<BitMapBackend, Shift>,
     chart: &Cell,
     r: &Report,
-) -> Result<(), String> {
+) -> Result<(), PlotError> {
     let font = ("sans-serif", 15).into_font();
     let mut taken: Vec<(i32, i32)> = Vec::new();
     for (label, x) in table_rows(r).iter().filter(|(_, x)| x.texture.is_some()) {
@@ -228,7 +225,7 @@ fn labels(
         }
         taken.push(pos);
         root.draw(&Text::new(label.clone(), pos, font.clone().color(&FRONT)))
-            .map_err(|e| err(&e))?;
+            .map_err(drawing)?;
     }
     let at = chart.backend_coord(&(0.0, 0.0));
     root.draw(&Text::new(
@@ -239,7 +236,7 @@ fn labels(
         (at.0 - 290, at.1 + 10),
         font.clone().color(&BLACK),
     ))
-    .map_err(|e| err(&e))?;
+    .map_err(drawing)?;
     Ok(())
 }
 
@@ -257,13 +254,13 @@ pub fn cells(path: &Path, r: &Report) -> Result<(), OptimiseError> {
         .map_err(OptimiseError::Output)
 }
 
-fn draw_cells(path: &Path, r: &Report, designs: &[(String, Texture)]) -> Result<(), String> {
+fn draw_cells(path: &Path, r: &Report, designs: &[(String, Texture)]) -> Result<(), PlotError> {
     let cols = designs.len().min(3);
     let rows = designs.len().div_ceil(cols);
     let (pw, ph) = (380u32, 390u32);
     let root =
         BitMapBackend::new(path, (pw * cols as u32, ph * rows as u32 + 70)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(&e))?;
+    root.fill(&WHITE).map_err(drawing)?;
     let (head, body) = root.split_vertically(70);
     head.draw(&Text::new(
         format!(
@@ -273,18 +270,18 @@ fn draw_cells(path: &Path, r: &Report, designs: &[(String, Texture)]) -> Result<
         (14, 10),
         ("sans-serif", 20).into_font(),
     ))
-    .map_err(|e| err(&e))?;
+    .map_err(drawing)?;
     head.draw(&Text::new(
         "sliding direction x1 →   (walls: between neighbouring pockets, along x1 and across x2)",
         (14, 40),
         ("sans-serif", 15).into_font(),
     ))
-    .map_err(|e| err(&e))?;
+    .map_err(drawing)?;
     let panels = body.split_evenly((rows, cols));
     for ((label, t), area) in designs.iter().zip(&panels) {
         cell_panel(area, label, t)?;
     }
-    root.present().map_err(|e| err(&e))
+    root.present().map_err(drawing)
 }
 
 /// One design's cell: x1 along, x2 across, both in µm on equal scales.
@@ -292,7 +289,7 @@ fn cell_panel(
     area: &DrawingArea<BitMapBackend, Shift>,
     label: &str,
     t: &Texture,
-) -> Result<(), String> {
+) -> Result<(), PlotError> {
     let um = 1e4;
     let (per, width, l1, l2) = (t.per * um, t.width * um, t.l1 * um, t.l2 * um);
     let side = per.max(width);
@@ -311,7 +308,7 @@ fn cell_panel(
             cx - 0.5 * side - m..cx + 0.5 * side + m,
             cy - 0.5 * side - m..cy + 0.5 * side + m,
         )
-        .map_err(|e| err(&e))?;
+        .map_err(drawing)?;
     chart
         .configure_mesh()
         .disable_mesh()
@@ -322,7 +319,7 @@ fn cell_panel(
         .x_label_formatter(&|v| format!("{v:.0}"))
         .y_label_formatter(&|v| format!("{v:.0}"))
         .draw()
-        .map_err(|e| err(&e))?;
+        .map_err(drawing)?;
     let ellipse = |ox: f64, oy: f64| -> Vec<(f64, f64)> {
         (0..=72)
             .map(|k| {
@@ -345,17 +342,17 @@ fn cell_panel(
         let p = ellipse(cx + i as f64 * per, cy + j as f64 * width);
         chart
             .draw_series([Polygon::new(p, FRONT.mix(0.12).filled())])
-            .map_err(|e| err(&e))?;
+            .map_err(drawing)?;
     }
     chart
         .draw_series([Polygon::new(ellipse(cx, cy), FRONT.mix(0.45).filled())])
-        .map_err(|e| err(&e))?;
+        .map_err(drawing)?;
     chart
         .draw_series([Rectangle::new(
             [(0.0, 0.0), (per, width)],
             BLACK.stroke_width(1),
         )])
-        .map_err(|e| err(&e))?;
+        .map_err(drawing)?;
     let red = RGBColor(200, 30, 30);
     let font = ("sans-serif", 14).into_font().color(&red);
     // Wall along x1: from this pocket's downstream tip to the next pocket's upstream tip.
@@ -367,7 +364,7 @@ fn cell_panel(
             (cx + 0.5 * per - 0.2 * side, cy + 0.09 * side),
             font.clone(),
         )])
-        .map_err(|e| err(&e))?;
+        .map_err(drawing)?;
     // Wall across x2: from this pocket's side to the next row's.
     let (a, b) = (cy + l2, cy + width - l2);
     dimension(&mut chart, (cx, a), (cx, b), red)?;
@@ -377,14 +374,14 @@ fn cell_panel(
             (cx + 0.04 * side, cy + 0.5 * width + 0.13 * side),
             font,
         )])
-        .map_err(|e| err(&e))?;
+        .map_err(drawing)?;
     chart
         .draw_series([Text::new(
             format!("2·l1 = {:.0}, 2·l2 = {:.0} µm", 2.0 * l1, 2.0 * l2),
             (cx - 0.5 * side, cy - 0.5 * side - 0.12 * side),
             ("sans-serif", 13).into_font(),
         )])
-        .map_err(|e| err(&e))?;
+        .map_err(drawing)?;
     Ok(())
 }
 
@@ -395,7 +392,7 @@ type Cell<'a> = ChartContext<
 >;
 
 /// A dimension line between two points with end ticks, drawn over the wall it measures.
-fn dimension(chart: &mut Cell, a: (f64, f64), b: (f64, f64), c: RGBColor) -> Result<(), String> {
+fn dimension(chart: &mut Cell, a: (f64, f64), b: (f64, f64), c: RGBColor) -> Result<(), PlotError> {
     let (pa, pb) = (chart.backend_coord(&a), chart.backend_coord(&b));
     let vertical = pa.0 == pb.0;
     let tick = |p: (i32, i32)| {
@@ -414,8 +411,8 @@ fn dimension(chart: &mut Cell, a: (f64, f64), b: (f64, f64), c: RGBColor) -> Res
             c.stroke_width(2),
         )
     };
-    area.draw(&line(vec![pa, pb])).map_err(|e| err(&e))?;
-    area.draw(&line(tick(pa))).map_err(|e| err(&e))?;
-    area.draw(&line(tick(pb))).map_err(|e| err(&e))?;
+    area.draw(&line(vec![pa, pb])).map_err(drawing)?;
+    area.draw(&line(tick(pa))).map_err(drawing)?;
+    area.draw(&line(tick(pb))).map_err(drawing)?;
     Ok(())
 }
