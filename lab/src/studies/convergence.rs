@@ -229,7 +229,8 @@ fn report() -> Result<(), String> {
             y_scale: Scale::Linear,
         },
         &series,
-    )?;
+    )
+    .map_err(|e| e.to_string())?;
     Ok(())
 }
 

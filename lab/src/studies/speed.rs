@@ -277,7 +277,8 @@ fn report() -> Result<(), String> {
             y_scale: Scale::Log,
         },
         &series,
-    )?;
+    )
+    .map_err(|e| e.to_string())?;
     fs::write("results/speed/speed.csv", csv).map_err(|e| e.to_string())?;
     fs::write("results/speed/speed.md", &md).map_err(|e| e.to_string())?;
     print!("{md}");
