@@ -36,7 +36,7 @@ pub enum Command {
 }
 
 /// `texopt cycle ENGINE.toml`: the design's bounds, constraints and search settings come from
-/// the file's `[design]` section (a [`DesignFile`]), flags win.
+/// the file's `[design]` section (a `DesignFile`), flags win.
 #[derive(Args, Debug)]
 pub struct CycleArgs {
     /// The engine file (TOML).

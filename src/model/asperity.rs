@@ -213,7 +213,7 @@ fn moment_far_below(n: f64, lambda: f64) -> f64 {
     H * sum * (-LN_SQRT_2PI).exp()
 }
 
-/// The composite contact modulus E* of §11: 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂ [Pa].
+/// The composite contact modulus E* of §11: 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂ (Pa).
 pub fn composite_modulus(e1: f64, nu1: f64, e2: f64, nu2: f64) -> f64 {
     1.0 / ((1.0 - nu1 * nu1) / e1 + (1.0 - nu2 * nu2) / e2)
 }
@@ -221,15 +221,15 @@ pub fn composite_modulus(e1: f64, nu1: f64, e2: f64, nu2: f64) -> f64 {
 /// The rough contact between ring face and liner plateau (§11), in SI units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Asperity {
-    /// Composite RMS roughness σ = √(σ_ring² + σ_liner²) [m].
+    /// Composite RMS roughness σ = √(σ_ring² + σ_liner²) (m).
     pub sigma: f64,
     /// Roughness parameter ηβσ: asperity density × summit radius × σ [-].
     pub eta_beta_sigma: f64,
     /// Asperity slope measure σ/β [-].
     pub sigma_over_beta: f64,
-    /// Composite modulus E* with 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂ [Pa].
+    /// Composite modulus E* with 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂ (Pa).
     pub e_star: f64,
-    /// Shear strength of the boundary film on the asperity tips τ₀ [Pa].
+    /// Shear strength of the boundary film on the asperity tips τ₀ (Pa).
     pub tau0: f64,
     /// Pressure coefficient of the boundary shear strength ς [-].
     pub varsigma: f64,
@@ -282,12 +282,12 @@ impl Asperity {
         Ok(())
     }
 
-    /// λ = h/σ for a separation h [m] of the mean planes.
+    /// λ = h/σ for a separation h (m) of the mean planes.
     pub fn lambda(&self, h: f64) -> f64 {
         h / self.sigma
     }
 
-    /// K·E* of eq. A2 [Pa], K = (16√2/15)·π·(ηβσ)²·√(σ/β).
+    /// K·E* of eq. A2 (Pa), K = (16√2/15)·π·(ηβσ)²·√(σ/β).
     pub fn pressure_scale(&self) -> f64 {
         16.0 * std::f64::consts::SQRT_2 / 15.0
             * PI
@@ -296,12 +296,12 @@ impl Asperity {
             * self.e_star
     }
 
-    /// Asperity contact pressure p_a = K·E*·F_{5/2}(h/σ) (eq. A2) [Pa].
+    /// Asperity contact pressure p_a = K·E*·F_{5/2}(h/σ) (eq. A2) (Pa).
     pub fn pressure(&self, h: f64) -> f64 {
         self.pressure_scale() * f_5_2(self.lambda(h))
     }
 
-    /// dp_a/dh = −(5/2)·K·E*·F_{3/2}(h/σ)/σ [Pa/m], for a Newton step on the ring's balance.
+    /// dp_a/dh = −(5/2)·K·E*·F_{3/2}(h/σ)/σ (Pa/m), for a Newton step on the ring's balance.
     pub fn pressure_dh(&self, h: f64) -> f64 {
         self.pressure_scale() * df_5_2(self.lambda(h)) / self.sigma
     }
@@ -316,7 +316,7 @@ impl Asperity {
         PI * PI * self.eta_beta_sigma.powi(2) * f_2(self.lambda(h))
     }
 
-    /// Boundary shear stress τ_b = τ₀·A_a/A + ς·p_a (eq. A4) [Pa]: friction force per nominal
+    /// Boundary shear stress τ_b = τ₀·A_a/A + ς·p_a (eq. A4) (Pa): friction force per nominal
     /// area, against the sliding.
     pub fn shear_stress(&self, h: f64) -> f64 {
         self.tau0 * self.area_fraction(h) + self.varsigma * self.pressure(h)

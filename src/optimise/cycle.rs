@@ -17,7 +17,8 @@ use crate::model::case::{CaseSpec, Texture};
 use crate::model::engine::{Engine, Sample};
 use crate::model::operating::{Scales, VALIDATED_STRIBECK};
 use crate::study::cache::Cache;
-use crate::study::{sweep, Job};
+use crate::study::sweep::{self, Failure};
+use crate::study::Job;
 use crate::time::{Fidelity, Outcome};
 
 /// Everything `cycle` needs.
@@ -120,7 +121,7 @@ impl serde::Serialize for Exclusion {
 
 /// The evaluation of one liner at the points: per point, the outcome and its friction force
 /// (N/m), or why there is none.
-pub type Forces = Vec<Result<(Outcome, f64), String>>;
+pub type Forces = Vec<Result<(Outcome, f64), Failure>>;
 
 /// The samples of the cycle every `step` degrees as points, those outside the model's range
 /// of operating conditions excluded before anything is run.
@@ -240,7 +241,7 @@ pub fn evaluate(
         .into_iter()
         .zip(&jobs)
         .map(|(r, j)| {
-            let o = r.unwrap_or_else(|| Err("not run".into()))?;
+            let o = r.unwrap_or(Err(Failure::NotRun))?;
             let force = j
                 .scales
                 .physical(&j.case, o.f_mean, o.c_min)
@@ -271,7 +272,7 @@ fn plain_and_exclude(
                 Some(why) => pts[k].excluded = Some(Exclusion::PlainBelowLimit(why.to_string())),
                 None => force[k] = Some(f),
             },
-            Err(why) => pts[k].excluded = Some(Exclusion::PlainFailed(why)),
+            Err(why) => pts[k].excluded = Some(Exclusion::PlainFailed(why.to_string())),
         }
     }
     Ok(force)

@@ -384,7 +384,7 @@ fn evaluated(s: &Settings, [log_s, log_r]: [Vec<Evaluation>; 2]) -> Vec<Evaluate
                 fidelity: fid.name().into(),
                 f_mean: e.outcome.as_ref().ok().map(|o| o.f_mean),
                 c_min: e.outcome.as_ref().ok().map(|o| o.c_min),
-                failure: e.outcome.as_ref().err().cloned(),
+                failure: e.outcome.as_ref().err().map(ToString::to_string),
                 active_constraints: ss
                     .space
                     .active(&e.texture)

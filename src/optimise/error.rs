@@ -3,6 +3,7 @@
 
 use crate::model::case::InputError;
 use crate::output::OutputError;
+use crate::study::sweep::Failure;
 
 #[derive(Debug, thiserror::Error)]
 pub enum OptimiseError {
@@ -18,7 +19,7 @@ pub enum OptimiseError {
     #[error("stopped (Ctrl-C); finished evaluations are in the cache")]
     Stopped,
     #[error("the plain liner failed: {0}")]
-    PlainFailed(String),
+    PlainFailed(Failure),
     /// argmin's own failure.
     #[error("{0}")]
     Solver(String),

@@ -20,7 +20,8 @@ use super::space::Space;
 use crate::model::case::{CaseSpec, Texture};
 use crate::model::operating::{Scales, Validity};
 use crate::study::cache::Cache;
-use crate::study::{sweep, Job, NumericsOverride};
+use crate::study::sweep::{self, Failure};
+use crate::study::{Job, NumericsOverride};
 use crate::time::{simulate_with, Fidelity, Limits, Outcome, RunOptions, SeriesRow, Watch};
 
 /// One evaluated design.
@@ -28,7 +29,7 @@ use crate::time::{simulate_with, Fidelity, Limits, Outcome, RunOptions, SeriesRo
 pub struct Evaluation {
     pub texture: Texture,
     pub fidelity: Fidelity,
-    pub outcome: Result<Outcome, String>,
+    pub outcome: sweep::Evaluation,
 }
 
 /// The evaluation service shared by every search: designs → jobs → cache/simulation.
@@ -69,7 +70,7 @@ impl Evaluator<'_> {
     pub fn evaluate(
         &self,
         designs: &[Option<Texture>],
-    ) -> Result<Vec<Result<Outcome, String>>, OptimiseError> {
+    ) -> Result<Vec<sweep::Evaluation>, OptimiseError> {
         let jobs: Vec<Job> = designs.iter().map(|t| self.job(t.as_ref())).collect();
         for j in &jobs {
             j.numerics
@@ -100,9 +101,9 @@ impl Evaluator<'_> {
         if sum.stopped {
             return Err(OptimiseError::Stopped);
         }
-        let out: Vec<Result<Outcome, String>> = results
+        let out: Vec<sweep::Evaluation> = results
             .into_iter()
-            .map(|r| r.unwrap_or_else(|| Err("not run".into())))
+            .map(|r| r.unwrap_or(Err(Failure::NotRun)))
             .collect();
         let mut log = self.log.lock().expect("lock");
         for (t, o) in designs.iter().zip(&out) {

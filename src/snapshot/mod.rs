@@ -2,7 +2,7 @@
 //! (pressure p, saturation θ, gap h), the ring's history over that period, and the files that
 //! show them (maps, centre-line profiles, the history with the instants marked, an animation).
 //!
-//! The recorder is an observer of the run ([`crate::time::Watch::on_step`]): it keeps, for
+//! The recorder is an observer of the run ([`crate::time::Observers::on_step`]): it keeps, for
 //! each chosen phase of the texture period, the last step taken at that phase on the run's
 //! own mesh. When the run stops at its periodic regime these are the instants of its last
 //! period, so the pictures are of the state the outcomes describe, not of a rerun.

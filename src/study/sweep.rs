@@ -31,9 +31,45 @@ pub struct Options {
     pub limits: Limits,
 }
 
-/// The result of one case: its outcome, or why it failed; None when it was not run
-/// (the sweep was stopped first).
-pub type CaseResult = Option<Result<Outcome, String>>;
+/// Why a case has no outcome. A failed case is data (reported, counted, stored), not an
+/// error that stops a study; its words are what the cache stores and the report prints.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Failure {
+    /// Over the run limits: not run and not stored (raising the limits runs it).
+    OverLimit(String),
+    /// Not run: the sweep stopped first.
+    NotRun,
+    /// The run failed, or the cache holds it as failed.
+    Run(String),
+}
+
+impl Failure {
+    /// Its words, as the cache stores them and the report prints them.
+    pub fn words(&self) -> &str {
+        match self {
+            Failure::OverLimit(why) | Failure::Run(why) => why,
+            Failure::NotRun => "not run",
+        }
+    }
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str(self.words())
+    }
+}
+
+impl serde::Serialize for Failure {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+/// One case's outcome, or why it has none.
+pub type Evaluation = Result<Outcome, Failure>;
+
+/// The result of one case; None when it was not run (the sweep was stopped first).
+pub type CaseResult = Option<Evaluation>;
 
 /// What a sweep did.
 #[derive(Clone, Debug, Default, serde::Serialize)]
@@ -136,18 +172,18 @@ fn look_up(
                 _ => "; raise the step limit to run it",
             };
             over_limit += 1;
-            results[i] = Some(Err(format!(
+            results[i] = Some(Err(Failure::OverLimit(format!(
                 "case {}: not run: {} = {}: {}{raise}",
                 jobs[i].case.label(),
                 e.param,
                 e.value,
                 e.rule
-            )));
+            ))));
             continue;
         }
         match c.get(k)? {
             Some(Entry::Done(o)) => results[i] = Some(Ok(o)),
-            Some(Entry::Failed(r)) if !opt.retry_failed => results[i] = Some(Err(r)),
+            Some(Entry::Failed(r)) if !opt.retry_failed => results[i] = Some(Err(Failure::Run(r))),
             other => {
                 if let Some(Entry::Damaged(why)) = other {
                     let hash = &k.hash[..12];
@@ -173,9 +209,9 @@ const LEASE_POLL: std::time::Duration = std::time::Duration::from_millis(500);
 /// What became of a group of cases (one simulation) in one pass of a sweep.
 enum Pass {
     /// Computed here, and stored.
-    Computed(Vec<(usize, Result<Outcome, String>)>),
+    Computed(Vec<(usize, Evaluation)>),
     /// Stored meanwhile by another process sharing the cache.
-    Stored(Vec<(usize, Result<Outcome, String>)>),
+    Stored(Vec<(usize, Evaluation)>),
     /// Being computed by another live process: looked at again later.
     Held,
     /// Not started: the sweep was stopped.
@@ -251,7 +287,7 @@ impl Work<'_> {
             .iter()
             .map(|&i| match c.get(&self.keys[i]) {
                 Ok(Some(Entry::Done(o))) => Some((i, Ok(o))),
-                Ok(Some(Entry::Failed(r))) if !self.retry_failed => Some((i, Err(r))),
+                Ok(Some(Entry::Failed(r))) if !self.retry_failed => Some((i, Err(Failure::Run(r)))),
                 _ => None,
             })
             .collect();
@@ -267,7 +303,7 @@ impl Work<'_> {
         let c = self.cache.lock().expect("cache lock");
         let stored = out.iter().try_for_each(|(i, r)| match r {
             Ok(o) => c.put_done(&self.keys[*i], o),
-            Err(reason) => c.put_failed(&self.keys[*i], reason, 0.0),
+            Err(reason) => c.put_failed(&self.keys[*i], reason.words(), 0.0),
         });
         // The lease ends once every case of the group is stored.
         if let Err(e) = stored.and_then(|()| c.release(&lease)) {
@@ -291,7 +327,7 @@ impl Work<'_> {
 
 /// One simulation for a group of cases differing only in θ_s. A run that ends outside the
 /// periodic regime, errs or panics is a failure with its reason, never a result.
-fn evaluate_group(jobs: &[Job], group: &[usize]) -> Vec<(usize, Result<Outcome, String>)> {
+fn evaluate_group(jobs: &[Job], group: &[usize]) -> Vec<(usize, Evaluation)> {
     let first = &jobs[group[0]];
     let extra: Vec<f64> = group[1..].iter().map(|&i| jobs[i].case.theta_s).collect();
     let t0 = Instant::now();
@@ -303,7 +339,12 @@ fn evaluate_group(jobs: &[Job], group: &[usize]) -> Vec<(usize, Result<Outcome, 
         simulate_with(&first.case, &first.numerics, &opts, &mut Watch::default())
     });
     let wall = t0.elapsed().as_secs_f64();
-    let fail = |why: String| group.iter().map(|&i| (i, Err(why.clone()))).collect();
+    let fail = |why: String| {
+        group
+            .iter()
+            .map(|&i| (i, Err(Failure::Run(why.clone()))))
+            .collect()
+    };
     match run {
         Err(p) => {
             let msg = p

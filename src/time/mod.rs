@@ -29,7 +29,7 @@ mod window;
 #[cfg(test)]
 mod tests;
 
-pub use common::{Progress, SolveError, SteadyError, CONTACT_Z, MASS_TOL};
+pub use common::{Observers, Progress, SolveError, SteadyError, CONTACT_Z, MASS_TOL};
 pub use fallback::BDF2_PATIENCE;
 pub use fidelity::{
     unresolved_depth, Fidelity, APPROACH, CHARACTERISTIC_APPROACH, DEEP_MESH, DEEP_POCKET_RATIO,
