@@ -14,13 +14,10 @@ use texopt::model::engine::Engine;
 use texopt::model::operating::{Scales, Validity};
 use texopt::optimise::cycle::{design, evaluate, CycleSettings, Point};
 use texopt::optimise::goal::Goal;
-use texopt::optimise::search::{
-    swarm_and_refine, Evaluator, GoalSearch, SearchSettings, SwarmSettings,
-};
+use texopt::optimise::search::{swarm_and_refine, GoalSearch, SearchSettings, SwarmSettings};
 use texopt::optimise::space::{Bounds, Constraints, Space};
 use texopt::study::cache::Cache;
 use texopt::study::engine_file;
-use texopt::study::sweep;
 use texopt::study::NumericsOverride;
 use texopt::time::{Fidelity, Limits};
 
@@ -239,24 +236,14 @@ fn a_zone_met_at_one_operating_point_gets_the_design_of_optimise_there() {
         .expect("a texture pays at R = 5");
 
     // optimise's friction search at the same operating point, settings and seed.
-    let ev = Evaluator {
-        base: CaseSpec::paper(5.0),
-        scales: Scales::PAPER,
-        fidelity: Fidelity::Draft,
+    let ev = common::evaluator(
+        CaseSpec::paper(5.0),
+        Scales::PAPER,
+        Fidelity::Draft,
         overrides,
-        cache: &cache,
-        options: sweep::Options {
-            jobs: 2,
-            retry_failed: false,
-            progress: false,
-            limits: Limits::default(),
-        },
-        stop: &stop,
-        log: Mutex::new(Vec::new()),
-        simulations: Mutex::new(0),
-        progress: false,
-        name: String::new(),
-    };
+        (&cache, &stop),
+        2,
+    );
     let plain = ev.plain().unwrap();
     let pb = GoalSearch {
         space: &space,

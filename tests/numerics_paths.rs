@@ -11,10 +11,9 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 use texopt::model::case::{CaseSpec, Texture};
 use texopt::model::operating::Operating;
-use texopt::optimise::search::Evaluator;
 use texopt::study::cache::Cache;
-use texopt::study::{sweep, NumericsOverride};
-use texopt::time::{Fidelity, Limits};
+use texopt::study::NumericsOverride;
+use texopt::time::Fidelity;
 
 /// A case as each path is told it: ring, pockets, tier and a mesh given beside it.
 struct Given {
@@ -93,28 +92,18 @@ fn by_optimiser(g: &Given, dir: &Path) -> Map<String, Value> {
     let path = dir.join("optimiser.sqlite");
     let cache = Mutex::new(Cache::open(&path).unwrap());
     let stop = AtomicBool::new(false);
-    let eval = Evaluator {
+    let eval = common::evaluator(
         base,
-        scales: op.scales(),
-        fidelity: g.fidelity,
-        overrides: NumericsOverride {
+        op.scales(),
+        g.fidelity,
+        NumericsOverride {
             n1: g.mesh.map(|m| m.0),
             n2: g.mesh.map(|m| m.1),
             ..NumericsOverride::default()
         },
-        cache: &cache,
-        options: sweep::Options {
-            jobs: 1,
-            retry_failed: false,
-            progress: false,
-            limits: Limits::default(),
-        },
-        stop: &stop,
-        log: Mutex::new(Vec::new()),
-        simulations: Mutex::new(0),
-        progress: false,
-        name: String::new(),
-    };
+        (&cache, &stop),
+        1,
+    );
     let design = Texture::circular(g.l1, g.per, g.depth);
     let out = eval.evaluate(&[Some(design)]).unwrap();
     assert!(out[0].is_ok(), "{:?}", out[0]);

@@ -4,7 +4,14 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+use std::sync::atomic::AtomicBool;
+use std::sync::Mutex;
 use texopt::model::case::{CaseSpec, Texture};
+use texopt::model::operating::Scales;
+use texopt::optimise::search::Evaluator;
+use texopt::study::cache::Cache;
+use texopt::study::{sweep, NumericsOverride};
+use texopt::time::{Fidelity, Limits};
 
 /// The paper's Case I: R = 0.8, pockets 0.01 / 0.06 / 5 µm.
 pub fn case_one() -> CaseSpec {
@@ -93,4 +100,34 @@ l1 = [0.005, 0.03]
 l2 = [0.005, 0.03]
 "#
     )
+}
+
+/// The optimiser's evaluation service over `cache`, quiet, on `jobs` threads, within the
+/// default run limits.
+pub fn evaluator<'a>(
+    base: CaseSpec,
+    scales: Scales,
+    fidelity: Fidelity,
+    overrides: NumericsOverride,
+    (cache, stop): (&'a Mutex<Cache>, &'a AtomicBool),
+    jobs: usize,
+) -> Evaluator<'a> {
+    Evaluator {
+        base,
+        scales,
+        fidelity,
+        overrides,
+        cache,
+        options: sweep::Options {
+            jobs,
+            retry_failed: false,
+            progress: false,
+            limits: Limits::default(),
+        },
+        stop,
+        log: Mutex::new(Vec::new()),
+        simulations: Mutex::new(0),
+        progress: false,
+        name: String::new(),
+    }
 }
