@@ -1,7 +1,7 @@
 //! `texopt study FILE`: a study file's cases through the cache, and its report.
 
 use super::{directory_can_be_made, install_ctrl_c, open_cache, CmdError, StudyArgs, STOP};
-use crate::study::sweep::Failure;
+use crate::study::sweep::CaseFailure;
 
 pub(super) fn run(a: &StudyArgs) -> Result<i32, CmdError> {
     let mut study = crate::study::load(&a.file).map_err(|e| CmdError::Input(e.to_string()))?;
@@ -133,10 +133,10 @@ fn tell_unserved(sum: &crate::study::sweep::Summary, results: &[crate::study::sw
     for d in &sum.damaged {
         eprintln!("  damaged in the cache, not served: {d}");
     }
-    let unrun: Vec<&Failure> = results
+    let unrun: Vec<&CaseFailure> = results
         .iter()
         .filter_map(|r| match r {
-            Some(Err(why @ Failure::OverLimit(_))) => Some(why),
+            Some(Err(why @ CaseFailure::OverLimit(_))) => Some(why),
             _ => None,
         })
         .collect();

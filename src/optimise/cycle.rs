@@ -17,7 +17,7 @@ use crate::model::case::{CaseSpec, Texture};
 use crate::model::engine::{Engine, Sample};
 use crate::model::operating::{Scales, VALIDATED_STRIBECK};
 use crate::study::cache::Cache;
-use crate::study::sweep::{self, Failure};
+use crate::study::sweep::{self, CaseFailure};
 use crate::study::Job;
 use crate::time::{Fidelity, Outcome};
 
@@ -121,7 +121,7 @@ impl serde::Serialize for Exclusion {
 
 /// The evaluation of one liner at the points: per point, the outcome and its friction force
 /// (N/m), or why there is none.
-pub type Forces = Vec<Result<(Outcome, f64), Failure>>;
+pub type Forces = Vec<Result<(Outcome, f64), CaseFailure>>;
 
 /// The samples of the cycle every `step` degrees as points, those outside the model's range
 /// of operating conditions excluded before anything is run.
@@ -241,7 +241,7 @@ pub fn evaluate(
         .into_iter()
         .zip(&jobs)
         .map(|(r, j)| {
-            let o = r.unwrap_or(Err(Failure::NotRun))?;
+            let o = r.unwrap_or(Err(CaseFailure::NotRun))?;
             let force = j
                 .scales
                 .physical(&j.case, o.f_mean, o.c_min)

@@ -1,5 +1,5 @@
 //! What the optimiser reports of its designs: each design's row against the plain liner, the
-//! roles a row plays on the front, the report itself and the designs merged away. Data only;
+//! roles a row plays on the front, the report itself and the designs merged away. Data, and the order the table lists them in;
 //! the table and the files are written by [`super::design_report`].
 
 use serde::Serialize;

@@ -3,7 +3,7 @@
 
 use crate::model::case::InputError;
 use crate::output::OutputError;
-use crate::study::sweep::Failure;
+use crate::study::sweep::CaseFailure;
 
 #[derive(Debug, thiserror::Error)]
 pub enum OptimiseError {
@@ -19,7 +19,7 @@ pub enum OptimiseError {
     #[error("stopped (Ctrl-C); finished evaluations are in the cache")]
     Stopped,
     #[error("the plain liner failed: {0}")]
-    PlainFailed(Failure),
+    PlainFailed(CaseFailure),
     /// argmin's own failure.
     #[error("{0}")]
     Solver(String),
@@ -28,7 +28,7 @@ pub enum OptimiseError {
     NoBest(&'static str),
     #[error("cannot start {jobs} worker threads: {why}")]
     Threads { jobs: usize, why: String },
-    /// Nothing to report: no design (`what`: which list was empty).
+    /// Nothing to report: no design (it names the list that was empty).
     #[error("no {0}")]
     Nothing(&'static str),
     /// No crank angle of the cycle lies inside the model (the message names the first ones).

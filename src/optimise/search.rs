@@ -20,7 +20,7 @@ use super::space::Space;
 use crate::model::case::{CaseSpec, Texture};
 use crate::model::operating::{Scales, Validity};
 use crate::study::cache::Cache;
-use crate::study::sweep::{self, Failure};
+use crate::study::sweep::{self, CaseFailure};
 use crate::study::{Job, NumericsOverride};
 use crate::time::{simulate_with, Fidelity, Limits, Outcome, RunOptions, SeriesRow, Watch};
 
@@ -29,7 +29,7 @@ use crate::time::{simulate_with, Fidelity, Limits, Outcome, RunOptions, SeriesRo
 pub struct Evaluation {
     pub texture: Texture,
     pub fidelity: Fidelity,
-    pub outcome: sweep::Evaluation,
+    pub outcome: sweep::CaseEvaluation,
 }
 
 /// The evaluation service shared by every search: designs → jobs → cache/simulation.
@@ -70,7 +70,7 @@ impl Evaluator<'_> {
     pub fn evaluate(
         &self,
         designs: &[Option<Texture>],
-    ) -> Result<Vec<sweep::Evaluation>, OptimiseError> {
+    ) -> Result<Vec<sweep::CaseEvaluation>, OptimiseError> {
         let jobs: Vec<Job> = designs.iter().map(|t| self.job(t.as_ref())).collect();
         for j in &jobs {
             j.numerics
@@ -101,9 +101,9 @@ impl Evaluator<'_> {
         if sum.stopped {
             return Err(OptimiseError::Stopped);
         }
-        let out: Vec<sweep::Evaluation> = results
+        let out: Vec<sweep::CaseEvaluation> = results
             .into_iter()
-            .map(|r| r.unwrap_or(Err(Failure::NotRun)))
+            .map(|r| r.unwrap_or(Err(CaseFailure::NotRun)))
             .collect();
         let mut log = self.log.lock().expect("lock");
         for (t, o) in designs.iter().zip(&out) {

@@ -10,7 +10,8 @@ use super::columns::Units;
 use super::draw::{
     case_line, colour_bar, fields, map_panel, profile_axes, profile_panel, Area, MAP_KEY,
 };
-use super::{drawing, Context, Recording, SnapshotError};
+use super::{Context, Recording, SnapshotError};
+use crate::plot::drawing;
 use crate::plot::PlotError;
 
 /// Time each GIF frame shows (ms).

@@ -8,8 +8,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::columns::{shown_columns, Units};
-use super::{drawing, label, Context, Frame, Recording};
+use super::{label, Context, Frame, Recording};
 use crate::output::OutputError;
+use crate::plot::drawing;
 use crate::plot::PlotError;
 
 pub(super) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;

@@ -19,7 +19,6 @@ use crate::mesh::Grid;
 use crate::model::case::CaseSpec;
 use crate::model::operating::Scales;
 use crate::output::OutputError;
-use crate::plot::PlotError;
 use crate::time::{
     simulate_with, steps_per_period, texture_period, Numerics, Progress, RunOptions, RunResult,
     SeriesRow, SolveError, Transient, Watch,
@@ -424,11 +423,6 @@ pub enum SnapshotError {
     NotGif,
     #[error(transparent)]
     Output(#[from] OutputError),
-}
-
-/// plotters' error in a picture.
-fn drawing(e: impl std::error::Error + Send + Sync + 'static) -> PlotError {
-    crate::plot::drawing(e)
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@ use crate::output::OutputError;
 use crate::plot::{self, Chart, Note, Scale, Series, Style};
 use crate::study::file::{Job, Study};
 use crate::study::operating_figures::{figures, Point};
-use crate::study::sweep::{CaseResult, Failure};
+use crate::study::sweep::{CaseFailure, CaseResult};
 use crate::time::Outcome;
 
 /// A case with its outcome and the plain liner's outcome for the same ring and operating
@@ -154,7 +154,7 @@ fn rows<'a>(study: &'a Study, results: &'a [CaseResult]) -> Vec<Row<'a>> {
             reason: r
                 .as_ref()
                 .and_then(|r| r.as_ref().err())
-                .map(Failure::words),
+                .map(CaseFailure::words),
             plain: plain.get(&plain_key(&job.case)).copied(),
             outside: r
                 .as_ref()

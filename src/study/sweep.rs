@@ -34,7 +34,7 @@ pub struct Options {
 /// Why a case has no outcome. A failed case is data (reported, counted, stored), not an
 /// error that stops a study; its words are what the cache stores and the report prints.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Failure {
+pub enum CaseFailure {
     /// Over the run limits: not run and not stored (raising the limits runs it).
     OverLimit(String),
     /// Not run: the sweep stopped first.
@@ -43,33 +43,33 @@ pub enum Failure {
     Run(String),
 }
 
-impl Failure {
+impl CaseFailure {
     /// Its words, as the cache stores them and the report prints them.
     pub fn words(&self) -> &str {
         match self {
-            Failure::OverLimit(why) | Failure::Run(why) => why,
-            Failure::NotRun => "not run",
+            CaseFailure::OverLimit(why) | CaseFailure::Run(why) => why,
+            CaseFailure::NotRun => "not run",
         }
     }
 }
 
-impl std::fmt::Display for Failure {
+impl std::fmt::Display for CaseFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
         f.write_str(self.words())
     }
 }
 
-impl serde::Serialize for Failure {
+impl serde::Serialize for CaseFailure {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.collect_str(self)
     }
 }
 
 /// One case's outcome, or why it has none.
-pub type Evaluation = Result<Outcome, Failure>;
+pub type CaseEvaluation = Result<Outcome, CaseFailure>;
 
 /// The result of one case; None when it was not run (the sweep was stopped first).
-pub type CaseResult = Option<Evaluation>;
+pub type CaseResult = Option<CaseEvaluation>;
 
 /// What a sweep did.
 #[derive(Clone, Debug, Default, serde::Serialize)]
@@ -172,7 +172,7 @@ fn look_up(
                 _ => "; raise the step limit to run it",
             };
             over_limit += 1;
-            results[i] = Some(Err(Failure::OverLimit(format!(
+            results[i] = Some(Err(CaseFailure::OverLimit(format!(
                 "case {}: not run: {} = {}: {}{raise}",
                 jobs[i].case.label(),
                 e.param,
@@ -183,7 +183,9 @@ fn look_up(
         }
         match c.get(k)? {
             Some(Entry::Done(o)) => results[i] = Some(Ok(o)),
-            Some(Entry::Failed(r)) if !opt.retry_failed => results[i] = Some(Err(Failure::Run(r))),
+            Some(Entry::Failed(r)) if !opt.retry_failed => {
+                results[i] = Some(Err(CaseFailure::Run(r)))
+            }
             other => {
                 if let Some(Entry::Damaged(why)) = other {
                     let hash = &k.hash[..12];
@@ -209,9 +211,9 @@ const LEASE_POLL: std::time::Duration = std::time::Duration::from_millis(500);
 /// What became of a group of cases (one simulation) in one pass of a sweep.
 enum Pass {
     /// Computed here, and stored.
-    Computed(Vec<(usize, Evaluation)>),
+    Computed(Vec<(usize, CaseEvaluation)>),
     /// Stored meanwhile by another process sharing the cache.
-    Stored(Vec<(usize, Evaluation)>),
+    Stored(Vec<(usize, CaseEvaluation)>),
     /// Being computed by another live process: looked at again later.
     Held,
     /// Not started: the sweep was stopped.
@@ -287,7 +289,9 @@ impl Work<'_> {
             .iter()
             .map(|&i| match c.get(&self.keys[i]) {
                 Ok(Some(Entry::Done(o))) => Some((i, Ok(o))),
-                Ok(Some(Entry::Failed(r))) if !self.retry_failed => Some((i, Err(Failure::Run(r)))),
+                Ok(Some(Entry::Failed(r))) if !self.retry_failed => {
+                    Some((i, Err(CaseFailure::Run(r))))
+                }
                 _ => None,
             })
             .collect();
@@ -327,7 +331,7 @@ impl Work<'_> {
 
 /// One simulation for a group of cases differing only in θ_s. A run that ends outside the
 /// periodic regime, errs or panics is a failure with its reason, never a result.
-fn evaluate_group(jobs: &[Job], group: &[usize]) -> Vec<(usize, Evaluation)> {
+fn evaluate_group(jobs: &[Job], group: &[usize]) -> Vec<(usize, CaseEvaluation)> {
     let first = &jobs[group[0]];
     let extra: Vec<f64> = group[1..].iter().map(|&i| jobs[i].case.theta_s).collect();
     let t0 = Instant::now();
@@ -342,7 +346,7 @@ fn evaluate_group(jobs: &[Job], group: &[usize]) -> Vec<(usize, Evaluation)> {
     let fail = |why: String| {
         group
             .iter()
-            .map(|&i| (i, Err(Failure::Run(why.clone()))))
+            .map(|&i| (i, Err(CaseFailure::Run(why.clone()))))
             .collect()
     };
     match run {

@@ -9,14 +9,9 @@ use crate::mesh::Grid;
 enum Storage {
     /// (φⁿ⁺¹ − φⁿ)/dt.
     BackwardEuler,
-    /// (3φⁿ⁺¹ − 4φⁿ + φⁿ⁻¹)/(2dt) = 1.5·(φⁿ⁺¹ − (4φⁿ − φⁿ⁻¹)/3)/dt: φⁿ⁻¹, the old-level term
-    /// (4φⁿ − φⁿ⁻¹)/3, and the levels solved since the history last restarted (a start, a
-    /// jump, a new mesh).
-    Bdf2 {
-        older: Vec<f64>,
-        combined: Vec<f64>,
-        solved: usize,
-    },
+    /// (3φⁿ⁺¹ − 4φⁿ + φⁿ⁻¹)/(2dt) = 1.5·(φⁿ⁺¹ − (4φⁿ − φⁿ⁻¹)/3)/dt: φⁿ⁻¹ and the levels
+    /// solved since the history last restarted (a start, a jump, a new mesh).
+    Bdf2 { older: Vec<f64>, solved: usize },
     /// (φⁿ⁺¹ − φⁿ(x1 − u·dt/2))/dt: φⁿ moved along the Couette characteristics
     /// (time/characteristic.rs).
     Characteristic,
@@ -38,6 +33,9 @@ pub(super) struct TimeLevels {
     /// φⁿ: the film at the previous time level.
     old: Vec<f64>,
     storage: Storage,
+    /// BDF2's old-level term (4φⁿ − φⁿ⁻¹)/3 of the last step that took it: kept beside the
+    /// storage, so that the last step's term stays readable after a fall-back.
+    combined: Vec<f64>,
     term: Term,
     /// 1/dt of the last step's storage term: 1/dt, or 1.5/dt for BDF2's.
     inv_dt: f64,
@@ -50,7 +48,6 @@ impl TimeLevels {
             TimeScheme::BackwardEuler => Storage::BackwardEuler,
             TimeScheme::Bdf2 => Storage::Bdf2 {
                 older: phi.to_vec(),
-                combined: Vec::new(),
                 solved: 0,
             },
             TimeScheme::Characteristic => Storage::Characteristic,
@@ -58,6 +55,7 @@ impl TimeLevels {
         TimeLevels {
             old: phi.to_vec(),
             storage,
+            combined: Vec::new(),
             term: Term::Old,
             inv_dt: 1.0 / dt,
         }
@@ -90,12 +88,9 @@ impl TimeLevels {
                 let c = characteristic::courant(u, dt, g.dx);
                 characteristic::shift(&mut self.old, g.n1, g.n2, c);
             }
-            Storage::Bdf2 {
-                older,
-                combined,
-                solved,
-            } => {
+            Storage::Bdf2 { older, solved } => {
                 if *solved >= 1 {
+                    let combined = &mut self.combined;
                     combined.clear();
                     combined.extend(
                         self.old
@@ -121,9 +116,9 @@ impl TimeLevels {
 
     /// The old-level term the last step's stencil read: φⁿ, or BDF2's (4φⁿ − φⁿ⁻¹)/3.
     pub fn read(&self) -> &[f64] {
-        match (&self.storage, self.term) {
-            (Storage::Bdf2 { combined, .. }, Term::Combined) => combined,
-            _ => &self.old,
+        match self.term {
+            Term::Combined => &self.combined,
+            Term::Old => &self.old,
         }
     }
 
