@@ -18,7 +18,7 @@ use texopt::optimise::search::{swarm_and_refine, GoalSearch, SearchSettings, Swa
 use texopt::optimise::space::{Bounds, Constraints, Space};
 use texopt::study::cache::Cache;
 use texopt::study::engine_file;
-use texopt::study::NumericsOverride;
+use texopt::time::Overrides;
 use texopt::time::{Fidelity, Limits};
 
 /// The test engine with two zones.
@@ -177,11 +177,11 @@ fn a_zone_met_at_one_operating_point_gets_the_design_of_optimise_there() {
         },
         cons: Constraints::default(),
     };
-    let overrides = NumericsOverride {
+    let overrides = Overrides {
         n1: Some(64),
         n2: Some(4),
         dt: Some(1.6e-3),
-        ..NumericsOverride::default()
+        ..Overrides::default()
     };
     let swarm = SwarmSettings {
         particles: 4,

@@ -12,8 +12,8 @@ use std::sync::Mutex;
 use texopt::model::case::{CaseSpec, Texture};
 use texopt::model::operating::Operating;
 use texopt::study::cache::Cache;
-use texopt::study::NumericsOverride;
 use texopt::time::Fidelity;
+use texopt::time::Overrides;
 
 /// A case as each path is told it: ring, pockets, tier and a mesh given beside it.
 struct Given {
@@ -96,10 +96,10 @@ fn by_optimiser(g: &Given, dir: &Path) -> Map<String, Value> {
         base,
         op.scales(),
         g.fidelity,
-        NumericsOverride {
+        Overrides {
             n1: g.mesh.map(|m| m.0),
             n2: g.mesh.map(|m| m.1),
-            ..NumericsOverride::default()
+            ..Overrides::default()
         },
         (&cache, &stop),
         1,

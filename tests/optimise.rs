@@ -17,8 +17,8 @@ use texopt::optimise::goal::pareto;
 use texopt::optimise::search::{SearchSettings, SwarmSettings};
 use texopt::optimise::space::{Bounds, Constraints, Space};
 use texopt::study::cache::Cache;
-use texopt::study::NumericsOverride;
 use texopt::time::Fidelity;
+use texopt::time::Overrides;
 
 fn cache(name: &str) -> Mutex<Cache> {
     let p = std::env::temp_dir().join(format!("texopt-opt-{}-{name}.sqlite", std::process::id()));
@@ -46,11 +46,11 @@ fn settings(r: f64, w_min_um: f64) -> Settings {
         },
         search_fidelity: Fidelity::Fast,
         report_fidelity: Fidelity::Fast,
-        overrides: NumericsOverride {
+        overrides: Overrides {
             n1: Some(64),
             n2: Some(4),
             dt: Some(1.6e-3),
-            ..NumericsOverride::default()
+            ..Overrides::default()
         },
         swarm: SwarmSettings::DEFAULT,
         jobs: 2,
@@ -333,11 +333,7 @@ fn f_direct(s: &Settings, r: f64, t: Option<&texopt::model::case::Texture>) -> f
         texture: t.cloned(),
         ..CaseSpec::paper(r)
     };
-    let num = texopt::time::resolve(
-        s.search.report_fidelity,
-        &(&s.search.overrides).into(),
-        &case,
-    );
+    let num = texopt::time::resolve(s.search.report_fidelity, &s.search.overrides, &case);
     let opts = texopt::time::RunOptions::default();
     texopt::time::simulate_with(&case, &num, &opts, &mut Default::default())
         .unwrap()

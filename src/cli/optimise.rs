@@ -16,7 +16,7 @@ use crate::optimise::robust::{robust, table as robust_table};
 use crate::optimise::search::{SearchSettings, SwarmSettings};
 use crate::optimise::space::{Bounds, Constraints, Space};
 use crate::snapshot::{run_recorded, write_all, Context, Request};
-use crate::study::NumericsOverride;
+use crate::time::Overrides;
 use crate::time::{short, steps_per_period, Fidelity, Limits, RunOptions, MIN_STEPS_PER_PERIOD};
 
 pub(super) fn run(a: &OptimiseArgs) -> Result<i32, CmdError> {
@@ -93,11 +93,7 @@ fn snapshots(s: &Settings, texture: Option<Texture>, dir: &Path) -> Result<(), S
         texture,
         ..s.base.clone()
     };
-    let num = crate::time::resolve(
-        s.search.report_fidelity,
-        &(&s.search.overrides).into(),
-        &case,
-    );
+    let num = crate::time::resolve(s.search.report_fidelity, &s.search.overrides, &case);
     let request = Request {
         frames: crate::snapshot::DEFAULT_FRAMES,
         animation_stride: None,
@@ -468,7 +464,7 @@ pub(super) fn check_design_space(
     base: &CaseSpec,
     space: &Space,
     fidelities: [Fidelity; 2],
-    overrides: &NumericsOverride,
+    overrides: &Overrides,
     limits: &Limits,
 ) -> Result<(), CmdError> {
     let n = space.dim();
@@ -479,7 +475,7 @@ pub(super) fn check_design_space(
             ..base.clone()
         };
         for fidelity in fidelities {
-            let num = crate::time::resolve(fidelity, &overrides.into(), &case);
+            let num = crate::time::resolve(fidelity, overrides, &case);
             // Over the run limits the bounds are the fix; invalid numerics say their own.
             let checked = match crate::time::limits::check(&case, &num, limits) {
                 Err(e) => Err((e, "; narrow the bounds")),
@@ -607,7 +603,7 @@ pub(super) fn overrides(
     mesh: Option<(usize, usize)>,
     dt: Option<f64>,
     space: &Space,
-) -> Result<NumericsOverride, CmdError> {
+) -> Result<Overrides, CmdError> {
     if let Some(dt) = dt {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(CmdError::Input(format!(
@@ -633,7 +629,7 @@ pub(super) fn overrides(
             )));
         }
     }
-    Ok(NumericsOverride {
+    Ok(Overrides {
         n1: mesh.map(|m| m.0),
         n2: mesh.map(|m| m.1),
         dt,

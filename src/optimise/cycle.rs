@@ -224,7 +224,7 @@ pub fn evaluate(
                 texture: t.clone(),
                 ..p.base.clone()
             };
-            let numerics = crate::time::resolve(fidelity, &(&s.search.overrides).into(), &case);
+            let numerics = crate::time::resolve(fidelity, &s.search.overrides, &case);
             Job {
                 case,
                 numerics,

@@ -21,7 +21,8 @@ use crate::model::case::{CaseSpec, Texture};
 use crate::model::operating::{Scales, Validity};
 use crate::study::cache::Cache;
 use crate::study::sweep::{self, CaseFailure};
-use crate::study::{Job, NumericsOverride};
+use crate::study::Job;
+use crate::time::Overrides;
 use crate::time::{simulate_with, Fidelity, Limits, Outcome, RunOptions, SeriesRow, Watch};
 
 /// One evaluated design.
@@ -38,7 +39,7 @@ pub struct Evaluator<'a> {
     /// The scales of the base's operating point (for the reports in physical units).
     pub scales: Scales,
     pub fidelity: Fidelity,
-    pub overrides: NumericsOverride,
+    pub overrides: Overrides,
     pub cache: &'a Mutex<Cache>,
     pub options: sweep::Options,
     pub stop: &'a AtomicBool,
@@ -58,7 +59,7 @@ impl Evaluator<'_> {
             texture: t.cloned(),
             ..self.base.clone()
         };
-        let numerics = crate::time::resolve(self.fidelity, &(&self.overrides).into(), &case);
+        let numerics = crate::time::resolve(self.fidelity, &self.overrides, &case);
         Job {
             case,
             numerics,
@@ -188,7 +189,7 @@ pub struct SearchSettings {
     pub search_fidelity: Fidelity,
     pub report_fidelity: Fidelity,
     /// Mesh/time-step overrides for both (coarse meshes for quick looks).
-    pub overrides: NumericsOverride,
+    pub overrides: Overrides,
     pub swarm: SwarmSettings,
     /// Worker threads.
     pub jobs: usize,

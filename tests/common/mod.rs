@@ -10,7 +10,8 @@ use texopt::model::case::{CaseSpec, Texture};
 use texopt::model::operating::Scales;
 use texopt::optimise::search::Evaluator;
 use texopt::study::cache::Cache;
-use texopt::study::{sweep, NumericsOverride};
+use texopt::study::sweep;
+use texopt::time::Overrides;
 use texopt::time::{Fidelity, Limits};
 
 /// The paper's Case I: R = 0.8, pockets 0.01 / 0.06 / 5 µm.
@@ -108,7 +109,7 @@ pub fn evaluator<'a>(
     base: CaseSpec,
     scales: Scales,
     fidelity: Fidelity,
-    overrides: NumericsOverride,
+    overrides: Overrides,
     (cache, stop): (&'a Mutex<Cache>, &'a AtomicBool),
     jobs: usize,
 ) -> Evaluator<'a> {
