@@ -129,7 +129,7 @@ pub(super) fn evaluator<'a>(
         },
         scales: s.scales,
         fidelity,
-        overrides: s.search.overrides.clone(),
+        overrides: s.search.overrides,
         cache,
         options: s.search.sweep_options(),
         stop,
