@@ -196,7 +196,7 @@ fn a_zone_met_at_one_operating_point_gets_the_design_of_optimise_there() {
             validity: Validity::default(),
             search_fidelity: Fidelity::Draft,
             report_fidelity: Fidelity::Draft,
-            overrides: overrides.clone(),
+            overrides,
             swarm,
             jobs: 2,
             limits: Limits::default(),
