@@ -14,23 +14,43 @@ use super::numerics::{Approach, Numerics, TimeScheme};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Fidelity {
-    /// 400×8, characteristic, dt = 1e-3: the optimiser's search (errors ≤ 1.5 % in f̄ and
-    /// 0.63 % in C_min, ≈ 0.1–0.2 s a case; a pocket needs only 2 cells across).
+    /// The optimiser's search ([`Fidelity::summary`] gives each tier's numerics and errors).
     Draft,
-    /// 700×8, characteristic, dt = 5.7e-4, going on on 600×24 where pockets end deeper than
-    /// 6·C_min (the deep-pocket mesh): studies, the optimiser and `simulate` (errors ≤ 0.9 % in f̄
-    /// and 0.77 % in C_min on Case I, Case III, R = 51.2 and the deep close-packed array;
-    /// ≈ 0.4–0.7 s a case, ≈ 2 s with deep pockets).
+    /// Studies, the optimiser's reports and `simulate`.
     Fast,
-    /// 512×32, dt = 4e-4, backward Euler: the paper's numerics (docs/model.md §3), for
-    /// reproducing it (4 % off on the conformal R = 51.2, its time step's error).
+    /// The paper's numerics.
     Paper,
-    /// 1024×16, dt = 2e-4, BDF2: checks (errors ≤ 0.7 %), by a scheme independent of the
-    /// characteristic tiers'.
+    /// Checks, by a scheme independent of the characteristic tiers'.
     Fine,
 }
 
 impl Fidelity {
+    /// What the tier is: its mesh, step and scheme, what it is for, its measured errors and
+    /// cost (the command line's help shows it).
+    pub fn summary(self) -> &'static str {
+        match self {
+            Fidelity::Draft => {
+                "400×8, characteristic, dt = 1e-3: the optimiser's search (errors ≤ 1.5 % in f̄ \
+                and 0.63 % in C_min, ≈ 0.1–0.2 s a case; a pocket needs only 2 cells across)"
+            }
+            Fidelity::Fast => {
+                "700×8, characteristic, dt = 5.7e-4, going on on 600×24 where pockets end \
+                deeper than 6·C_min (the deep-pocket mesh): studies, the optimiser and \
+                `simulate` (errors ≤ 0.9 % in f̄ and 0.77 % in C_min on Case I, Case III, \
+                R = 51.2 and the deep close-packed array; ≈ 0.4–0.7 s a case, ≈ 2 s with deep \
+                pockets)"
+            }
+            Fidelity::Paper => {
+                "512×32, dt = 4e-4, backward Euler: the paper's numerics (docs/model.md §3), \
+                for reproducing it (4 % off on the conformal R = 51.2, its time step's error)"
+            }
+            Fidelity::Fine => {
+                "1024×16, dt = 2e-4, BDF2: checks (errors ≤ 0.7 %), by a scheme independent of \
+                the characteristic tiers'"
+            }
+        }
+    }
+
     pub const ALL: [Fidelity; 4] = [
         Fidelity::Draft,
         Fidelity::Fast,

@@ -69,21 +69,36 @@ pub struct Approach {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum TimeScheme {
-    /// First order: (φⁿ⁺¹ − φⁿ)/dt.
+    /// First order ([`TimeScheme::summary`] gives each scheme's storage term).
     #[default]
     BackwardEuler,
-    /// Second order: (3φⁿ⁺¹ − 4φⁿ + φⁿ⁻¹)/(2dt), with a backward-Euler step where the two
-    /// previous levels are not at hand (a start, a jump, a new mesh) or where the old-level
-    /// term (4φⁿ − φⁿ⁻¹)/3 would be negative somewhere (a film emptying within a step).
+    /// Second order, falling back on a backward-Euler step where it cannot take its own.
     Bdf2,
-    /// Backward Euler along the Couette characteristics: (φⁿ⁺¹ − φⁿ(x1 − u·dt/2))/dt, the
-    /// Couette flux carried by that shift instead of the stencil; exact transport of the
-    /// cavitated film at dt = 2·dx1/u (the step the tiers take where the texture period is a
-    /// multiple of 2·dx1), interpolated below it, and rejected above it (docs/solver.md).
+    /// Backward Euler along the Couette characteristics.
     Characteristic,
 }
 
 impl TimeScheme {
+    /// The scheme's storage term and where it applies (the command line's help shows it).
+    pub fn summary(self) -> &'static str {
+        match self {
+            TimeScheme::BackwardEuler => "First order: (φⁿ⁺¹ − φⁿ)/dt",
+            TimeScheme::Bdf2 => {
+                "Second order: (3φⁿ⁺¹ − 4φⁿ + φⁿ⁻¹)/(2dt), with a backward-Euler step where the \
+                two previous levels are not at hand (a start, a jump, a new mesh) or where the \
+                old-level term (4φⁿ − φⁿ⁻¹)/3 would be negative somewhere (a film emptying \
+                within a step)"
+            }
+            TimeScheme::Characteristic => {
+                "Backward Euler along the Couette characteristics: (φⁿ⁺¹ − φⁿ(x1 − u·dt/2))/dt, \
+                the Couette flux carried by that shift instead of the stencil; exact transport \
+                of the cavitated film at dt = 2·dx1/u (the step the tiers take where the \
+                texture period is a multiple of 2·dx1), interpolated below it, and rejected \
+                above it (docs/solver.md)"
+            }
+        }
+    }
+
     pub fn is_backward_euler(&self) -> bool {
         *self == TimeScheme::BackwardEuler
     }
@@ -97,12 +112,27 @@ fn yes() -> bool {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Start {
-    /// The paper's initial state (docs/model.md §4): Z = z0, Z' = v0, flooded upstream gap.
+    /// The paper's initial state ([`Start::summary`] says what each start is).
     Paper,
-    /// The untextured force balance (steady 1D film at its Z, at rest): the texture only
-    /// perturbs an already balanced ring, so the periodic regime comes sooner.
+    /// The untextured force balance.
     #[default]
     Equilibrium,
+}
+
+impl Start {
+    /// What the start is and why (the command line's help shows it).
+    pub fn summary(self) -> &'static str {
+        match self {
+            Start::Paper => {
+                "The paper's initial state (docs/model.md §4): Z = z0, Z' = v0, flooded \
+                upstream gap"
+            }
+            Start::Equilibrium => {
+                "The untextured force balance (steady 1D film at its Z, at rest): the texture \
+                only perturbs an already balanced ring, so the periodic regime comes sooner"
+            }
+        }
+    }
 }
 
 impl Default for Numerics {
