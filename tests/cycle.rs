@@ -94,15 +94,7 @@ fn the_dead_centres_are_excluded_and_carry_no_number() {
     let dir = scratch("cycle-dc");
     let file = dir.join("e.toml");
     std::fs::write(&file, engine_text()).unwrap();
-    let out = dir.join("out");
-    let cache = dir.join("c.sqlite");
-    let mut args = vec![
-        "cycle",
-        file.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--cache",
-        cache.to_str().unwrap(),
+    let mut extra = vec![
         "--step",
         "10",
         "--design-step",
@@ -112,8 +104,9 @@ fn the_dead_centres_are_excluded_and_carry_no_number() {
         "--iterations",
         "1",
     ];
-    args.extend(QUICK);
-    let (code, _, err) = texopt(&args);
+    extra.extend(QUICK);
+    let (code, _, err, _) = common::cycle(&dir, &file, &extra);
+    let out = dir.join("out");
     assert_eq!(code, 0, "{err}");
     // Each zone's search is announced as it starts (it can take minutes).
     assert!(err.contains("zone 1 of 2: searching over its"), "{err}");

@@ -4,27 +4,9 @@
 
 mod common;
 
-use common::{engine, scratch, texopt};
+use common::{cycle, engine, scratch, texopt};
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// `texopt cycle FILE extra…` with a scratch output and cache: exit code, stdout, stderr, and
-/// whether anything was written.
-fn cycle(dir: &Path, file: &Path, extra: &[&str]) -> (i32, String, String, bool) {
-    let out = dir.join("out");
-    let cache = dir.join("c.sqlite");
-    let mut args = vec![
-        "cycle",
-        file.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--cache",
-        cache.to_str().unwrap(),
-    ];
-    args.extend_from_slice(extra);
-    let (code, stdout, stderr) = texopt(&args);
-    (code, stdout, stderr, out.exists() || cache.exists())
-}
 
 /// Refused: exit 2, one line containing every one of `says`, nothing written.
 fn cycle_refused(dir: &Path, text: &str, extra: &[&str], says: &[&str]) {

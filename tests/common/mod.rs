@@ -132,3 +132,25 @@ pub fn evaluator<'a>(
         name: String::new(),
     }
 }
+
+/// `texopt cycle FILE extra…` with a scratch output and cache: exit code, stdout, stderr, and
+/// whether anything was written.
+pub fn cycle(
+    dir: &std::path::Path,
+    file: &std::path::Path,
+    extra: &[&str],
+) -> (i32, String, String, bool) {
+    let out = dir.join("out");
+    let cache = dir.join("c.sqlite");
+    let mut args = vec![
+        "cycle",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let (code, stdout, stderr) = texopt(&args);
+    (code, stdout, stderr, out.exists() || cache.exists())
+}
