@@ -43,13 +43,19 @@ pub struct RingFile {
     pub elastic_load_n_per_m: f64,
 }
 
-/// The gas pressure behind the ring (gauge, bar) against crank angle from firing top dead
-/// centre (degrees, 0–720, increasing): linear between the points, periodic over 720°.
+/// The gas pressure behind the ring and above it (the cylinder's; gauge, bar) against crank
+/// angle from firing top dead centre (degrees, 0–720, increasing): linear between the points,
+/// periodic over 720°. Below the ring: a table of its own (`below_crank_deg`,
+/// `below_pressure_bar`), ambient (0) where none is given.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Gas {
     pub crank_deg: Vec<f64>,
     pub pressure_bar: Vec<f64>,
+    #[serde(default)]
+    pub below_crank_deg: Vec<f64>,
+    #[serde(default)]
+    pub below_pressure_bar: Vec<f64>,
 }
 
 /// The oil: viscosity, and the film on the liner ahead of the ring (one value: everywhere;
@@ -150,6 +156,57 @@ pub const MAX_ZONES: usize = 50;
 
 /// Finest and coarsest crank-angle steps a cycle is sampled at (degrees).
 pub const STEP_RANGE_DEG: (f64, f64) = (0.5, 90.0);
+
+/// A pressure table against crank angle (`keys`: its angles' and its pressures' keys): at
+/// least two points, as many pressures as angles, angles increasing within 0–720°, gauge
+/// pressures in [0, 500] bar.
+fn check_table(keys: (&str, &str), deg: &[f64], bar: &[f64]) -> Result<(), EngineError> {
+    let (deg_key, bar_key) = keys;
+    if deg.len() < 2 || deg.len() != bar.len() {
+        return Err(err(
+            deg_key,
+            format!("{} values", deg.len()),
+            format!(
+                "needs at least 2 values, as many as {} ({})",
+                bar_key.trim_start_matches("[gas] "),
+                bar.len()
+            ),
+        ));
+    }
+    increasing(deg_key, deg)?;
+    let (lo, hi) = (deg[0], deg[deg.len() - 1]);
+    if lo < 0.0 || hi > 720.0 {
+        return Err(err(
+            deg_key,
+            format!("{}..{}", short(lo), short(hi)),
+            "must lie within 0–720° (a four-stroke cycle from firing top dead centre)",
+        ));
+    }
+    if let Some(p) = bar
+        .iter()
+        .find(|p| !(p.is_finite() && **p >= 0.0 && **p <= 500.0))
+    {
+        return Err(err(
+            bar_key,
+            short(*p),
+            "must be a gauge pressure in [0, 500] bar",
+        ));
+    }
+    Ok(())
+}
+
+/// The value at `deg` of a table linear between its points and periodic over 720° (the
+/// last point joins the first one 720° later).
+fn periodic_table(deg: &[f64], val: &[f64], at_deg: f64) -> f64 {
+    let n = deg.len();
+    let xs: Vec<f64> = deg.iter().copied().chain([deg[0] + 720.0]).collect();
+    let ys: Vec<f64> = val.iter().copied().chain([val[0]]).collect();
+    let x = at_deg.rem_euclid(720.0);
+    let x = if x < xs[0] { x + 720.0 } else { x };
+    let k = (0..n).find(|&k| x <= xs[k + 1]).unwrap_or(n - 1);
+    let s = (x - xs[k]) / (xs[k + 1] - xs[k]);
+    ys[k] + s * (ys[k + 1] - ys[k])
+}
 
 /// `v` finite and within `key`'s range of [`RANGES`].
 fn in_range(key: &str, v: f64) -> Result<(), EngineError> {
@@ -273,35 +330,17 @@ impl Engine {
     }
 
     fn check_gas(g: &Gas) -> Result<(), EngineError> {
-        if g.crank_deg.len() < 2 || g.crank_deg.len() != g.pressure_bar.len() {
-            return Err(err(
-                "[gas] crank_deg",
-                format!("{} values", g.crank_deg.len()),
-                format!(
-                    "needs at least 2 values, as many as pressure_bar ({})",
-                    g.pressure_bar.len()
-                ),
-            ));
-        }
-        increasing("[gas] crank_deg", &g.crank_deg)?;
-        let (lo, hi) = (g.crank_deg[0], g.crank_deg[g.crank_deg.len() - 1]);
-        if lo < 0.0 || hi > 720.0 {
-            return Err(err(
-                "[gas] crank_deg",
-                format!("{}..{}", short(lo), short(hi)),
-                "must lie within 0–720° (a four-stroke cycle from firing top dead centre)",
-            ));
-        }
-        if let Some(p) = g
-            .pressure_bar
-            .iter()
-            .find(|p| !(p.is_finite() && **p >= 0.0 && **p <= 500.0))
-        {
-            return Err(err(
-                "[gas] pressure_bar",
-                short(*p),
-                "must be a gauge pressure in [0, 500] bar",
-            ));
+        check_table(
+            ("[gas] crank_deg", "[gas] pressure_bar"),
+            &g.crank_deg,
+            &g.pressure_bar,
+        )?;
+        if !(g.below_crank_deg.is_empty() && g.below_pressure_bar.is_empty()) {
+            check_table(
+                ("[gas] below_crank_deg", "[gas] below_pressure_bar"),
+                &g.below_crank_deg,
+                &g.below_pressure_bar,
+            )?;
         }
         Ok(())
     }
@@ -468,28 +507,21 @@ impl Engine {
         1e-3 * w * r * t.sin() * (1.0 + r * t.cos() / root)
     }
 
-    /// The gas pressure behind the ring (bar), linear in the table, periodic over 720°.
+    /// The gas pressure behind and above the ring (bar), linear in the table, periodic over
+    /// 720°.
     pub fn gas_bar(&self, crank_deg: f64) -> f64 {
         let g = &self.file.gas;
-        let n = g.crank_deg.len();
-        let x = crank_deg.rem_euclid(720.0);
-        // Periodic: the last point joins the first one 720° later.
-        let xs: Vec<f64> = g
-            .crank_deg
-            .iter()
-            .copied()
-            .chain([g.crank_deg[0] + 720.0])
-            .collect();
-        let ys: Vec<f64> = g
-            .pressure_bar
-            .iter()
-            .copied()
-            .chain([g.pressure_bar[0]])
-            .collect();
-        let x = if x < xs[0] { x + 720.0 } else { x };
-        let k = (0..n).find(|&k| x <= xs[k + 1]).unwrap_or(n - 1);
-        let s = (x - xs[k]) / (xs[k + 1] - xs[k]);
-        ys[k] + s * (ys[k + 1] - ys[k])
+        periodic_table(&g.crank_deg, &g.pressure_bar, crank_deg)
+    }
+
+    /// The gas pressure below the ring (bar): its table, or ambient (0) without one.
+    pub fn below_bar(&self, crank_deg: f64) -> f64 {
+        let g = &self.file.gas;
+        if g.below_crank_deg.is_empty() {
+            0.0
+        } else {
+            periodic_table(&g.below_crank_deg, &g.below_pressure_bar, crank_deg)
+        }
     }
 
     /// The oil film ahead of the ring at `position_mm` (µm).
@@ -578,6 +610,8 @@ mod tests {
             gas: Gas {
                 crank_deg: vec![0.0, 30.0, 180.0, 360.0, 690.0],
                 pressure_bar: vec![30.0, 50.0, 2.0, 0.0, 10.0],
+                below_crank_deg: Vec::new(),
+                below_pressure_bar: Vec::new(),
             },
             oil: Oil {
                 viscosity_pa_s: 0.006,

@@ -8,6 +8,7 @@ pub mod engine;
 pub mod film;
 pub mod friction;
 pub mod geometry;
+pub mod liner_layout;
 pub mod operating;
 pub mod ring;
 pub mod units;

@@ -7,6 +7,7 @@ mod anderson;
 mod approach;
 pub mod characteristic;
 mod common;
+pub mod cycle;
 mod fallback;
 mod fidelity;
 mod interpolate;

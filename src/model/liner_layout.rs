@@ -1,0 +1,164 @@
+//! A liner textured zone by zone along the stroke (docs/model.md §10, §12): which texture, if
+//! any, lies at each distance from the ring's top-dead-centre position. The engine cycle's
+//! film reads the liner's depth at the liner coordinate under each node.
+
+use std::sync::Arc;
+
+use super::case::Texture;
+use super::geometry::{HalfEllipsoid, Liner};
+
+/// Zones along the liner, each plain or carrying a lattice of pockets. Positions are liner
+/// coordinates y (cm): the distance along the liner, towards the crankcase, from where the
+/// ring's centre stands at top dead centre. A zone's lattice has a pocket centre at its
+/// zone's start (plus the texture's phase); the first and last zones run on past the stroke's
+/// ends.
+#[derive(Clone, Debug)]
+pub struct LinerLayout {
+    /// Zone boundaries (cm), increasing, from 0 to the stroke.
+    bounds_cm: Vec<f64>,
+    zones: Vec<Liner>,
+    textures: Vec<Option<Texture>>,
+}
+
+/// Why a layout cannot be simulated.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum LayoutError {
+    #[error("{zones} zone boundaries need {} textures (plain or not), got {textures}", zones - 1)]
+    Count { zones: usize, textures: usize },
+    #[error("zone {zone}'s texture has a lattice {width} cm wide across the sliding direction, zone {first}'s {first_width} cm: one film across the ring needs one lattice width (give the zones' textures the same width)")]
+    Width {
+        zone: usize,
+        width: f64,
+        first: usize,
+        first_width: f64,
+    },
+}
+
+impl LinerLayout {
+    /// A liner with one texture (or none) over the whole stroke.
+    pub fn uniform(stroke_cm: f64, texture: Option<Texture>) -> Self {
+        Self::zoned(vec![0.0, stroke_cm], vec![texture]).expect("one zone, one texture")
+    }
+
+    /// Zones between `bounds_cm` with one texture (or none) each. Textured zones must share
+    /// their lattice's width across the sliding direction (the film is simulated over half
+    /// of it, docs/model.md §2).
+    pub fn zoned(bounds_cm: Vec<f64>, textures: Vec<Option<Texture>>) -> Result<Self, LayoutError> {
+        if bounds_cm.len() != textures.len() + 1 {
+            return Err(LayoutError::Count {
+                zones: bounds_cm.len(),
+                textures: textures.len(),
+            });
+        }
+        let mut first: Option<(usize, f64)> = None;
+        for (z, t) in textures.iter().enumerate() {
+            let Some(t) = t else { continue };
+            match first {
+                None => first = Some((z, t.width)),
+                Some((f, w)) if w != t.width => {
+                    return Err(LayoutError::Width {
+                        zone: z,
+                        width: t.width,
+                        first: f,
+                        first_width: w,
+                    })
+                }
+                Some(_) => {}
+            }
+        }
+        let zones = textures
+            .iter()
+            .zip(&bounds_cm)
+            .map(|(t, &start)| match t {
+                None => Liner::smooth(),
+                Some(t) => Liner {
+                    pocket: Some(Arc::new(HalfEllipsoid {
+                        l1_cm: t.l1,
+                        l2_cm: t.l2,
+                        depth_um: t.depth,
+                    })),
+                    per_cm: t.per,
+                    width_cm: t.width,
+                    phase_cm: (start + t.phase).rem_euclid(t.per),
+                },
+            })
+            .collect();
+        Ok(LinerLayout {
+            bounds_cm,
+            zones,
+            textures,
+        })
+    }
+
+    /// The lattice width across the sliding direction shared by the textured zones, or None
+    /// for a plain liner.
+    pub fn width_cm(&self) -> Option<f64> {
+        self.textures.iter().flatten().map(|t| t.width).next()
+    }
+
+    /// Whether any zone is textured.
+    pub fn textured(&self) -> bool {
+        self.width_cm().is_some()
+    }
+
+    /// The smallest lattice period along the stroke (cm), infinite for a plain liner.
+    pub fn finest_period_cm(&self) -> f64 {
+        self.textures
+            .iter()
+            .flatten()
+            .map(|t| t.per)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    pub fn textures(&self) -> &[Option<Texture>] {
+        &self.textures
+    }
+
+    /// The lattice width (cm) of the textured zone the film over liner [y_lo, y_hi] should be
+    /// simulated across: that of the zone over the stretch's middle if textured, else of the
+    /// first textured zone over the stretch; None if the stretch is plain.
+    pub fn width_over(&self, y_lo: f64, y_hi: f64) -> Option<f64> {
+        let width = |z: usize| self.textures[z].as_ref().map(|t| t.width);
+        width(self.zone(0.5 * (y_lo + y_hi)))
+            .or_else(|| (self.zone(y_lo)..=self.zone(y_hi)).find_map(width))
+    }
+
+    /// The zone over liner coordinate `y_cm` (the first and last run on past the stroke).
+    pub fn zone(&self, y_cm: f64) -> usize {
+        let b = &self.bounds_cm;
+        (1..b.len() - 1)
+            .find(|&k| y_cm < b[k])
+            .unwrap_or(b.len() - 1)
+            - 1
+    }
+
+    /// The texture's depth h_L (µm) at liner coordinate `y_cm` and `x2_cm` across.
+    pub fn depth_um(&self, y_cm: f64, x2_cm: f64) -> f64 {
+        self.zones[self.zone(y_cm)].depth_um(y_cm, x2_cm)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn zones_carry_their_own_lattices_anchored_at_their_start() {
+        let t = Texture::circular(0.01, 0.05, 5.0);
+        let l = LinerLayout::zoned(vec![0.0, 1.0, 8.0], vec![Some(t.clone()), None]).unwrap();
+        assert_eq!(
+            (l.zone(-1.0), l.zone(0.5), l.zone(1.0), l.zone(9.0)),
+            (0, 0, 1, 1)
+        );
+        // A pocket centre at 0 and every 0.05 cm; none in the plain zone.
+        assert!((l.depth_um(0.1, 0.025) - 5.0).abs() < 1e-9);
+        assert!((l.depth_um(-0.05, 0.025) - 5.0).abs() < 1e-9);
+        assert_eq!(l.depth_um(0.125, 0.025), 0.0);
+        assert_eq!(l.depth_um(1.0, 0.025), 0.0);
+        assert_eq!(l.width_cm(), Some(0.05));
+        assert_eq!(l.finest_period_cm(), 0.05);
+        let other = Texture::circular(0.01, 0.04, 5.0);
+        let e = LinerLayout::zoned(vec![0.0, 1.0, 8.0], vec![Some(t), Some(other)]).unwrap_err();
+        assert!(matches!(e, LayoutError::Width { zone: 1, .. }), "{e}");
+    }
+}

@@ -1,0 +1,596 @@
+//! The engine cycle as one transient (docs/model.md §12): the film of §3 under the ring as the
+//! liner slides back and forth beneath it, the ring's radial dynamics of §4 under the engine's
+//! load, the liner's texture and oil where the stroke has put them, stepped through the crank
+//! angle and repeated cycle after cycle until the cycle repeats itself.
+//!
+//! The film is always solved in a frame where the liner moves towards +x1 (the stencil's
+//! upwinding, docs/model.md §3): when the liner's direction turns, at a dead centre, the film
+//! and the boundary data are mirrored, x1 → length − x1. The ring's face is symmetric about
+//! the domain's centre, so the mirrored scene is the same contact seen from the other side.
+
+use super::drive::{crank_steps, Drive, DrivePoint, StepRule};
+use super::oil::OilMap;
+use crate::mesh::integrals::{boundary_flows, friction};
+use crate::mesh::{FilmState, Grid, Scene};
+use crate::model::case::CaseSpec;
+use crate::model::film::Boundary;
+use crate::model::friction::{Friction, FrictionModel};
+use crate::model::liner_layout::LinerLayout;
+use crate::model::ring::{Ring, RingState};
+use crate::solve::{FilmMethod, FilmSolver, Method, Step};
+use crate::time::common::{SolveError, CONTACT_Z, MASS_TOL};
+use crate::time::start::equilibrium_start;
+use crate::time::steady::solve_untextured;
+
+/// How a cycle run is discretised and when it stops.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CycleNumerics {
+    /// Cells along x1 over the film's domain (2.5 ring widths) and across half a lattice
+    /// width (1 for a plain liner, whose film does not vary across).
+    pub n1: usize,
+    pub n2: usize,
+    pub steps: StepRule,
+    /// Length of the oil map's cells along the liner (cm).
+    pub oil_cell_cm: f64,
+    /// Crank angle the first cycle starts from (degrees): mid-stroke, where the untextured
+    /// force balance is a sound start.
+    pub start_deg: f64,
+    /// Cycles stop repeating when the friction work and the oil map change by less than
+    /// this from one cycle to the next (relative).
+    pub cyclic_tol: f64,
+    /// Most cycles run; a run that has not repeated itself by then says so.
+    pub max_cycles: usize,
+}
+
+/// One step of the cycle, in the engine's units.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct CycleRow {
+    /// Crank angle at the step's end (degrees, in [0, 720)).
+    pub crank_deg: f64,
+    /// The liner's velocity under the ring over the step (m/s, positive towards the
+    /// crankcase): −(the piston's).
+    pub u_ms: f64,
+    /// The ring's load per unit circumferential length (N/m).
+    pub load_n_per_m: f64,
+    /// Gas pressures above and below the ring (bar).
+    pub p_above_bar: f64,
+    pub p_below_bar: f64,
+    /// Ring position Z and minimum film (µm).
+    pub z_um: f64,
+    pub h_min_um: f64,
+    /// Friction force of the film on the ring per unit circumferential length (N/m), signed
+    /// as the liner's motion: positive towards the crankcase.
+    pub friction_n_per_m: f64,
+    /// Friction power per unit circumferential length, |F·U| (W/m).
+    pub power_w_per_m: f64,
+    /// Oil the leading edge met (µm, the liner's layer) and the trailing edge left.
+    pub oil_met_um: f64,
+    pub oil_left_um: f64,
+}
+
+/// The oil exchanged over a cycle (µm·cm per unit circumferential length) and what film and
+/// liner held at its start and end.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct OilBalance {
+    pub film_start: f64,
+    pub film_end: f64,
+    pub liner_start: f64,
+    pub liner_end: f64,
+    /// Laid by the supply, scraped off by the rings below, thrown off at the leading edge.
+    pub supplied: f64,
+    pub scraped: f64,
+    pub thrown: f64,
+}
+
+impl OilBalance {
+    /// (film + liner) at the end − at the start − (supplied − scraped − thrown), relative to
+    /// the oil held: round-off when conserved.
+    pub fn defect(&self) -> f64 {
+        let change = (self.film_end - self.film_start) + (self.liner_end - self.liner_start);
+        let net = self.supplied - self.scraped - self.thrown;
+        (change - net).abs()
+            / (self.film_end + self.liner_end)
+                .abs()
+                .max(f64::MIN_POSITIVE)
+    }
+}
+
+/// One cycle's summary.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct CycleSummary {
+    /// Friction work per unit circumferential length over the cycle (J/m).
+    pub friction_work_j_per_m: f64,
+    /// Its relative change from the cycle before, and the oil map's (infinite for the first).
+    pub work_change: f64,
+    pub oil_change: f64,
+    pub oil: OilBalance,
+    pub steps: usize,
+}
+
+/// What a cycle run found: its last cycle step by step, every cycle's summary, the oil map
+/// at the end.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CycleOutcome {
+    pub rows: Vec<CycleRow>,
+    pub cycles: Vec<CycleSummary>,
+    /// Whether the last cycle repeated the one before within the tolerance.
+    pub cyclic: bool,
+    /// Liner coordinates (cm) and layers (µm) of the oil map after the last cycle.
+    pub oil_y_cm: Vec<f64>,
+    pub oil_um: Vec<f64>,
+}
+
+/// The film, ring and oil of a cycle run, stepped one crank step at a time.
+pub struct CycleRun<'a> {
+    drive: &'a Drive,
+    layout: LinerLayout,
+    case: CaseSpec,
+    scene: Scene,
+    state: FilmState,
+    phi_old: Vec<f64>,
+    ring: RingState,
+    /// Whether the film is solved mirrored (the liner moving towards the combustion chamber).
+    mirrored: bool,
+    oil: OilMap,
+    solver: FilmSolver,
+    numerics: CycleNumerics,
+    tally: OilBalance,
+    /// The lattice width the film is simulated across (half of it), None: one cell across.
+    width: Option<f64>,
+}
+
+impl<'a> CycleRun<'a> {
+    /// The run of `layout` under `drive`'s engine, at its first cycle's start: the
+    /// untextured force balance at the start's operating point laid on the liner.
+    pub fn new(
+        drive: &'a Drive,
+        layout: LinerLayout,
+        numerics: CycleNumerics,
+    ) -> Result<Self, SolveError> {
+        let case = ring_case(drive);
+        let p0 = drive.at(numerics.start_deg);
+        let (length, x_c) = {
+            let c = case.contact();
+            (c.length_cm, c.x_center_cm)
+        };
+        let (a, b) = case.contact().ring_edges();
+        let width = layout.width_over(p0.position_cm + a - x_c, p0.position_cm + b - x_c);
+        let scene = film_scene(&case, &numerics, width);
+        let supply = |y: f64| 0.5 * drive.engine().d_oil_um(10.0 * y.max(0.0));
+        let stroke_cm = 0.1 * drive.engine().file.engine.stroke_mm;
+        let oil = OilMap::new(-x_c, stroke_cm + length - x_c, numerics.oil_cell_cm, supply);
+        let start_case = CaseSpec {
+            u: p0.u.abs(),
+            w_ps: p0.w,
+            d_oil: 2.0 * supply(p0.position_cm),
+            ..case.clone()
+        };
+        let eq =
+            solve_untextured(&start_case, numerics.n1).map_err(|source| SolveError::Steady {
+                case: cycle_label(drive),
+                source,
+            })?;
+        let (state, ring) = equilibrium_start(&scene, &eq);
+        let mut run = CycleRun {
+            drive,
+            layout,
+            case,
+            phi_old: state.phi.clone(),
+            state,
+            ring,
+            mirrored: p0.u < 0.0,
+            scene,
+            oil,
+            solver: FilmSolver::new(Method::Direct),
+            numerics,
+            tally: OilBalance::default(),
+            width,
+        };
+        run.place(&p0);
+        Ok(run)
+    }
+
+    /// The oil the film holds, Σφ·dx·dy/B over the interior nodes (µm·cm per unit
+    /// circumferential length; the inlet column's film is the boundary's).
+    pub fn film_oil(&self) -> f64 {
+        let g = &self.scene.grid;
+        let s: f64 = self.state.phi[g.n2..g.n1 * g.n2].iter().sum();
+        s * g.dx * g.dy / g.width
+    }
+
+    pub fn oil(&self) -> &OilMap {
+        &self.oil
+    }
+
+    /// The liner coordinate (cm) under solve-frame position `x` with the ring at
+    /// `position_cm` from its top-dead-centre position.
+    fn liner_y(&self, position_cm: f64, x: f64) -> f64 {
+        let c = &self.scene.contact;
+        let x_phys = if self.mirrored { c.length_cm - x } else { x };
+        position_cm + x_phys - c.x_center_cm
+    }
+
+    /// The texture under the ring with the ring at `p`'s position (docs/model.md §12: the
+    /// liner's depth at the liner coordinate under each node). Pockets are placed under the
+    /// ring and one node column either side (the friction's ∂h_L/∂x1 reads them); beyond, the
+    /// gap is e, against which a pocket's depth is nothing, and the film there does not vary
+    /// across: so the film is one cell across whenever no pocket is under the ring.
+    fn place(&mut self, p: &DrivePoint) {
+        let g = self.scene.grid.clone();
+        let cols = self.scene.gap.ring_columns();
+        let textured = cols.start.saturating_sub(1)..(cols.end + 1).min(g.n1 + 1);
+        for i in 0..=g.n1 {
+            let y = self.liner_y(p.position_cm, g.x(i));
+            let ring_part = self.scene.contact.ring_part_um(g.x(i));
+            for j in 0..g.n2 {
+                let k = g.idx(i, j);
+                let hl = if textured.contains(&i) && self.width.is_some() {
+                    self.layout.depth_um(y, g.y(j))
+                } else {
+                    0.0
+                };
+                self.scene.hl[k] = hl;
+                self.scene.gap.base[k] = hl + ring_part;
+            }
+        }
+    }
+
+    /// The film across the lattice width the ring is over at `p` (one cell across where it is
+    /// over a plain liner), its content carried over column by column so that each column
+    /// keeps its oil: spread in proportion to the new gap (its θ uniform across). A change
+    /// that would overfill a column (a shallower lattice under a full film) waits for a later
+    /// step; the film stays on its grid meanwhile, the other lattice sampled on it.
+    fn regrid(&mut self, p: &DrivePoint) {
+        let (a, b) = self.scene.contact.ring_edges();
+        let x_c = self.scene.contact.x_center_cm;
+        let width = self
+            .layout
+            .width_over(p.position_cm + a - x_c, p.position_cm + b - x_c);
+        if width == self.width {
+            return;
+        }
+        let old_width = std::mem::replace(&mut self.width, width);
+        let mut scene = film_scene(&self.case, &self.numerics, width);
+        std::mem::swap(&mut self.scene, &mut scene);
+        self.place(p);
+        let z = self.ring.z;
+        let carried = carry(&scene, &self.state.phi, &self.scene, z).zip(carry(
+            &scene,
+            &self.phi_old,
+            &self.scene,
+            z,
+        ));
+        match carried {
+            Some((phi, old)) => {
+                let g = &self.scene.grid;
+                self.state = FilmState::cavitated(g, &self.scene.gap, z, 0.0);
+                for (k, &f) in phi.iter().enumerate() {
+                    self.state.phi[k] = f;
+                }
+                self.phi_old = old;
+                self.solver = FilmSolver::new(Method::Direct);
+            }
+            None => {
+                self.scene = scene;
+                self.width = old_width;
+            }
+        }
+    }
+
+    /// Mirrors the film and its old level, x1 → length − x1 (the liner's direction turned).
+    fn mirror(&mut self) {
+        let g = &self.scene.grid;
+        let n2 = g.n2;
+        for i in 0..(g.n1 + 1) / 2 {
+            let m = g.n1 - i;
+            for j in 0..n2 {
+                let (a, b) = (i * n2 + j, m * n2 + j);
+                self.state.p.swap(a, b);
+                self.state.phi.swap(a, b);
+                self.state.pressurised.swap(a, b);
+                self.phi_old.swap(a, b);
+            }
+        }
+        self.mirrored = !self.mirrored;
+    }
+}
+
+/// The film's scene: one cell across a plain liner's film, `numerics.n2` across half a
+/// lattice of `width`.
+fn film_scene(case: &CaseSpec, numerics: &CycleNumerics, width: Option<f64>) -> Scene {
+    let contact = case.contact();
+    let length = contact.length_cm;
+    let (n2, half) = width.map_or((1, 1.0), |w| (numerics.n2, 0.5 * w));
+    Scene::with_grid(contact, Grid::new(numerics.n1, n2, length, half), 1.0)
+}
+
+/// Film content `phi` on scene `from` carried onto scene `to` (the same node columns): each
+/// column's mean content kept, spread in proportion to `to`'s gap at Z = `z`. None if a
+/// column would be overfilled (θ > 1).
+fn carry(from: &Scene, phi: &[f64], to: &Scene, z: f64) -> Option<Vec<f64>> {
+    let (gf, gt) = (&from.grid, &to.grid);
+    let mut out = vec![0.0; gt.nodes()];
+    for i in 0..=gt.n1 {
+        let mean = phi[i * gf.n2..(i + 1) * gf.n2].iter().sum::<f64>() / gf.n2 as f64;
+        let h: Vec<f64> = (0..gt.n2).map(|j| to.gap.h(gt, gt.idx(i, j), z)).collect();
+        let h_mean = h.iter().sum::<f64>() / gt.n2 as f64;
+        if mean > h_mean * (1.0 + 1e-12) {
+            return None;
+        }
+        for (j, hj) in h.iter().enumerate() {
+            out[gt.idx(i, j)] = mean * hj / h_mean;
+        }
+    }
+    Some(out)
+}
+
+/// The engine's ring as a case in the drive's scales (docs/model.md §1, §12): its face
+/// radius, width and mass; the operating point is the drive's at each step.
+fn ring_case(drive: &Drive) -> CaseSpec {
+    let ring = &drive.engine().file.ring;
+    let s = drive.scales();
+    CaseSpec {
+        ring_width: ring.width_mm / 10.0,
+        mass: ring.mass_kg_per_m / s.mass_kg_per_m(),
+        ..CaseSpec::paper(ring.r_cm)
+    }
+}
+
+/// The run's name in messages.
+fn cycle_label(drive: &Drive) -> String {
+    format!("engine {} cycle", drive.engine().file.engine.name)
+}
+
+/// What a step's film exchanged with the liner.
+struct Exchange {
+    /// Oil taken off the liner ahead, its layer (µm), and the inlet film φ = 2·layer.
+    taken: f64,
+    layer_met: f64,
+    phi_inlet: f64,
+    /// Liner swept by the trailing edge over the step (cm, its two ends).
+    trail: (f64, f64),
+}
+
+impl CycleRun<'_> {
+    /// One crank step from `from` to `to` degrees (no dead centre strictly between): the
+    /// film of the step's end with the ring's implicit Newmark update, the liner's speed the
+    /// step's mean (its displacement over the step's time, so the texture moves and the oil
+    /// is carried exactly as far as the crank moves the ring).
+    pub fn step(&mut self, from: f64, to: f64) -> Result<CycleRow, SolveError> {
+        let (a, b) = (self.drive.at(from), self.drive.at(to));
+        let dt = self.drive.time_of(to - from);
+        // The liner's displacement under the ring along x1 is −(the ring's along the stroke).
+        let u = -(b.position_cm - a.position_cm) / dt;
+        if (u < 0.0) != self.mirrored && u != 0.0 {
+            self.mirror();
+        }
+        self.regrid(&b);
+        self.place(&b);
+        let ex = self.exchange_ahead(&a, &b);
+        let boundary = self.boundary(&b, u.abs(), ex.phi_inlet);
+        let ring = Ring {
+            mass: self.case.mass,
+            w_ps: b.w,
+        };
+        let s = self.ring;
+        let link = ring.link(&s, dt);
+        let mut z = (s.z + dt * s.v).max(0.5 * s.z);
+        let film_before = self.film_oil();
+        let step = Step {
+            grid: &self.scene.grid,
+            gap: &self.scene.gap,
+            phi_old: &self.phi_old,
+            inv_dt: 1.0 / dt,
+            boundary,
+            ring: Some(link),
+        };
+        let stats = self
+            .solver
+            .solve(&step, &mut self.state, &mut z)
+            .map_err(|source| SolveError::Film {
+                case: cycle_label(self.drive),
+                t: to,
+                source,
+            })?;
+        if z <= CONTACT_Z {
+            return Err(SolveError::Contact {
+                case: cycle_label(self.drive),
+                t: to,
+                z,
+            });
+        }
+        self.ring = ring.advance(&s, dt, z, stats.w_h);
+        let (inflow, outflow) = self.flows(u.abs(), z);
+        self.check_mass(
+            film_before,
+            dt * (inflow - outflow),
+            dt * (inflow.abs() + outflow.abs()),
+            to,
+        )?;
+        self.tally.thrown += ex.taken - dt * inflow;
+        self.tally.thrown += self.oil.put(ex.trail.0, ex.trail.1, dt * outflow);
+        self.phi_old.copy_from_slice(&self.state.phi);
+        let f = friction(
+            &self.scene.grid,
+            &self.scene.gap,
+            z,
+            &self.scene.hl,
+            &self.state,
+            &FrictionModel {
+                u: u.abs(),
+                theta_s: self.case.theta_s,
+                w_ps: b.w,
+            },
+        );
+        Ok(self.row(&b, u, z, &f, ex.layer_met, outflow))
+    }
+
+    /// The oil the leading edge meets over the step from `a` to `b`: taken off the liner
+    /// ahead (the supply's towards the crankcase, the ring's own oil on the way back).
+    fn exchange_ahead(&mut self, a: &DrivePoint, b: &DrivePoint) -> Exchange {
+        let length = self.scene.contact.length_cm;
+        let (lead_a, lead_b) = (
+            self.liner_y(a.position_cm, 0.0),
+            self.liner_y(b.position_cm, 0.0),
+        );
+        let trail = (
+            self.liner_y(a.position_cm, length),
+            self.liner_y(b.position_cm, length),
+        );
+        // Mirrored: the liner moves towards the combustion chamber, the ring towards the
+        // crankcase.
+        let t = self
+            .oil
+            .take(lead_a, lead_b, self.drive.ahead(self.mirrored));
+        self.tally.supplied += t.supplied;
+        self.tally.scraped += t.scraped;
+        Exchange {
+            taken: t.layer * (lead_b - lead_a).abs(),
+            layer_met: t.layer,
+            phi_inlet: 2.0 * t.layer,
+            trail,
+        }
+    }
+
+    /// The film's boundary data in the solve frame: the liner's speed, the gas pressures on
+    /// the two sides (above the ring at x1 = 0 unless mirrored) and the inlet film.
+    fn boundary(&self, b: &DrivePoint, u: f64, phi_inlet: f64) -> Boundary {
+        let (p_left, p_right) = if self.mirrored {
+            (b.p_below, b.p_above)
+        } else {
+            (b.p_above, b.p_below)
+        };
+        Boundary {
+            u,
+            p_left,
+            p_right,
+            phi_inlet,
+        }
+    }
+
+    /// Oil flow rates into and out of the film (per unit circumferential length, through the
+    /// faces next to the domain's ends).
+    fn flows(&self, u: f64, z: f64) -> (f64, f64) {
+        let g = &self.scene.grid;
+        let (i, o) = boundary_flows(g, &self.scene.gap, z, u, &self.state);
+        (i / g.width, o / g.width)
+    }
+
+    /// Guard: the film's oil changed by what flowed in and out, to round-off.
+    fn check_mass(&self, before: f64, net: f64, through: f64, to: f64) -> Result<(), SolveError> {
+        let defect = (self.film_oil() - before - net).abs() / through.max(f64::MIN_POSITIVE);
+        // The totals hold the wide gap's oil; their difference carries its round-off.
+        let tol = MASS_TOL.max(1e-12 * self.film_oil() / through.max(f64::MIN_POSITIVE));
+        if defect.is_nan() || defect > tol {
+            return Err(SolveError::MassNotConserved {
+                case: cycle_label(self.drive),
+                t: to,
+                defect,
+                tol,
+                hint: "the film solve did not conserve mass: it is not converged".into(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The step's row in the engine's units.
+    fn row(
+        &self,
+        b: &DrivePoint,
+        u: f64,
+        z: f64,
+        f: &Friction,
+        met: f64,
+        outflow: f64,
+    ) -> CycleRow {
+        let s = self.drive.scales();
+        let bar = s.pressure_pa() / 1e5;
+        // f = (H/6L)·F/W (eq. 11): the force is f·W in load units (docs/model.md §1).
+        let force = f.total() * b.w * s.load_n_per_m();
+        let sign = if self.mirrored { -1.0 } else { 1.0 };
+        CycleRow {
+            crank_deg: b.crank_deg.rem_euclid(720.0),
+            u_ms: u * s.speed_ms,
+            load_n_per_m: b.w * s.load_n_per_m(),
+            p_above_bar: b.p_above * bar,
+            p_below_bar: b.p_below * bar,
+            z_um: z,
+            h_min_um: self.scene.contact.clearance_um(z),
+            friction_n_per_m: sign * force,
+            power_w_per_m: (force * u * s.speed_ms).abs(),
+            oil_met_um: met,
+            oil_left_um: if u != 0.0 { outflow / u.abs() } else { 0.0 },
+        }
+    }
+}
+
+impl CycleRun<'_> {
+    /// One cycle over the crank angles `steps` (from one start to the same angle 720° on):
+    /// its rows and summary. `on_step` sees every row.
+    pub fn cycle(
+        &mut self,
+        steps: &[f64],
+        on_step: &mut dyn FnMut(&CycleRow),
+    ) -> Result<(Vec<CycleRow>, CycleSummary), SolveError> {
+        self.tally = OilBalance {
+            film_start: self.film_oil(),
+            liner_start: self.oil.total(),
+            ..OilBalance::default()
+        };
+        let mut rows = Vec::with_capacity(steps.len());
+        let mut work = 0.0;
+        for w in steps.windows(2) {
+            let row = self.step(w[0], w[1])?;
+            work += row.power_w_per_m * self.drive.time_of(w[1] - w[0]);
+            on_step(&row);
+            rows.push(row);
+        }
+        self.tally.film_end = self.film_oil();
+        self.tally.liner_end = self.oil.total();
+        // Power (W/m) × time (units of L/U, in ms: time_ms) gives mJ/m.
+        let summary = CycleSummary {
+            friction_work_j_per_m: work * self.drive.scales().time_ms() * 1e-3,
+            work_change: f64::INFINITY,
+            oil_change: f64::INFINITY,
+            oil: self.tally,
+            steps: rows.len(),
+        };
+        Ok((rows, summary))
+    }
+
+    /// Cycles from the run's start until one repeats the one before (friction work and oil
+    /// map within the numerics' tolerance) or the most cycles are run.
+    pub fn run(
+        mut self,
+        on_cycle: &mut dyn FnMut(&CycleSummary),
+        on_step: &mut dyn FnMut(&CycleRow),
+    ) -> Result<CycleOutcome, SolveError> {
+        let steps = crank_steps(self.drive, self.numerics.start_deg, &self.numerics.steps);
+        let mut cycles: Vec<CycleSummary> = Vec::new();
+        let mut last_rows = Vec::new();
+        let mut cyclic = false;
+        while cycles.len() < self.numerics.max_cycles && !cyclic {
+            let before = self.oil.clone();
+            let (rows, mut summary) = self.cycle(&steps, on_step)?;
+            if let Some(prev) = cycles.last() {
+                summary.work_change = (summary.friction_work_j_per_m - prev.friction_work_j_per_m)
+                    .abs()
+                    / prev.friction_work_j_per_m.abs().max(f64::MIN_POSITIVE);
+                summary.oil_change = self.oil.change_from(&before);
+                cyclic = summary.work_change < self.numerics.cyclic_tol
+                    && summary.oil_change < self.numerics.cyclic_tol;
+            }
+            on_cycle(&summary);
+            cycles.push(summary);
+            last_rows = rows;
+        }
+        last_rows.sort_by(|a, b| a.crank_deg.total_cmp(&b.crank_deg));
+        Ok(CycleOutcome {
+            rows: last_rows,
+            cycles,
+            cyclic,
+            oil_y_cm: (0..self.oil.layer().len()).map(|k| self.oil.y(k)).collect(),
+            oil_um: self.oil.layer().to_vec(),
+        })
+    }
+}
