@@ -29,7 +29,7 @@
 //!   the Newmark equation (docs/model.md §4).
 //!
 
-use texopt::mesh::integrals::load;
+use texopt::mesh::integrals::{contact_load, load};
 use texopt::mesh::{face_conductances, FilmState, Gap, Grid};
 use texopt::model::film::{Column, Faces};
 use texopt::model::ring::RingLink;
@@ -493,7 +493,7 @@ impl PtMultigrid {
         }
     }
 
-    /// The ring after a V-cycle: a chord step on G(Z) = Z − z_pred − κ·(W_h(Z) − W_ps)
+    /// The ring after a V-cycle: a chord step on G(Z) = Z − z_pred − κ·(W_h(Z) + W_a(Z) − W_ps)
     /// (the Newmark update, docs/model.md §4) with slope 1 − κ·`dw_dz`, W_h from the current
     /// pressure; at most halving the smallest gap under the ring.
     fn move_ring(&mut self) {
@@ -501,8 +501,16 @@ impl PtMultigrid {
             return;
         };
         let w = load(&self.fine.g, &self.gap.ring, &self.fine.p);
-        let g = self.z - link.z_pred - link.kappa * (w - link.w_ps);
-        let dz = -g / (1.0 - link.kappa * self.dw_dz);
+        // The asperity load (docs/model.md §11) with its exact slope, added only where it acts.
+        let (w_a, dw_a) = link.contact.map_or((0.0, 0.0), |law| {
+            contact_load(&self.fine.g, &self.gap, self.z, &law)
+        });
+        let g = if w_a == 0.0 {
+            self.z - link.z_pred - link.kappa * (w - link.w_ps)
+        } else {
+            self.z - link.z_pred - link.kappa * (w + w_a - link.w_ps)
+        };
+        let dz = -g / (1.0 - link.kappa * self.dw_dz - link.kappa * dw_a);
         let floor = 0.5 * (self.z + self.gap.ring_min_base(&self.fine.g));
         let z = self.z + dz.max(-floor);
         self.set_z(z);

@@ -1,11 +1,13 @@
-//! Integrals of the film over the mesh: the hydrodynamic load (eq. 16), the friction terms
-//! (eq. 17) and the mass flows through the ends of the domain (docs/model.md §3–5), by nodal
-//! quadrature over the node columns under the ring.
+//! Integrals of the film over the mesh: the hydrodynamic load (eq. 16), the asperity load
+//! (docs/model.md §11), the friction terms (eq. 17 and the boundary friction, eq. A4) and the
+//! mass flows through the ends of the domain (docs/model.md §3–5), by nodal quadrature over
+//! the node columns under the ring.
 
 use super::{FilmState, Gap, Grid};
+use crate::model::asperity::ContactLaw;
 use crate::model::film::x1_flux;
 use crate::model::friction::{
-    couette_shear, poiseuille_term, pressure_term, Friction, FrictionModel,
+    boundary_term, couette_shear, poiseuille_term, pressure_term, Friction, FrictionModel,
 };
 use crate::model::units::friction_coefficient;
 
@@ -19,6 +21,29 @@ pub fn load(g: &Grid, ring: &[bool], p: &[f64]) -> f64 {
         }
     }
     s * g.dx * g.dy / g.width
+}
+
+/// Asperity load per unit width W_a = (1/B)∫∫_ring p_a(h) dx1 dx2 (docs/model.md §11) and
+/// its derivative dW_a/dZ = (1/B)∫∫_ring dp_a/dh (∂h/∂Z = 1 under the ring), by the nodal
+/// quadrature of [`load`], at ring position `z`. Both exactly 0 where every gap under the
+/// ring is at least 4σ ([`ContactLaw::reach_um`]).
+pub fn contact_load(g: &Grid, gap: &Gap, z: f64, law: &ContactLaw) -> (f64, f64) {
+    let (mut w, mut dw) = (0.0, 0.0);
+    let n2 = g.n2;
+    for (i, &r) in gap.ring.iter().enumerate() {
+        if r {
+            for &b in &gap.base[i * n2..(i + 1) * n2] {
+                let h = b + z;
+                if law.touches(h) {
+                    let (p, dp) = law.pressure_and_dh(h);
+                    w += p;
+                    dw += dp;
+                }
+            }
+        }
+    }
+    let weight = g.dx * g.dy / g.width;
+    (w * weight, dw * weight)
 }
 
 /// Mass flow rates of φ = hθ through the x1 boundaries of the interior control volumes,
@@ -65,7 +90,7 @@ pub fn friction_thresholds(
     extra_theta_s: &[f64],
 ) -> (Friction, Vec<Friction>) {
     let n2 = g.n2;
-    let (mut fc, mut fp, mut fpr) = (0.0, 0.0, 0.0);
+    let (mut fc, mut fp, mut fpr, mut fb) = (0.0, 0.0, 0.0, 0.0);
     let mut fc_extra = vec![0.0; extra_theta_s.len()];
     for i in 1..g.n1 {
         if !gap.ring[i] {
@@ -88,6 +113,9 @@ pub fn friction_thresholds(
             fp += poiseuille_term(h, dpdx);
             let dhl = (hl[k + n2] - hl[k - n2]) / (2.0 * g.dx);
             fpr += pressure_term(state.p[k], dhl);
+            if let Some(law) = model.contact.as_ref().filter(|l| l.touches(h)) {
+                fb += boundary_term(model.u, law.shear(h));
+            }
         }
     }
     let w = g.dx * g.dy / g.width;
@@ -95,6 +123,7 @@ pub fn friction_thresholds(
         couette: friction_coefficient(fc * w, model.w_ps),
         poiseuille: friction_coefficient(fp * w, model.w_ps),
         pressure: friction_coefficient(fpr * w, model.w_ps),
+        boundary: friction_coefficient(fb * w, model.w_ps),
     };
     (
         with_couette(fc),

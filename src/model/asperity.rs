@@ -19,10 +19,13 @@
 //! λ = 37 every F_n is exactly 0 (F_{5/2}(37) ≈ 2e-303, the last normal doubles); below
 //! λ = −8 (an interpenetration of 8σ, outside any use) they are computed directly, slowly.
 
+use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
 use super::case::{bad, short, InputError};
+use super::operating::{Scales, COMPOSITE_ROUGHNESS_UM};
+use super::units::H_M;
 
 /// Separation λ = h/σ from which every F_n is exactly 0 (F_{5/2}(37) ≈ 2.3e-303).
 pub const LAMBDA_CUT: f64 = 37.0;
@@ -219,7 +222,7 @@ pub fn composite_modulus(e1: f64, nu1: f64, e2: f64, nu2: f64) -> f64 {
 }
 
 /// The rough contact between ring face and liner plateau (§11), in SI units.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Asperity {
     /// Composite RMS roughness σ = √(σ_ring² + σ_liner²) (m).
     pub sigma: f64,
@@ -239,7 +242,8 @@ impl Default for Asperity {
     /// A plateau-honed grey cast-iron liner against a steel ring (docs/model.md §11, table).
     fn default() -> Self {
         Asperity {
-            sigma: 0.3e-6,
+            // The validity's roughness (µm) in m, computed as `Validity::apply` does.
+            sigma: COMPOSITE_ROUGHNESS_UM * H_M,
             eta_beta_sigma: 0.04,
             sigma_over_beta: 1e-3,
             e_star: composite_modulus(120e9, 0.28, 210e9, 0.28),
@@ -319,6 +323,109 @@ impl Asperity {
     /// Boundary shear stress τ_b = τ₀·A_a/A + ς·p_a (eq. A4) (Pa): friction force per nominal
     /// area, against the sliding.
     pub fn shear_stress(&self, h: f64) -> f64 {
+        self.tau0 * self.area_fraction(h) + self.varsigma * self.pressure(h)
+    }
+}
+
+/// Separation λ = h/σ from which the contact law of a run ([`ContactLaw`]) carries nothing:
+/// p_a and A_a are shifted by their values here and cut to 0 beyond (docs/model.md §11).
+pub const LAMBDA_CONTACT: f64 = 4.0;
+
+/// The asperity contact of one run in its scaled units (docs/model.md §1, §11): gaps h in µm,
+/// pressure in 6μUL/H², shear stress in μU/H (so that its integral over the ring, lengths in
+/// L, is a friction force in μUL/H, eq. 17's unit). Exactly zero from λ = h/σ ≥ 4 on
+/// ([`LAMBDA_CONTACT`]): p_a = K·E*·(F_{5/2}(λ) − F_{5/2}(4)) and
+/// A_a/A = π²(ηβσ)²·(F_2(λ) − F_2(4)) below, 0 above (eqs. A2, A3 shifted; continuous), so
+/// a film thicker than 4σ everywhere under the ring sees no contact at all, to the bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactLaw {
+    /// Composite roughness σ (µm).
+    sigma: f64,
+    /// K·E* (eq. A2) in pressure units 6μUL/H².
+    pressure_scale: f64,
+    /// π²·(ηβσ)² (eq. A3).
+    area_scale: f64,
+    /// τ₀ in shear units μU/H.
+    tau0: f64,
+    /// ς times the pressure unit over the shear unit, 6ς·L/H: τ_b per scaled p_a (eq. A4).
+    varsigma: f64,
+    /// F_{5/2}(4) and F_2(4): the shifts that make p_a and A_a vanish at λ = 4.
+    f52_cut: f64,
+    f2_cut: f64,
+}
+
+impl ContactLaw {
+    /// The contact of `asperity` (SI) at the run's `scales` (its speed U and viscosity μ).
+    pub fn new(asperity: &Asperity, scales: &Scales) -> Self {
+        let shear_unit = scales.viscosity_pas * scales.speed_ms / H_M;
+        ContactLaw {
+            sigma: asperity.sigma / H_M,
+            pressure_scale: asperity.pressure_scale() / scales.pressure_pa(),
+            area_scale: PI * PI * asperity.eta_beta_sigma.powi(2),
+            tau0: asperity.tau0 / shear_unit,
+            varsigma: asperity.varsigma * scales.pressure_pa() / shear_unit,
+            f52_cut: f_5_2(LAMBDA_CONTACT),
+            f2_cut: f_2(LAMBDA_CONTACT),
+        }
+    }
+
+    /// Composite roughness σ (µm).
+    pub fn sigma_um(&self) -> f64 {
+        self.sigma
+    }
+
+    /// The gap (µm) from which the contact carries nothing: 4σ.
+    pub fn reach_um(&self) -> f64 {
+        LAMBDA_CONTACT * self.sigma
+    }
+
+    /// Whether a gap h (µm) touches: λ = h/σ < 4 (a NaN gap does, and gives NaN).
+    #[inline]
+    pub fn touches(&self, h: f64) -> bool {
+        !(h / self.sigma >= LAMBDA_CONTACT)
+    }
+
+    /// Asperity pressure p_a at gap h (µm), in pressure units (eq. A2, cut at λ = 4).
+    #[inline]
+    pub fn pressure(&self, h: f64) -> f64 {
+        let lambda = h / self.sigma;
+        if lambda >= LAMBDA_CONTACT {
+            return 0.0;
+        }
+        self.pressure_scale * (f_5_2(lambda) - self.f52_cut)
+    }
+
+    /// p_a and dp_a/dh (per µm) at gap h: dp_a/dh = −(5/2)·K·E*·F_{3/2}(λ)/σ below λ = 4
+    /// (eq. A1's derivative), 0 beyond.
+    #[inline]
+    pub fn pressure_and_dh(&self, h: f64) -> (f64, f64) {
+        let lambda = h / self.sigma;
+        if lambda >= LAMBDA_CONTACT {
+            return (0.0, 0.0);
+        }
+        (
+            self.pressure_scale * (f_5_2(lambda) - self.f52_cut),
+            self.pressure_scale * df_5_2(lambda) / self.sigma,
+        )
+    }
+
+    /// Real contact area per nominal area A_a/A at gap h (eq. A3, cut at λ = 4).
+    #[inline]
+    pub fn area_fraction(&self, h: f64) -> f64 {
+        let lambda = h / self.sigma;
+        if lambda >= LAMBDA_CONTACT {
+            return 0.0;
+        }
+        self.area_scale * (f_2(lambda) - self.f2_cut)
+    }
+
+    /// Boundary shear stress τ_b = τ₀·A_a/A + ς·p_a at gap h (eq. A4), in shear units μU/H:
+    /// its magnitude, against the sliding.
+    #[inline]
+    pub fn shear(&self, h: f64) -> f64 {
+        if !self.touches(h) {
+            return 0.0;
+        }
         self.tau0 * self.area_fraction(h) + self.varsigma * self.pressure(h)
     }
 }

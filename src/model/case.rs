@@ -6,8 +6,10 @@
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
+use super::asperity::{Asperity, ContactLaw};
 use super::film::Boundary;
 use super::geometry::{CircularArc, Contact, HalfEllipsoid, Liner};
+use super::operating::Scales;
 
 /// A lattice of half-ellipsoidal pockets (docs/model.md §2). Lengths in cm, depth in µm.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -84,6 +86,33 @@ pub struct CaseSpec {
         skip_serializing_if = "is_paper_ring_width"
     )]
     pub ring_width: f64,
+    /// Asperity contact between ring face and liner plateau (docs/model.md §11), its
+    /// constants in SI; None: the film alone carries the ring. Left out of the serialised
+    /// case (and so of cache keys) at the defaults.
+    #[serde(
+        default = "default_contact",
+        skip_serializing_if = "is_default_contact"
+    )]
+    pub contact: Option<Asperity>,
+    /// The run's scales U and μ (docs/model.md §1): the scaled film and ring do not depend on
+    /// them, the contact's pressure and shear in scaled units do. Not serialised: a cache key
+    /// holds the scaled case, which is the same for every U and μ of one scaled problem; the
+    /// contact acts only where the film is thinner than 4σ, and only there could two points
+    /// of equal W_ps and m but different μU share a key (docs/model.md §11).
+    #[serde(skip, default = "paper_scales")]
+    pub scales: Scales,
+}
+
+fn default_contact() -> Option<Asperity> {
+    Some(Asperity::default())
+}
+
+fn is_default_contact(c: &Option<Asperity>) -> bool {
+    *c == default_contact()
+}
+
+fn paper_scales() -> Scales {
+    Scales::PAPER
 }
 
 /// The paper's ring width (cm, docs/model.md §2).
@@ -123,7 +152,15 @@ impl CaseSpec {
             z0: 2.5,
             v0: 0.0,
             ring_width: PAPER_RING_WIDTH,
+            contact: default_contact(),
+            scales: Scales::PAPER,
         }
+    }
+
+    /// The asperity contact of this case in its scaled units (docs/model.md §11), None
+    /// without contact.
+    pub fn contact_law(&self) -> Option<ContactLaw> {
+        self.contact.map(|a| ContactLaw::new(&a, &self.scales))
     }
     pub fn with_texture(mut self, t: Texture) -> Self {
         self.texture = Some(t);
@@ -333,6 +370,9 @@ impl CaseSpec {
         }
         if !(self.theta_s.is_finite() && (0.0..1.0).contains(&self.theta_s)) {
             return Err(bad("theta_s", self.theta_s, "must lie in [0, 1)"));
+        }
+        if let Some(a) = &self.contact {
+            a.check()?;
         }
         if let Some(t) = &self.texture {
             positive("l1", t.l1)?;

@@ -189,6 +189,7 @@ impl Operating {
         case.mass = canonical(self.ring_mass_kg_per_m / s.mass_kg_per_m());
         case.ring_width = canonical(self.ring_width_mm / 10.0);
         case.d_oil = self.d_oil_um;
+        case.scales = s;
     }
 }
 
@@ -227,6 +228,14 @@ impl Default for Validity {
 }
 
 impl Validity {
+    /// Sets the case's asperity contact (if it has one) to this composite roughness σ
+    /// (docs/model.md §9, §11).
+    pub fn apply(&self, case: &mut CaseSpec) {
+        if let Some(a) = case.contact.as_mut() {
+            a.sigma = self.roughness_um * H_M;
+        }
+    }
+
     /// The least clearance of a full film (µm): Λ·σ.
     pub fn clearance_limit_um(&self) -> f64 {
         FULL_FILM_LAMBDA * self.roughness_um

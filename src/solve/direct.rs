@@ -4,7 +4,7 @@
 
 use super::newton::{
     apply_correction, assemble, fill_pressurised, pressurised_range, ring_sensitivity, ring_update,
-    update_active_set, upwind_sweep, RingWork,
+    unpressurised_ring_update, update_active_set, upwind_sweep, RingWork,
 };
 use super::problem::{check_finite, finish, impose_boundary, GapCache};
 use super::reuse::{Plan, Reuse, CHORD_CONFIRM, ROUNDED_FACTORS};
@@ -45,12 +45,13 @@ struct Iterate {
 }
 
 impl Iterate {
-    /// Nothing pressurised: W_h = 0, and the ring's update is explicit.
-    fn unpressurised(step: &Step, z: f64) -> Self {
+    /// Nothing pressurised: W_h = 0, and the ring's update is explicit (a Newton step on the
+    /// asperity load where the asperities touch).
+    fn unpressurised(step: &Step, z: f64, ring_min_base: f64) -> Self {
         Iterate {
-            dz: step
-                .ring
-                .map_or(0.0, |link| link.z_pred - link.kappa * link.w_ps - z),
+            dz: step.ring.map_or(0.0, |link| {
+                unpressurised_ring_update(step, link, z, ring_min_base)
+            }),
             z_matrix: None,
             chorded: false,
             rounded: false,
@@ -106,7 +107,7 @@ impl FilmSolver {
             upwind_sweep(step, &self.gap.faces(), state, 1..lo);
             let it = match range {
                 Some(r) => self.newton_step(step, state, *z, r, ring_min_base, stretch)?,
-                None => Iterate::unpressurised(step, *z),
+                None => Iterate::unpressurised(step, *z, ring_min_base),
             };
             *z += it.dz;
             upwind_sweep(step, &self.gap.faces(), state, hi + 1..g.n1);

@@ -183,4 +183,7 @@ pub struct SolveStats {
     pub residual: f64,
     /// Hydrodynamic load W_h = (1/B)∫∫_ring p (eq. 16).
     pub w_h: f64,
+    /// Asperity load W_a = (1/B)∫∫_ring p_a(h) (docs/model.md §11) of the problem's ring
+    /// link's contact; 0 without one.
+    pub w_a: f64,
 }

@@ -5,13 +5,13 @@
 //! For a fixed active set the film balance F (the stencil, [`Column::balance`]) is linear in
 //! the unknowns x (p on the pressurised set, φ on the cavitated set) and nonlinear in Z only
 //! through h(Z). A Newton iteration solves ∂F/∂x · y1 = −F and ∂F/∂x · y2 = ∂F/∂Z, then the
-//! ring equation G = Z − z_pred − κ(W_h(p) − W_ps) = 0 for δZ (the Schur complement), and
-//! moves x by y1 − y2·δZ; then nodes switch sets: a negative pressure cavitates, an over-full
+//! ring equation G = Z − z_pred − κ(W_h(p) + W_a(Z) − W_ps) = 0 for δZ (the Schur complement;
+//! W_a the asperity load, docs/model.md §11), and moves x by y1 − y2·δZ; then nodes switch sets: a negative pressure cavitates, an over-full
 //! film pressurises.
 
 use super::problem::limit_closing;
 use super::{Stencil5, Step};
-use crate::mesh::integrals::load;
+use crate::mesh::integrals::{contact_load, load};
 use crate::mesh::{FilmState, Grid};
 use crate::model::film::{Column, Faces};
 use crate::model::ring::RingLink;
@@ -239,9 +239,11 @@ pub fn ring_update(
 ) -> f64 {
     let (g, ring) = (step.grid, &step.gap.ring);
     let n2 = g.n2;
-    // G = Z − z_pred − κ(W_h(p) − W_ps) = 0, ∂G/∂p_k = −κ·w_k.
+    // G = Z − z_pred − κ(W_h(p) + W_a(Z) − W_ps) = 0, ∂G/∂p_k = −κ·w_k,
+    // ∂G/∂Z gains −κ·dW_a/dZ ≥ 0 (the asperities stiffen the ring's balance).
     let w_h = load(g, ring, &state.p);
-    let gres = z - link.z_pred - link.kappa * (w_h - link.w_ps);
+    let (w_a, dw_a) = asperity_load(step, link, z, ring_min_base);
+    let gres = z - link.z_pred - link.kappa * (w_h + w_a - link.w_ps);
     let (mut gy1, mut gy2) = (0.0, 0.0);
     for i in (lo..=hi).filter(|&i| ring[i]) {
         for j in 0..n2 {
@@ -254,12 +256,34 @@ pub fn ring_update(
     }
     let load_weight = g.dx * g.dy / g.width;
     let gx = -link.kappa * load_weight;
-    let dz = -(gres + gx * gy1) / (1.0 - gx * gy2);
+    let dz = -(gres + gx * gy1) / (1.0 - gx * gy2 - link.kappa * dw_a);
     let dz = limit_closing(dz, z, ring_min_base);
     for (a, b) in y1.iter_mut().zip(y2) {
         *a -= b * dz;
     }
     dz
+}
+
+/// The asperity load W_a and dW_a/dZ of the link's contact at Z (docs/model.md §11): (0, 0)
+/// without one, or where the smallest gap under the ring, `ring_min_base` + Z, is beyond the
+/// contact's reach (no pass over the ring then).
+pub fn asperity_load(step: &Step, link: RingLink, z: f64, ring_min_base: f64) -> (f64, f64) {
+    match link.contact {
+        Some(law) if law.touches(ring_min_base + z) => contact_load(step.grid, step.gap, z, &law),
+        _ => (0.0, 0.0),
+    }
+}
+
+/// The ring's update δZ when nothing is pressurised (W_h = 0): a Newton step on
+/// Z − z_pred − κ(W_a(Z) − W_ps) = 0, limited so that it does not close the gap; without
+/// contact the explicit Z = z_pred − κ·W_ps.
+pub fn unpressurised_ring_update(step: &Step, link: RingLink, z: f64, ring_min_base: f64) -> f64 {
+    let (w_a, dw_a) = asperity_load(step, link, z, ring_min_base);
+    if w_a == 0.0 && dw_a == 0.0 {
+        return link.z_pred - link.kappa * link.w_ps - z;
+    }
+    let gres = z - link.z_pred - link.kappa * (w_a - link.w_ps);
+    limit_closing(-gres / (1.0 - link.kappa * dw_a), z, ring_min_base)
 }
 
 /// Moves the unknowns of columns lo..=hi by `y` (p on the pressurised set, φ elsewhere);

@@ -2,7 +2,7 @@
 //! Z, the boundary conditions, the final state and the guards a solution must pass.
 
 use super::{FilmError, SolveStats, Step};
-use crate::mesh::integrals::load;
+use crate::mesh::integrals::{contact_load, load};
 use crate::mesh::{face_conductances, FilmState, Grid};
 use crate::model::film::{Column, Faces};
 
@@ -186,6 +186,10 @@ pub fn finish(
         eliminated_rows: 0,
         residual,
         w_h: load(g, &step.gap.ring, &state.p),
+        w_a: step
+            .ring
+            .and_then(|link| link.contact)
+            .map_or(0.0, |law| contact_load(g, step.gap, z, &law).0),
     })
 }
 

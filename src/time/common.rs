@@ -26,7 +26,7 @@ pub enum SolveError {
         t: f64,
         source: FilmError,
     },
-    #[error("case {case}: the ring reached the liner (Z = {z:.2e} µm, under the {floor} µm a lubricating film needs) at t = {t:.5}; contact is outside the lubrication model", floor = CONTACT_Z)]
+    #[error("case {case}: the ring reached the liner (Z = {z:.2e} µm, under the {floor} µm a lubricating film needs) at t = {t:.5}; neither the film nor the asperities (docs/model.md §11, where the case has them) could hold it off", floor = CONTACT_Z)]
     Contact { case: String, t: f64, z: f64 },
     #[error("case {case}: {quantity} = {value} at t = {t:.5}: the run is numerically unstable (try a smaller dt)")]
     Unstable {
@@ -62,6 +62,8 @@ pub enum SteadyError {
         /// The likely cause, for the user.
         hint: &'static str,
     },
+    #[error("the ring reached the liner (Z = {z:.2e} µm at the force balance, under the {floor} µm a lubricating film needs) with the asperities carrying {w_a:.3e} of W_ps = {w_ps:.3e}: the load is beyond what film and asperities can bear (docs/model.md §11)", floor = CONTACT_Z)]
+    Overloaded { z: f64, w_a: f64, w_ps: f64 },
 }
 
 /// Reported after each averaging window of a transient run.

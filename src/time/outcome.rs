@@ -14,6 +14,14 @@ pub struct Outcome {
     pub f_couette: f64,
     pub f_poiseuille: f64,
     pub f_pressure: f64,
+    /// The asperities' boundary friction, part of f̄ (docs/model.md §11). Absent (0) where
+    /// they carry nothing.
+    #[serde(default, skip_serializing_if = "is_zero_f")]
+    pub f_boundary: f64,
+    /// Period-mean share of the load the asperities carry, W̄_a/W_ps (docs/model.md §11).
+    /// Absent (0) where they carry nothing.
+    #[serde(default, skip_serializing_if = "is_zero_f")]
+    pub asperity_share: f64,
     /// Mean, minimum and maximum of Z over the last period (µm).
     pub z_mean: f64,
     pub z_min: f64,
@@ -75,16 +83,24 @@ fn is_zero(n: &usize) -> bool {
     *n == 0
 }
 
+fn is_zero_f(x: &f64) -> bool {
+    *x == 0.0
+}
+
 /// One row of the time series: values at the end of each step.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SeriesRow {
     pub t: f64,
     pub z: f64,
     pub w_h: f64,
+    /// Asperity load W_a (docs/model.md §11).
+    pub w_a: f64,
     pub f: f64,
     pub f_couette: f64,
     pub f_poiseuille: f64,
     pub f_pressure: f64,
+    /// Boundary friction of the asperities (docs/model.md §11), part of f.
+    pub f_boundary: f64,
 }
 
 /// A run's outcomes and, on request, its time series.
@@ -104,6 +120,7 @@ impl Outcome {
             f_couette: f.couette,
             f_poiseuille: f.poiseuille,
             f_pressure: f.pressure,
+            f_boundary: f.boundary,
             ..self.clone()
         }
     }

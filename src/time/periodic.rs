@@ -82,7 +82,7 @@ impl StopRule for PeriodicRegime {
     }
 }
 
-/// Largest mean force imbalance |W̄_h − W_ps| / W_ps a window may end with in the periodic
+/// Largest mean force imbalance |W̄_h + W̄_a − W_ps| / W_ps a window may end with in the periodic
 /// regime. Why: over a period the ring's momentum returns, so the film carries the load on
 /// average (the ring equation, eq. 3, summed over the period); a ring too heavy to move
 /// (a mass 10¹⁹ times the paper's) repeats the same window while the film carries 0.91 of the
@@ -94,7 +94,7 @@ pub const FORCE_TOL: f64 = 1e-3;
 /// of the window `last` when that is above [`FORCE_TOL`] (so that the run goes on, and a run
 /// that never balances reports how far it is).
 pub(crate) fn with_force_balance(err: f64, last: &PeriodMeans, w_ps: f64) -> f64 {
-    let imbalance = ((last.w_h - w_ps) / w_ps).abs();
+    let imbalance = ((last.w_h + last.w_a - w_ps) / w_ps).abs();
     if imbalance > FORCE_TOL {
         err.max(imbalance)
     } else {

@@ -257,6 +257,8 @@ impl Transient {
             f_couette: last.friction.couette,
             f_poiseuille: last.friction.poiseuille,
             f_pressure: last.friction.pressure,
+            f_boundary: last.friction.boundary,
+            asperity_share: last.w_a / self.operating_point().w_ps,
             z_mean: last.z_mean,
             z_min: last.z_min,
             z_max: last.z_max,

@@ -1,13 +1,15 @@
 //! Untextured liner: the problem is 1D and steady (docs/model.md §6), solved as such — a
 //! steady Elrod–Adams film on one line of nodes (the same stencil and solver as the transient,
-//! without the time term) and a scalar root find on Z for the force balance W_h(Z) = W_ps.
+//! without the time term) and a scalar root find on Z for the force balance
+//! W_h(Z) + W_a(Z) = W_ps (W_a the asperity load, docs/model.md §11).
 
 use std::time::Instant;
 
+use super::common::CONTACT_Z;
 use super::common::{SolveError, SteadyError};
 use super::numerics::TimeScheme;
 use super::outcome::{Outcome, RunResult};
-use crate::mesh::integrals::friction;
+use crate::mesh::integrals::{contact_load, friction};
 use crate::mesh::{FilmState, Grid, Scene};
 use crate::model::case::CaseSpec;
 use crate::model::friction::{Friction, FrictionModel};
@@ -16,8 +18,11 @@ use crate::solve::{FilmError, FilmMethod, FilmSolver, Method, Step};
 /// Force-balanced steady state of an untextured contact.
 #[derive(Clone, Debug)]
 pub struct Steady {
-    /// Ring position Z (µm) at which W_h = W_ps.
+    /// Ring position Z (µm) at which W_h + W_a = W_ps.
     pub z: f64,
+    /// The film's and the asperities' loads there (docs/model.md §11).
+    pub w_h: f64,
+    pub w_a: f64,
     pub friction: Friction,
     /// Film solves used by the root find.
     pub film_solves: usize,
@@ -47,20 +52,37 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
     let mut solver = FilmSolver::new(Method::Direct);
     let mut state = FilmState::cavitated(g, &scene.gap, case.z0, case.d_oil);
     let mut solves = 0;
-    // Residual of the force balance at Z (warm-started film solves).
+    let law = case.contact_law();
+    let (mut w_h, mut w_a) = (0.0, 0.0);
+    // Residual of the force balance at Z (warm-started film solves); the asperity load is
+    // added only where it acts, so that without it the residual is W_h − W_ps to the bit.
     let mut excess = |z: f64| -> Result<f64, FilmError> {
         let mut zz = z;
         solves += 1;
-        Ok(solver.solve(&step, &mut state, &mut zz)?.w_h - case.w_ps)
+        w_h = solver.solve(&step, &mut state, &mut zz)?.w_h;
+        w_a = law.map_or(0.0, |l| contact_load(g, &scene.gap, z, &l).0);
+        Ok(if w_a == 0.0 {
+            w_h - case.w_ps
+        } else {
+            w_h + w_a - case.w_ps
+        })
     };
     let bracket = bracket(case, &mut excess)?;
     let z = balance(case.w_ps, bracket, &mut excess)?;
     // Final state exactly at the returned Z.
     excess(z)?;
+    if law.is_some() && z <= CONTACT_Z {
+        return Err(SteadyError::Overloaded {
+            z,
+            w_a,
+            w_ps: case.w_ps,
+        });
+    }
     let model = FrictionModel {
         u: case.u,
         theta_s: case.theta_s,
         w_ps: case.w_ps,
+        contact: case.contact_law(),
     };
     let friction = friction(g, &scene.gap, z, &scene.hl, &state, &model);
     let theta = (0..g.nodes())
@@ -68,6 +90,8 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
         .collect();
     Ok(Steady {
         z,
+        w_h,
+        w_a,
         friction,
         film_solves: solves,
         x: (0..=g.n1).map(|i| g.x(i)).collect(),
@@ -95,7 +119,9 @@ fn bracket(
                 w_lo: flo + case.w_ps,
                 w_hi: fhi + case.w_ps,
                 w_ps: case.w_ps,
-                hint: if case.r.is_infinite() {
+                hint: if case.contact.is_some() && flo < 0.0 {
+                    "the asperities cannot carry it either: the load is beyond what ring face and liner can bear"
+                } else if case.r.is_infinite() {
                     "a flat ring on a plain liner has no converging wedge to build pressure"
                 } else if case.r > 1e4 {
                     "a ring this flat builds too little pressure to carry the load"
@@ -173,6 +199,8 @@ pub fn steady_outcome(case: &CaseSpec, n1: usize) -> Result<RunResult, SolveErro
         f_couette: s.friction.couette,
         f_poiseuille: s.friction.poiseuille,
         f_pressure: s.friction.pressure,
+        f_boundary: s.friction.boundary,
+        asperity_share: s.w_a / case.w_ps,
         z_mean: s.z,
         z_min: s.z,
         z_max: s.z,

@@ -16,6 +16,7 @@ use super::stats::{ApproachDone, RunStats};
 use super::steady::solve_untextured;
 use crate::mesh::integrals::{boundary_flows, friction_thresholds};
 use crate::mesh::{FilmState, Scene};
+use crate::model::asperity::ContactLaw;
 use crate::model::case::CaseSpec;
 use crate::model::film::Boundary;
 use crate::model::friction::{Friction, FrictionModel};
@@ -72,6 +73,8 @@ pub(super) struct PeriodMemory {
 /// [`Transient::run_to_periodic`] drives it to the periodic regime.
 pub struct Transient {
     case: CaseSpec,
+    /// The case's asperity contact in scaled units (docs/model.md §11).
+    contact: Option<ContactLaw>,
     scene: Scene,
     state: FilmState,
     ring_state: RingState,
@@ -123,6 +126,7 @@ impl Transient {
         };
         Transient {
             case: case.clone(),
+            contact: case.contact_law(),
             levels: TimeLevels::new(num.scheme, &state.phi, dt),
             state,
             ring_state,
@@ -168,6 +172,7 @@ impl Transient {
         Ring {
             mass: self.case.mass,
             w_ps: self.operating_point().w_ps,
+            contact: self.contact,
         }
     }
 
@@ -276,14 +281,15 @@ impl Transient {
     }
 
     pub fn friction_model(&self) -> FrictionModel {
-        Self::friction_model_at(&self.case, &self.operating_point())
+        self.friction_model_at(&self.operating_point())
     }
 
-    fn friction_model_at(case: &CaseSpec, op: &OperatingPoint) -> FrictionModel {
+    fn friction_model_at(&self, op: &OperatingPoint) -> FrictionModel {
         FrictionModel {
             u: op.u,
-            theta_s: case.theta_s,
+            theta_s: self.case.theta_s,
             w_ps: op.w_ps,
+            contact: self.contact,
         }
     }
 
@@ -345,6 +351,7 @@ impl Transient {
         let ring = Ring {
             mass: self.case.mass,
             w_ps: op.w_ps,
+            contact: self.contact,
         };
         let link = ring.link(&s, dt);
         let mut z = self.initial_guess(&s, t_new)?;
@@ -356,7 +363,7 @@ impl Transient {
                 z,
             });
         }
-        self.ring_state = ring.advance(&s, dt, z, stats.w_h);
+        self.ring_state = ring.advance(&s, dt, z, stats.w_h + stats.w_a);
         self.check_mass(&op, t_new)?;
         self.clock.steps = level;
         self.levels.solved();
@@ -374,7 +381,7 @@ impl Transient {
             z,
             &self.scene.hl,
             &self.state,
-            &Self::friction_model_at(&self.case, &op),
+            &self.friction_model_at(&op),
             &self.last.extra_theta_s,
         );
         Ok(())
@@ -583,10 +590,12 @@ impl Transient {
             t: self.t(),
             z: self.ring_state.z,
             w_h: self.last.solve.w_h,
+            w_a: self.last.solve.w_a,
             f: f.total(),
             f_couette: f.couette,
             f_poiseuille: f.poiseuille,
             f_pressure: f.pressure,
+            f_boundary: f.boundary,
         }
     }
 }

@@ -27,6 +27,8 @@ pub(crate) struct PeriodMeans {
     pub z_max: f64,
     /// Mean film force over the window (the load the film carries, in W_ps's units).
     pub w_h: f64,
+    /// Mean asperity load over the window (docs/model.md §11, in W_ps's units).
+    pub w_a: f64,
     /// Oil the film holds at the window's start and end (∫ h·θ dx1 dx2 over the domain,
     /// nondimensional).
     pub start_content: f64,
@@ -45,6 +47,7 @@ impl PeriodMeans {
             z_min: f64::INFINITY,
             z_max: f64::NEG_INFINITY,
             w_h: 0.0,
+            w_a: 0.0,
             start_content: 0.0,
             content: 0.0,
             throughput: 0.0,
@@ -60,6 +63,7 @@ impl PeriodMeans {
         self.z_min = self.z_min.min(row.z);
         self.z_max = self.z_max.max(row.z);
         self.w_h += row.w_h;
+        self.w_a += row.w_a;
     }
     /// The samples at the n step ends of a period: their plain mean is the trapezoidal mean
     /// of the periodic signal over the period.
@@ -70,6 +74,7 @@ impl PeriodMeans {
         }
         self.z_mean /= n as f64;
         self.w_h /= n as f64;
+        self.w_a /= n as f64;
         self
     }
 }

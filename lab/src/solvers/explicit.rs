@@ -3,7 +3,7 @@
 //! from its load. The film's squeeze stiffness makes it unstable at the paper's time step
 //! (docs/model.md §4), which is why texopt couples the ring implicitly.
 
-use texopt::mesh::integrals::load;
+use texopt::mesh::integrals::{contact_load, load};
 use texopt::mesh::FilmState;
 use texopt::solve::{FilmError, FilmMethod, SolveStats, Step};
 
@@ -36,16 +36,23 @@ impl FilmMethod for Explicit {
         };
         // The Newmark link carries Z + dt·V + dt²/4·A and κ = dt²/(4m): the explicit
         // prediction adds dt²/4·A = κ·(W_h − W_ps) at the old level.
-        let w_h = self
-            .last_w_h
-            .unwrap_or_else(|| load(step.grid, &step.gap.ring, &state.p));
+        // The load is the film's and the asperities' (docs/model.md §11) at the old level.
+        let w_h = self.last_w_h.unwrap_or_else(|| {
+            load(step.grid, &step.gap.ring, &state.p)
+                + link
+                    .contact
+                    .map_or(0.0, |l| contact_load(step.grid, step.gap, *z, &l).0)
+        });
         *z = link.z_pred + link.kappa * (w_h - link.w_ps);
         let fixed = Step {
             ring: None,
             ..*step
         };
-        let stats = self.inner.solve(&fixed, state, z)?;
-        self.last_w_h = Some(stats.w_h);
+        let mut stats = self.inner.solve(&fixed, state, z)?;
+        stats.w_a = link
+            .contact
+            .map_or(0.0, |l| contact_load(step.grid, step.gap, *z, &l).0);
+        self.last_w_h = Some(stats.w_h + stats.w_a);
         Ok(stats)
     }
 
