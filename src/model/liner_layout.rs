@@ -25,13 +25,6 @@ pub struct LinerLayout {
 pub enum LayoutError {
     #[error("{zones} zone boundaries need {} textures (plain or not), got {textures}", zones - 1)]
     Count { zones: usize, textures: usize },
-    #[error("zone {zone}'s texture has a lattice {width} cm wide across the sliding direction, zone {first}'s {first_width} cm: one film across the ring needs one lattice width (give the zones' textures the same width)")]
-    Width {
-        zone: usize,
-        width: f64,
-        first: usize,
-        first_width: f64,
-    },
 }
 
 impl LinerLayout {
@@ -40,31 +33,13 @@ impl LinerLayout {
         Self::zoned(vec![0.0, stroke_cm], vec![texture]).expect("one zone, one texture")
     }
 
-    /// Zones between `bounds_cm` with one texture (or none) each. Textured zones must share
-    /// their lattice's width across the sliding direction (the film is simulated over half
-    /// of it, docs/model.md §2).
+    /// Zones between `bounds_cm` with one texture (or none) each.
     pub fn zoned(bounds_cm: Vec<f64>, textures: Vec<Option<Texture>>) -> Result<Self, LayoutError> {
         if bounds_cm.len() != textures.len() + 1 {
             return Err(LayoutError::Count {
                 zones: bounds_cm.len(),
                 textures: textures.len(),
             });
-        }
-        let mut first: Option<(usize, f64)> = None;
-        for (z, t) in textures.iter().enumerate() {
-            let Some(t) = t else { continue };
-            match first {
-                None => first = Some((z, t.width)),
-                Some((f, w)) if w != t.width => {
-                    return Err(LayoutError::Width {
-                        zone: z,
-                        width: t.width,
-                        first: f,
-                        first_width: w,
-                    })
-                }
-                Some(_) => {}
-            }
         }
         let zones = textures
             .iter()
@@ -90,15 +65,9 @@ impl LinerLayout {
         })
     }
 
-    /// The lattice width across the sliding direction shared by the textured zones, or None
-    /// for a plain liner.
-    pub fn width_cm(&self) -> Option<f64> {
-        self.textures.iter().flatten().map(|t| t.width).next()
-    }
-
     /// Whether any zone is textured.
     pub fn textured(&self) -> bool {
-        self.width_cm().is_some()
+        self.textures.iter().any(Option::is_some)
     }
 
     /// The smallest lattice period along the stroke (cm), infinite for a plain liner.
@@ -155,10 +124,10 @@ mod tests {
         assert!((l.depth_um(-0.05, 0.025) - 5.0).abs() < 1e-9);
         assert_eq!(l.depth_um(0.125, 0.025), 0.0);
         assert_eq!(l.depth_um(1.0, 0.025), 0.0);
-        assert_eq!(l.width_cm(), Some(0.05));
+        assert_eq!(l.width_over(0.5, 1.5), Some(0.05));
+        assert_eq!(l.width_over(1.5, 2.5), None);
         assert_eq!(l.finest_period_cm(), 0.05);
-        let other = Texture::circular(0.01, 0.04, 5.0);
-        let e = LinerLayout::zoned(vec![0.0, 1.0, 8.0], vec![Some(t), Some(other)]).unwrap_err();
-        assert!(matches!(e, LayoutError::Width { zone: 1, .. }), "{e}");
+        let e = LinerLayout::zoned(vec![0.0, 1.0, 8.0], vec![Some(t)]).unwrap_err();
+        assert!(matches!(e, LayoutError::Count { zones: 3, .. }), "{e}");
     }
 }

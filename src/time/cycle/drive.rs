@@ -141,12 +141,24 @@ impl Drive {
 /// `step_deg` where the piston runs at its mean speed or faster, shortened in proportion to
 /// the speed below it down to `step_deg·refine` near the dead centres (where the film is
 /// squeezed and its direction turns), further where the texture would move more than
-/// `texture_step` cm in one step, and placed so that every dead centre is a step's end
-/// (the liner's speed changes sign there, and nowhere inside a step).
-pub fn crank_steps(drive: &Drive, start_deg: f64, rule: &StepRule) -> Vec<f64> {
+/// `texture_step` cm in one step where `textured(position_cm)` says pockets pass under the
+/// ring, and placed so that every dead centre is a step's end (the liner's speed changes sign
+/// there, and nowhere inside a step).
+pub fn crank_steps(
+    drive: &Drive,
+    start_deg: f64,
+    rule: &StepRule,
+    textured: &dyn Fn(f64) -> bool,
+) -> Vec<f64> {
     let mut out = vec![start_deg];
     if let Motion::Steady { .. } = drive.motion {
-        stroke_steps(drive, start_deg, start_deg + 720.0, rule, &mut out);
+        stroke_steps(
+            drive,
+            (start_deg, start_deg + 720.0),
+            rule,
+            textured,
+            &mut out,
+        );
         return out;
     }
     let dead: Vec<f64> = (0..=4)
@@ -157,7 +169,7 @@ pub fn crank_steps(drive: &Drive, start_deg: f64, rule: &StepRule) -> Vec<f64> {
         .collect();
     let mut from = start_deg;
     for to in dead {
-        stroke_steps(drive, from, to, rule, &mut out);
+        stroke_steps(drive, (from, to), rule, textured, &mut out);
         from = to;
     }
     out
@@ -178,11 +190,21 @@ pub struct StepRule {
 /// Steps from `from` to `to` (no dead centre strictly between), appended to `out`: the
 /// local step size s(θ) is integrated as n = ⌈∫dθ/s⌉ and the ends placed at equal parts of
 /// that integral.
-fn stroke_steps(drive: &Drive, from: f64, to: f64, rule: &StepRule, out: &mut Vec<f64>) {
+fn stroke_steps(
+    drive: &Drive,
+    (from, to): (f64, f64),
+    rule: &StepRule,
+    textured: &dyn Fn(f64) -> bool,
+    out: &mut Vec<f64>,
+) {
     const TABLE: usize = 4096;
     let size = |deg: f64| {
-        let speed = drive.at(deg).u.abs();
+        let p = drive.at(deg);
+        let speed = p.u.abs();
         let by_speed = rule.step_deg * speed.clamp(rule.refine, 1.0);
+        if !textured(p.position_cm) {
+            return by_speed;
+        }
         // The liner moves |u|·dt = |u|·time_of(step) cm in one step.
         let by_texture = rule.texture_step / (speed * drive.time_of(1.0)).max(1e-300);
         by_speed.min(by_texture)

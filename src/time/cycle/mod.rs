@@ -2,9 +2,13 @@
 //! crank steps, the oil on the liner and the run that steps them.
 
 mod drive;
+mod metrics;
+mod numerics;
 mod oil;
 mod run;
 
 pub use drive::{crank_steps, Drive, DrivePoint, StepRule};
+pub use metrics::{metrics, CycleMetrics, Regime};
+pub use numerics::cycle_numerics;
 pub use oil::{Ahead, OilMap, Taken};
 pub use run::{CycleNumerics, CycleOutcome, CycleRow, CycleRun, CycleSummary, OilBalance};

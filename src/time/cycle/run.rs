@@ -45,8 +45,11 @@ pub struct CycleNumerics {
 /// One step of the cycle, in the engine's units.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct CycleRow {
-    /// Crank angle at the step's end (degrees, in [0, 720)).
+    /// Crank angle at the step's end (degrees, in [0, 720)) and the step's length (degrees).
     pub crank_deg: f64,
+    pub step_deg: f64,
+    /// The ring's distance from its top-dead-centre position (mm).
+    pub position_mm: f64,
     /// The liner's velocity under the ring over the step (m/s, positive towards the
     /// crankcase): −(the piston's).
     pub u_ms: f64,
@@ -61,6 +64,13 @@ pub struct CycleRow {
     /// Friction force of the film on the ring per unit circumferential length (N/m), signed
     /// as the liner's motion: positive towards the crankcase.
     pub friction_n_per_m: f64,
+    /// Its part carried by the asperities (boundary friction, docs/model.md §11), signed
+    /// alike; the film's is the rest.
+    pub asperity_friction_n_per_m: f64,
+    /// Share of the ring's load the asperities carry, W_a/W.
+    pub asperity_share: f64,
+    /// Film parameter Λ = h_min/σ (infinite without a contact model).
+    pub lambda: f64,
     /// Friction power per unit circumferential length, |F·U| (W/m).
     pub power_w_per_m: f64,
     /// Oil the leading edge met (µm, the liner's layer) and the trailing edge left.
@@ -137,6 +147,8 @@ pub struct CycleRun<'a> {
     tally: OilBalance,
     /// The lattice width the film is simulated across (half of it), None: one cell across.
     width: Option<f64>,
+    /// The inlet film of the last step (µm): the layer the liner brings.
+    phi_inlet: f64,
 }
 
 impl<'a> CycleRun<'a> {
@@ -185,6 +197,7 @@ impl<'a> CycleRun<'a> {
             numerics,
             tally: OilBalance::default(),
             width,
+            phi_inlet: start_case.d_oil,
         };
         run.place(&p0);
         Ok(run)
@@ -237,9 +250,11 @@ impl<'a> CycleRun<'a> {
 
     /// The film across the lattice width the ring is over at `p` (one cell across where it is
     /// over a plain liner), its content carried over column by column so that each column
-    /// keeps its oil: spread in proportion to the new gap (its θ uniform across). A change
-    /// that would overfill a column (a shallower lattice under a full film) waits for a later
-    /// step; the film stays on its grid meanwhile, the other lattice sampled on it.
+    /// keeps its oil: spread in proportion to the new gap (its θ uniform across). The old
+    /// level may then hold more than a shallower lattice's gap, as after a squeeze: the step's
+    /// storage term presses it out. While the ring straddles two lattices of different widths
+    /// the film is simulated across the width of the one under its centre, the other's
+    /// pockets sampled on that grid (docs/model.md §12).
     fn regrid(&mut self, p: &DrivePoint) {
         let (a, b) = self.scene.contact.ring_edges();
         let x_c = self.scene.contact.x_center_cm;
@@ -249,32 +264,43 @@ impl<'a> CycleRun<'a> {
         if width == self.width {
             return;
         }
-        let old_width = std::mem::replace(&mut self.width, width);
-        let mut scene = film_scene(&self.case, &self.numerics, width);
-        std::mem::swap(&mut self.scene, &mut scene);
+        self.width = width;
+        let old = std::mem::replace(
+            &mut self.scene,
+            film_scene(&self.case, &self.numerics, width),
+        );
         self.place(p);
         let z = self.ring.z;
-        let carried = carry(&scene, &self.state.phi, &self.scene, z).zip(carry(
-            &scene,
-            &self.phi_old,
-            &self.scene,
-            z,
-        ));
-        match carried {
-            Some((phi, old)) => {
-                let g = &self.scene.grid;
-                self.state = FilmState::cavitated(g, &self.scene.gap, z, 0.0);
-                for (k, &f) in phi.iter().enumerate() {
-                    self.state.phi[k] = f;
-                }
-                self.phi_old = old;
-                self.solver = FilmSolver::new(Method::Direct);
-            }
-            None => {
-                self.scene = scene;
-                self.width = old_width;
+        let phi = carry(&old, &self.state.phi, &self.scene, z);
+        self.phi_old = carry(&old, &self.phi_old, &self.scene, z);
+        let g = &self.scene.grid;
+        self.state = FilmState::cavitated(g, &self.scene.gap, z, 0.0);
+        for (k, f) in phi.into_iter().enumerate() {
+            self.state.phi[k] = f.min(self.scene.gap.h(g, k, z));
+        }
+        self.solver = FilmSolver::new(Method::Direct);
+    }
+
+    /// At a dead centre, the oil the ring has pushed ahead of itself into the free gap before
+    /// its leading edge, beyond the layer the liner brought there, leaves the liner: thrown
+    /// into the ring's land, above it at top dead centre and below at bottom dead centre
+    /// (docs/model.md §12). The liner's own layer stays, for the ring to meet on its way back.
+    fn throw_off_bank(&mut self) {
+        let g = &self.scene.grid;
+        let (a, _) = self.scene.contact.ring_edges();
+        let mut thrown = 0.0;
+        for i in (1..g.n1).take_while(|&i| g.x(i) < a) {
+            for j in 0..g.n2 {
+                let k = g.idx(i, j);
+                let keep = self.state.phi[k].min(self.phi_inlet);
+                thrown += self.state.phi[k] - keep;
+                self.state.phi[k] = keep;
+                self.state.p[k] = 0.0;
+                self.state.pressurised[k] = false;
             }
         }
+        self.tally.thrown += thrown * g.dx * g.dy / g.width;
+        self.phi_old.copy_from_slice(&self.state.phi);
     }
 
     /// Mirrors the film and its old level, x1 → length − x1 (the liner's direction turned).
@@ -304,24 +330,20 @@ fn film_scene(case: &CaseSpec, numerics: &CycleNumerics, width: Option<f64>) -> 
     Scene::with_grid(contact, Grid::new(numerics.n1, n2, length, half), 1.0)
 }
 
-/// Film content `phi` on scene `from` carried onto scene `to` (the same node columns): each
-/// column's mean content kept, spread in proportion to `to`'s gap at Z = `z`. None if a
-/// column would be overfilled (θ > 1).
-fn carry(from: &Scene, phi: &[f64], to: &Scene, z: f64) -> Option<Vec<f64>> {
+/// Film content `phi` on scene `from` carried onto scene `to` (the same node columns) with
+/// the ring at `z`: each column's mean content kept, spread in proportion to `to`'s gap.
+fn carry(from: &Scene, phi: &[f64], to: &Scene, z: f64) -> Vec<f64> {
     let (gf, gt) = (&from.grid, &to.grid);
     let mut out = vec![0.0; gt.nodes()];
     for i in 0..=gt.n1 {
         let mean = phi[i * gf.n2..(i + 1) * gf.n2].iter().sum::<f64>() / gf.n2 as f64;
         let h: Vec<f64> = (0..gt.n2).map(|j| to.gap.h(gt, gt.idx(i, j), z)).collect();
         let h_mean = h.iter().sum::<f64>() / gt.n2 as f64;
-        if mean > h_mean * (1.0 + 1e-12) {
-            return None;
-        }
         for (j, hj) in h.iter().enumerate() {
             out[gt.idx(i, j)] = mean * hj / h_mean;
         }
     }
-    Some(out)
+    out
 }
 
 /// The engine's ring as a case in the drive's scales (docs/model.md §1, §12): its face
@@ -332,6 +354,7 @@ fn ring_case(drive: &Drive) -> CaseSpec {
     CaseSpec {
         ring_width: ring.width_mm / 10.0,
         mass: ring.mass_kg_per_m / s.mass_kg_per_m(),
+        scales: s,
         ..CaseSpec::paper(ring.r_cm)
     }
 }
@@ -362,15 +385,19 @@ impl CycleRun<'_> {
         // The liner's displacement under the ring along x1 is −(the ring's along the stroke).
         let u = -(b.position_cm - a.position_cm) / dt;
         if (u < 0.0) != self.mirrored && u != 0.0 {
+            self.throw_off_bank();
             self.mirror();
         }
         self.regrid(&b);
         self.place(&b);
         let ex = self.exchange_ahead(&a, &b);
+        self.phi_inlet = ex.phi_inlet;
         let boundary = self.boundary(&b, u.abs(), ex.phi_inlet);
+        let contact = self.case.contact_law();
         let ring = Ring {
             mass: self.case.mass,
             w_ps: b.w,
+            contact,
         };
         let s = self.ring;
         let link = ring.link(&s, dt);
@@ -399,7 +426,7 @@ impl CycleRun<'_> {
                 z,
             });
         }
-        self.ring = ring.advance(&s, dt, z, stats.w_h);
+        self.ring = ring.advance(&s, dt, z, stats.w_h + stats.w_a);
         let (inflow, outflow) = self.flows(u.abs(), z);
         self.check_mass(
             film_before,
@@ -420,9 +447,14 @@ impl CycleRun<'_> {
                 u: u.abs(),
                 theta_s: self.case.theta_s,
                 w_ps: b.w,
+                contact,
             },
         );
-        Ok(self.row(&b, u, z, &f, ex.layer_met, outflow))
+        let mut row = self.row(&b, u, z, &f, ex.layer_met, outflow);
+        row.step_deg = to - from;
+        row.asperity_share = stats.w_a / b.w;
+        row.lambda = contact.map_or(f64::INFINITY, |c| row.h_min_um / c.sigma_um());
+        Ok(row)
     }
 
     /// The oil the leading edge meets over the step from `a` to `b`: taken off the liner
@@ -460,10 +492,11 @@ impl CycleRun<'_> {
         } else {
             (b.p_above, b.p_below)
         };
+        let nogas = std::env::var("NOGAS").is_ok();
         Boundary {
             u,
-            p_left,
-            p_right,
+            p_left: if nogas { 0.0 } else { p_left },
+            p_right: if nogas { 0.0 } else { p_right },
             phi_inlet,
         }
     }
@@ -507,9 +540,12 @@ impl CycleRun<'_> {
         let bar = s.pressure_pa() / 1e5;
         // f = (H/6L)·F/W (eq. 11): the force is f·W in load units (docs/model.md §1).
         let force = f.total() * b.w * s.load_n_per_m();
+        let asperity = f.boundary * b.w * s.load_n_per_m();
         let sign = if self.mirrored { -1.0 } else { 1.0 };
         CycleRow {
             crank_deg: b.crank_deg.rem_euclid(720.0),
+            step_deg: 0.0,
+            position_mm: 10.0 * b.position_cm,
             u_ms: u * s.speed_ms,
             load_n_per_m: b.w * s.load_n_per_m(),
             p_above_bar: b.p_above * bar,
@@ -517,6 +553,9 @@ impl CycleRun<'_> {
             z_um: z,
             h_min_um: self.scene.contact.clearance_um(z),
             friction_n_per_m: sign * force,
+            asperity_friction_n_per_m: sign * asperity,
+            asperity_share: 0.0,
+            lambda: f64::INFINITY,
             power_w_per_m: (force * u * s.speed_ms).abs(),
             oil_met_um: met,
             oil_left_um: if u != 0.0 { outflow / u.abs() } else { 0.0 },
@@ -565,7 +604,21 @@ impl CycleRun<'_> {
         on_cycle: &mut dyn FnMut(&CycleSummary),
         on_step: &mut dyn FnMut(&CycleRow),
     ) -> Result<CycleOutcome, SolveError> {
-        let steps = crank_steps(self.drive, self.numerics.start_deg, &self.numerics.steps);
+        // Pockets under the ring, or within a ring's width of it, call for the texture's step.
+        let (a, b) = self.scene.contact.ring_edges();
+        let (x_c, w) = (self.scene.contact.x_center_cm, b - a);
+        let layout = &self.layout;
+        let textured = |pos: f64| {
+            layout
+                .width_over(pos + a - x_c - w, pos + b - x_c + w)
+                .is_some()
+        };
+        let steps = crank_steps(
+            self.drive,
+            self.numerics.start_deg,
+            &self.numerics.steps,
+            &textured,
+        );
         let mut cycles: Vec<CycleSummary> = Vec::new();
         let mut last_rows = Vec::new();
         let mut cyclic = false;
