@@ -41,7 +41,13 @@ fn probe_plain_cycle() {
         max_cycles: 8,
     };
     let t0 = std::time::Instant::now();
-    let run = CycleRun::new(&drive, LinerLayout::uniform(stroke_cm, None), num).unwrap();
+    let run = CycleRun::new(
+        &drive,
+        drive.ring_case(),
+        LinerLayout::uniform(stroke_cm, None),
+        num,
+    )
+    .unwrap();
     let out = run
         .run(
             &mut |c| eprintln!("{c:?}  {:.2}s", t0.elapsed().as_secs_f64()),
@@ -106,7 +112,13 @@ fn probe_steady_textured() {
         max_cycles: 40,
     };
     let t0 = std::time::Instant::now();
-    let run = CycleRun::new(&drive, LinerLayout::uniform(8.1, Some(t)), num).unwrap();
+    let run = CycleRun::new(
+        &drive,
+        drive.ring_case(),
+        LinerLayout::uniform(8.1, Some(t)),
+        num,
+    )
+    .unwrap();
     let out = run
         .run(
             &mut |c| {

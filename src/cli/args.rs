@@ -58,6 +58,12 @@ pub struct CycleArgs {
     /// Print the report as JSON on stdout instead of the tables.
     #[arg(long)]
     pub json: bool,
+    /// Judge the liners angle by angle, each crank angle a periodic regime at its speed and
+    /// load, the dead centres and the mixed-lubrication angles excluded (the default: the
+    /// whole cycle as one transient, nothing excluded). Its report goes to
+    /// results/cycle_NAME_quasi_steady unless --out says otherwise.
+    #[arg(long = "quasi-steady")]
+    pub quasi_steady: bool,
 }
 
 /// Units as in `simulate`: lengths in cm, depth in µm; ranges are LO..HI. Settings come from

@@ -12,13 +12,21 @@ use super::{install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::case::short;
 use crate::model::engine::{three_digits, zone_label, Engine, STEP_RANGE_DEG};
 use crate::model::operating::Validity;
-use crate::optimise::cycle::{design_all, evaluate_liners, no_angle_inside, points, CycleSettings};
+use crate::optimise::cycle::{
+    design_all, evaluate_liners, no_angle_inside, points, CycleSettings, Designs,
+};
 use crate::optimise::cycle_report::{assemble, non_finite, table, write};
+use crate::optimise::cycle_transient::evaluate_transient;
+use crate::optimise::cycle_transient_report as transient_report;
+use crate::optimise::error::OptimiseError;
 use crate::optimise::space::Space;
 use crate::study::engine_file;
 
 pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     let s = settings(a)?;
+    if !a.quasi_steady {
+        return run_transient(a, &s);
+    }
     // A cycle whose every design angle is outside the model before anything runs (an engine
     // far too fast or too loaded for the validated Stribeck range) is an input error.
     let design_points = points(&s, s.design_step_deg);
@@ -65,6 +73,48 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     }
     if let Some(dir) = &s.search.out_dir {
         for f in write(dir, &r).map_err(|e| CmdError::Other(e.to_string()))? {
+            eprintln!("wrote {}", f.display());
+        }
+    }
+    Ok(0)
+}
+
+/// The transient cycle: the zones' and the uniform designs searched over the angles where
+/// their periodic regimes hold, then the plain, uniform and zoned liners judged over the
+/// whole cycle as one transient each.
+fn run_transient(a: &CycleArgs, s: &CycleSettings) -> Result<i32, CmdError> {
+    let cache = open_cache(a.cache.as_deref())?;
+    install_ctrl_c();
+    let cache = std::sync::Mutex::new(cache);
+    let t0 = std::time::Instant::now();
+    let zones = s.engine.bounds_mm.len() - 1;
+    let designs = match design_all(s, &cache, &STOP) {
+        Ok(d) => d,
+        // No angle where a periodic regime holds: nothing to search, the liners are judged
+        // all the same.
+        Err(OptimiseError::NoAngleInside(_)) => Designs {
+            zones: vec![None; zones],
+            uniform: None,
+        },
+        Err(e) => return Err(CmdError::Other(e.to_string())),
+    };
+    if s.search.progress {
+        eprintln!(
+            "[{:6.1} s] the liners through the cycle at {} …",
+            t0.elapsed().as_secs_f64(),
+            s.search.report_fidelity.name()
+        );
+    }
+    let (d, liners) =
+        evaluate_transient(s, &designs).map_err(|e| CmdError::Other(e.to_string()))?;
+    let r = transient_report::assemble(s, &d, &liners, t0.elapsed().as_secs_f64());
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
+    } else {
+        print!("{}", transient_report::table(&r));
+    }
+    if let Some(dir) = &s.search.out_dir {
+        for f in transient_report::write(dir, &r).map_err(|e| CmdError::Other(e.to_string()))? {
             eprintln!("wrote {}", f.display());
         }
     }
@@ -151,10 +201,10 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
             other => other,
         })?;
     let in_file = |key: &str| format!("{}: [design] {key}", a.file.display());
-    let out_dir = a
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("results/cycle_{}", engine.file.engine.name)));
+    let out_dir = a.out.clone().unwrap_or_else(|| {
+        let qs = if a.quasi_steady { "_quasi_steady" } else { "" };
+        PathBuf::from(format!("results/cycle_{}{qs}", engine.file.engine.name))
+    });
     let search = search_settings(
         &a.search,
         SearchKeys::of(&d),

@@ -10,6 +10,8 @@
 
 pub mod cycle;
 pub mod cycle_report;
+pub mod cycle_transient;
+pub mod cycle_transient_report;
 pub mod design;
 pub mod design_report;
 pub mod driver;

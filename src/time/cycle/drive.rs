@@ -4,6 +4,7 @@
 //! crank angle; and the crank angles a cycle run steps through.
 
 use super::oil::Ahead;
+use crate::model::case::CaseSpec;
 use crate::model::engine::Engine;
 use crate::model::operating::Scales;
 
@@ -77,6 +78,20 @@ impl Drive {
             w: load_n_per_m / d.scales.load_n_per_m(),
         };
         d
+    }
+
+    /// The engine's ring as a case in the drive's scales (docs/model.md §1, §12): its face
+    /// radius, width and mass, the default asperity contact; the operating point is the
+    /// drive's at each step.
+    pub fn ring_case(&self) -> CaseSpec {
+        let ring = &self.engine.file.ring;
+        let s = self.scales;
+        CaseSpec {
+            ring_width: ring.width_mm / 10.0,
+            mass: ring.mass_kg_per_m / s.mass_kg_per_m(),
+            scales: s,
+            ..CaseSpec::paper(ring.r_cm)
+        }
     }
 
     pub fn engine(&self) -> &Engine {

@@ -108,6 +108,8 @@ impl OilBalance {
 /// One cycle's summary.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct CycleSummary {
+    /// Which cycle of the run (0: the first).
+    pub index: usize,
     /// Friction work per unit circumferential length over the cycle (J/m).
     pub friction_work_j_per_m: f64,
     /// Its relative change from the cycle before, and the oil map's (infinite for the first).
@@ -154,12 +156,15 @@ pub struct CycleRun<'a> {
 impl<'a> CycleRun<'a> {
     /// The run of `layout` under `drive`'s engine, at its first cycle's start: the
     /// untextured force balance at the start's operating point laid on the liner.
+    /// `ring`: the engine's ring as a case ([`Drive::ring_case`], its contact as the run
+    /// wants it).
     pub fn new(
         drive: &'a Drive,
+        ring: CaseSpec,
         layout: LinerLayout,
         numerics: CycleNumerics,
     ) -> Result<Self, SolveError> {
-        let case = ring_case(drive);
+        let case = ring;
         let p0 = drive.at(numerics.start_deg);
         let (length, x_c) = {
             let c = case.contact();
@@ -344,19 +349,6 @@ fn carry(from: &Scene, phi: &[f64], to: &Scene, z: f64) -> Vec<f64> {
         }
     }
     out
-}
-
-/// The engine's ring as a case in the drive's scales (docs/model.md §1, §12): its face
-/// radius, width and mass; the operating point is the drive's at each step.
-fn ring_case(drive: &Drive) -> CaseSpec {
-    let ring = &drive.engine().file.ring;
-    let s = drive.scales();
-    CaseSpec {
-        ring_width: ring.width_mm / 10.0,
-        mass: ring.mass_kg_per_m / s.mass_kg_per_m(),
-        scales: s,
-        ..CaseSpec::paper(ring.r_cm)
-    }
 }
 
 /// The run's name in messages.
@@ -588,6 +580,7 @@ impl CycleRun<'_> {
         self.tally.liner_end = self.oil.total();
         // Power (W/m) × time (units of L/U, in ms: time_ms) gives mJ/m.
         let summary = CycleSummary {
+            index: 0,
             friction_work_j_per_m: work * self.drive.scales().time_ms() * 1e-3,
             work_change: f64::INFINITY,
             oil_change: f64::INFINITY,
@@ -625,6 +618,7 @@ impl CycleRun<'_> {
         while cycles.len() < self.numerics.max_cycles && !cyclic {
             let before = self.oil.clone();
             let (rows, mut summary) = self.cycle(&steps, on_step)?;
+            summary.index = cycles.len();
             if let Some(prev) = cycles.last() {
                 summary.work_change = (summary.friction_work_j_per_m - prev.friction_work_j_per_m)
                     .abs()

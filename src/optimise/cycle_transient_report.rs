@@ -1,0 +1,485 @@
+//! The report of the transient `cycle` (docs/model.md §12): per liner the friction work, mean
+//! power per ring and FMEP, the thinnest film and Λ, the asperities' share; per zone the work
+//! of each liner and the texture kept; every step of the last cycle, the oil map and the
+//! cycle-to-cycle convergence as CSV; the figures an engine engineer reads.
+
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::cycle::{CycleSettings, Designs};
+use super::cycle_transient::{LinerCycle, TransientLiners};
+use super::design_report::{csv_bytes, Column};
+use super::error::OptimiseError;
+use crate::model::case::Texture;
+use crate::model::engine::zone_label;
+use crate::plot::{self, Chart, Scale, Series, Style};
+use crate::time::cycle::{CycleMetrics, CycleRow, CycleSummary, Regime};
+
+const LINERS: [&str; 3] = ["plain liner", "uniform best", "zoned"];
+const KEPT: [&str; 3] = ["plain", "uniform", "zone design"];
+
+#[derive(Clone, Debug, Serialize)]
+pub struct TransientZone {
+    /// 1 at top dead centre.
+    pub zone: usize,
+    pub from_mm: f64,
+    pub to_mm: f64,
+    /// The texture kept (None: plain) and whose it is.
+    pub texture: Option<Texture>,
+    pub kept: &'static str,
+    /// Friction work while the ring's centre is over the zone (J/m): plain, uniform, zoned.
+    pub work_j_per_m: [f64; 3],
+    /// The zoned liner's against the plain liner's there (%).
+    pub change_pct: Option<f64>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct TransientLinerRow {
+    pub liner: &'static str,
+    #[serde(flatten)]
+    pub metrics: CycleMetrics,
+    /// Against the plain liner (%).
+    pub change_pct: Option<f64>,
+    /// Cycles run, whether the last repeated the one before, and its changes.
+    pub cycles: usize,
+    pub cyclic: bool,
+    pub work_change: f64,
+    pub oil_change: f64,
+    /// Largest relative oil defect of a cycle (film + liner − supply + scraped + thrown).
+    pub oil_defect: f64,
+    pub wall_s: f64,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct TransientReport {
+    pub name: String,
+    pub rpm: f64,
+    pub bore_mm: f64,
+    pub stroke_mm: f64,
+    pub fidelity: String,
+    /// Share of the cycle outside the model: none, the dead centres included.
+    pub excluded_cycle_fraction: f64,
+    pub uniform: Option<Texture>,
+    pub zones: Vec<TransientZone>,
+    pub liners: Vec<TransientLinerRow>,
+    pub wall_time_s: f64,
+    #[serde(skip)]
+    runs: [LinerCycle; 3],
+}
+
+fn change_pct(w: f64, plain: f64) -> Option<f64> {
+    (plain > 0.0).then(|| 100.0 * (w / plain - 1.0))
+}
+
+fn liner_row(k: usize, r: &LinerCycle, plain: f64) -> TransientLinerRow {
+    let last = r.outcome.cycles.last();
+    TransientLinerRow {
+        liner: LINERS[k],
+        metrics: r.metrics.clone(),
+        change_pct: change_pct(r.metrics.work_j_per_m, plain),
+        cycles: r.outcome.cycles.len(),
+        cyclic: r.outcome.cyclic,
+        work_change: last.map_or(f64::NAN, |c| c.work_change),
+        oil_change: last.map_or(f64::NAN, |c| c.oil_change),
+        oil_defect: r
+            .outcome
+            .cycles
+            .iter()
+            .map(|c| c.oil.defect())
+            .fold(0.0, f64::max),
+        wall_s: r.wall_s,
+    }
+}
+
+/// The report of the three liners.
+pub fn assemble(s: &CycleSettings, d: &Designs, t: &TransientLiners, wall: f64) -> TransientReport {
+    let runs = [t.plain.clone(), t.uniform.clone(), t.zoned.clone()];
+    let plain = runs[0].metrics.work_j_per_m;
+    let b = &s.engine.bounds_mm;
+    let zones = (0..b.len() - 1)
+        .map(|z| {
+            let work = [0, 1, 2].map(|k| runs[k].metrics.zone_work_j_per_m[z]);
+            TransientZone {
+                zone: z + 1,
+                from_mm: b[z],
+                to_mm: b[z + 1],
+                texture: d.zones[z].clone(),
+                kept: KEPT[t.kept[z]],
+                work_j_per_m: work,
+                change_pct: change_pct(work[2], work[0]),
+            }
+        })
+        .collect();
+    let e = &s.engine.file.engine;
+    TransientReport {
+        name: e.name.clone(),
+        rpm: e.rpm,
+        bore_mm: e.bore_mm,
+        stroke_mm: e.stroke_mm,
+        fidelity: s.search.report_fidelity.name().into(),
+        excluded_cycle_fraction: 0.0,
+        uniform: d.uniform.clone(),
+        zones,
+        liners: (0..3).map(|k| liner_row(k, &runs[k], plain)).collect(),
+        wall_time_s: wall,
+        runs,
+    }
+}
+
+fn texture_label(t: &Option<Texture>) -> String {
+    t.as_ref().map_or("plain".into(), |t| t.rounded_label())
+}
+
+fn opt(x: Option<f64>, digits: usize) -> String {
+    x.map_or("–".into(), |v| format!("{v:+.digits$}"))
+}
+
+/// The tables: liners, then zones.
+pub fn table(r: &TransientReport) -> String {
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "Engine `{}` at {} rpm, the cycle as one transient at {} (no crank angle excluded).\n",
+        r.name, r.rpm, r.fidelity
+    );
+    let _ = writeln!(o, "| liner | friction work (J/m) | asperities' share | mean power per ring (W) | FMEP (kPa) | vs plain | h_min (µm) at | Λ_min | asperity load, max | time in mixed / boundary | cycles |");
+    let _ = writeln!(o, "|---|---|---|---|---|---|---|---|---|---|---|");
+    for l in &r.liners {
+        let m = &l.metrics;
+        let _ = writeln!(
+            o,
+            "| {} | {:.4} | {:.1} % | {:.2} | {:.3} | {} % | {:.3} at {:.1}° | {:.2} | {:.1} % | {:.1} % / {:.1} % | {}{} |",
+            l.liner,
+            m.work_j_per_m,
+            100.0 * m.asperity_work_j_per_m / m.work_j_per_m.max(f64::MIN_POSITIVE),
+            m.ring_power_w,
+            m.fmep_kpa,
+            opt(l.change_pct, 2),
+            m.h_min_um,
+            m.h_min_deg,
+            m.lambda_min,
+            100.0 * m.asperity_share_max,
+            100.0 * m.regime_time_fraction[Regime::Mixed as usize],
+            100.0 * m.regime_time_fraction[Regime::Boundary as usize],
+            l.cycles,
+            if l.cyclic { "" } else { " (not cyclic)" }
+        );
+    }
+    let _ = writeln!(o, "\n| zone | mm from TDC | kept | texture | work plain / uniform / zoned (J/m) | zoned vs plain |");
+    let _ = writeln!(o, "|---|---|---|---|---|---|");
+    let bounds: Vec<f64> = std::iter::once(r.zones.first().map_or(0.0, |z| z.from_mm))
+        .chain(r.zones.iter().map(|z| z.to_mm))
+        .collect();
+    for z in &r.zones {
+        let _ = writeln!(
+            o,
+            "| {} | {} | {} | {} | {:.4} / {:.4} / {:.4} | {} % |",
+            z.zone,
+            zone_label(&bounds, z.zone - 1),
+            z.kept,
+            texture_label(&z.texture),
+            z.work_j_per_m[0],
+            z.work_j_per_m[1],
+            z.work_j_per_m[2],
+            opt(z.change_pct, 2)
+        );
+    }
+    let _ = writeln!(o, "\nuniform best: {}", texture_label(&r.uniform));
+    o
+}
+
+/// A step of one liner's last cycle (a CSV row).
+struct LinerStep {
+    liner: &'static str,
+    row: CycleRow,
+}
+
+const STEP_COLUMNS: [Column<LinerStep>; 17] = [
+    ("liner", |x| x.liner.to_string()),
+    ("crank_deg", |x| x.row.crank_deg.to_string()),
+    ("position_mm", |x| x.row.position_mm.to_string()),
+    ("speed_m_s", |x| x.row.u_ms.to_string()),
+    ("load_n_m", |x| x.row.load_n_per_m.to_string()),
+    ("p_above_bar", |x| x.row.p_above_bar.to_string()),
+    ("p_below_bar", |x| x.row.p_below_bar.to_string()),
+    ("z_um", |x| x.row.z_um.to_string()),
+    ("h_min_um", |x| x.row.h_min_um.to_string()),
+    ("lambda", |x| x.row.lambda.to_string()),
+    ("regime", |x| {
+        format!("{:?}", Regime::of(x.row.lambda)).to_lowercase()
+    }),
+    ("friction_n_m", |x| x.row.friction_n_per_m.to_string()),
+    ("asperity_friction_n_m", |x| {
+        x.row.asperity_friction_n_per_m.to_string()
+    }),
+    ("asperity_load_share", |x| x.row.asperity_share.to_string()),
+    ("power_w_m", |x| x.row.power_w_per_m.to_string()),
+    ("oil_met_um", |x| x.row.oil_met_um.to_string()),
+    ("oil_left_um", |x| x.row.oil_left_um.to_string()),
+];
+
+struct CycleLine {
+    liner: &'static str,
+    c: CycleSummary,
+}
+
+const CYCLE_COLUMNS: [Column<CycleLine>; 6] = [
+    ("liner", |x| x.liner.to_string()),
+    ("cycle", |x| (x.c.index + 1).to_string()),
+    ("friction_work_j_m", |x| {
+        x.c.friction_work_j_per_m.to_string()
+    }),
+    ("work_change", |x| x.c.work_change.to_string()),
+    ("oil_map_change", |x| x.c.oil_change.to_string()),
+    ("oil_defect", |x| x.c.oil.defect().to_string()),
+];
+
+/// JSON, Markdown, CSVs (steps, oil map, convergence) and figures.
+pub fn write(dir: &Path, r: &TransientReport) -> Result<Vec<PathBuf>, OptimiseError> {
+    let files = OptimiseError::Files;
+    std::fs::create_dir_all(dir)
+        .map_err(|e| files(format!("cannot create {}: {e}", dir.display())))?;
+    let stem = |ext: &str| dir.join(format!("cycle_{}{ext}", r.name));
+    let json = serde_json::to_string_pretty(r).map_err(|e| files(e.to_string()))?;
+    crate::output::write(&stem(".json"), json)?;
+    crate::output::write(
+        &stem(".md"),
+        format!("# Cycle `{}`\n\n{}", r.name, table(r)),
+    )?;
+    let steps: Vec<LinerStep> = (0..3)
+        .flat_map(|k| {
+            r.runs[k].outcome.rows.iter().map(move |row| LinerStep {
+                liner: LINERS[k],
+                row: *row,
+            })
+        })
+        .collect();
+    crate::output::write(&stem("_steps.csv"), csv_bytes(&STEP_COLUMNS, &steps)?)?;
+    let cycles: Vec<CycleLine> = (0..3)
+        .flat_map(|k| {
+            r.runs[k].outcome.cycles.iter().map(move |c| CycleLine {
+                liner: LINERS[k],
+                c: c.clone(),
+            })
+        })
+        .collect();
+    crate::output::write(&stem("_cycles.csv"), csv_bytes(&CYCLE_COLUMNS, &cycles)?)?;
+    crate::output::write(&stem("_oil.csv"), oil_csv(r)?)?;
+    let figures = [
+        ("_force.png", force_plot as Figure),
+        ("_film.png", film_plot),
+        ("_asperity.png", asperity_plot),
+        ("_oil.png", oil_plot),
+        ("_convergence.png", convergence_plot),
+    ];
+    let mut out: Vec<PathBuf> = [".json", ".md", "_steps.csv", "_cycles.csv", "_oil.csv"]
+        .iter()
+        .map(|x| stem(x))
+        .collect();
+    for (suffix, draw) in figures {
+        draw(&stem(suffix), r)?;
+        out.push(stem(suffix));
+    }
+    Ok(out)
+}
+
+type Figure = fn(&Path, &TransientReport) -> Result<(), OptimiseError>;
+
+fn oil_csv(r: &TransientReport) -> Result<Vec<u8>, OptimiseError> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let _ = w.write_record(["y_mm", "plain_um", "uniform_um", "zoned_um"]);
+    let o = &r.runs[0].outcome;
+    for (k, y) in o.oil_y_cm.iter().enumerate() {
+        let cell = |i: usize| {
+            r.runs[i]
+                .outcome
+                .oil_um
+                .get(k)
+                .map_or(String::new(), |v| v.to_string())
+        };
+        let _ = w.write_record([(10.0 * y).to_string(), cell(0), cell(1), cell(2)]);
+    }
+    w.into_inner()
+        .map_err(|e| OptimiseError::Files(e.error().to_string()))
+}
+
+fn chart<'a>(title: &'a str, x: &'a str, y: &'a str, y_scale: Scale) -> Chart<'a> {
+    Chart {
+        title,
+        x_label: x,
+        y_label: y,
+        x_scale: Scale::Linear,
+        y_scale,
+    }
+}
+
+const CRANK: &str = "crank angle from firing top dead centre (°)";
+
+/// One series per liner of `f(row)` against crank angle.
+fn per_liner(r: &TransientReport, f: impl Fn(&CycleRow) -> f64) -> Vec<Vec<(f64, f64)>> {
+    r.runs
+        .iter()
+        .map(|l| l.outcome.rows.iter().map(|x| (x.crank_deg, f(x))).collect())
+        .collect()
+}
+
+fn liner_series<'a>(pts: &'a [Vec<(f64, f64)>], what: &str) -> Vec<Series<'a>> {
+    pts.iter()
+        .enumerate()
+        .map(|(k, p)| Series {
+            name: format!("{}{what}", LINERS[k]),
+            points: p,
+            style: if k == 0 { Style::Thick } else { Style::Line },
+            colour: [1, 0, 2][k],
+        })
+        .collect()
+}
+
+fn force_plot(path: &Path, r: &TransientReport) -> Result<(), OptimiseError> {
+    let total = per_liner(r, |x| x.friction_n_per_m);
+    let asperity = per_liner(r, |x| x.asperity_friction_n_per_m);
+    let mut series = liner_series(&total, "");
+    for (k, p) in asperity.iter().enumerate() {
+        series.push(Series {
+            name: format!("{}: asperities' part", LINERS[k]),
+            points: p,
+            style: Style::Faint,
+            colour: [1, 0, 2][k],
+        });
+    }
+    let title = format!(
+        "Friction force on the ring, {} at {} rpm (positive towards the crankcase)",
+        r.name, r.rpm
+    );
+    plot::xy(
+        path,
+        &chart(
+            &title,
+            CRANK,
+            "friction force per unit length (N/m)",
+            Scale::Linear,
+        ),
+        &series,
+    )
+    .map_err(OptimiseError::Output)
+}
+
+fn film_plot(path: &Path, r: &TransientReport) -> Result<(), OptimiseError> {
+    let lambda = per_liner(r, |x| x.lambda);
+    let mut series = liner_series(&lambda, "");
+    let bands = [
+        vec![(0.0, 3.0), (720.0, 3.0)],
+        vec![(0.0, 1.0), (720.0, 1.0)],
+    ];
+    series.push(Series {
+        name: "Λ = 3: hydrodynamic above, mixed below".into(),
+        points: &bands[0],
+        style: Style::Faint,
+        colour: 4,
+    });
+    series.push(Series {
+        name: "Λ = 1: boundary below".into(),
+        points: &bands[1],
+        style: Style::Faint,
+        colour: 3,
+    });
+    let title = format!("Film parameter Λ = h_min/σ over the cycle, {}", r.name);
+    plot::xy(
+        path,
+        &chart(&title, CRANK, "Λ = h_min/σ (h_min in µm: Λ·σ)", Scale::Log),
+        &series,
+    )
+    .map_err(OptimiseError::Output)
+}
+
+fn asperity_plot(path: &Path, r: &TransientReport) -> Result<(), OptimiseError> {
+    let share = per_liner(r, |x| 100.0 * x.asperity_share);
+    let series = liner_series(&share, "");
+    let title = format!("Share of the ring's load on the asperities, {}", r.name);
+    plot::xy(
+        path,
+        &chart(
+            &title,
+            CRANK,
+            "asperity load / ring load (%)",
+            Scale::Linear,
+        ),
+        &series,
+    )
+    .map_err(OptimiseError::Output)
+}
+
+fn oil_plot(path: &Path, r: &TransientReport) -> Result<(), OptimiseError> {
+    let pts: Vec<Vec<(f64, f64)>> = r
+        .runs
+        .iter()
+        .map(|l| {
+            l.outcome
+                .oil_y_cm
+                .iter()
+                .zip(&l.outcome.oil_um)
+                .map(|(y, d)| (10.0 * y, *d))
+                .collect()
+        })
+        .collect();
+    let series = liner_series(&pts, "");
+    let title = format!("Oil left on the liner after the cycle, {}", r.name);
+    plot::xy(
+        path,
+        &chart(
+            &title,
+            "distance along the liner from the ring's top-dead-centre position (mm)",
+            "oil layer (µm)",
+            Scale::Linear,
+        ),
+        &series,
+    )
+    .map_err(OptimiseError::Output)
+}
+
+fn convergence_plot(path: &Path, r: &TransientReport) -> Result<(), OptimiseError> {
+    let work: Vec<Vec<(f64, f64)>> = r
+        .runs
+        .iter()
+        .map(|l| {
+            l.outcome
+                .cycles
+                .iter()
+                .map(|c| ((c.index + 1) as f64, c.work_change))
+                .collect()
+        })
+        .collect();
+    let oil: Vec<Vec<(f64, f64)>> = r
+        .runs
+        .iter()
+        .map(|l| {
+            l.outcome
+                .cycles
+                .iter()
+                .map(|c| ((c.index + 1) as f64, c.oil_change))
+                .collect()
+        })
+        .collect();
+    let mut series = liner_series(&work, ": friction work");
+    for (k, p) in oil.iter().enumerate() {
+        series.push(Series {
+            name: format!("{}: oil map", LINERS[k]),
+            points: p,
+            style: Style::Markers,
+            colour: [1, 0, 2][k],
+        });
+    }
+    let title = format!("Cycle-to-cycle change, {}", r.name);
+    plot::xy(
+        path,
+        &chart(
+            &title,
+            "cycle",
+            "relative change from the cycle before",
+            Scale::Log,
+        ),
+        &series,
+    )
+    .map_err(OptimiseError::Output)
+}
