@@ -26,6 +26,8 @@ fn slider_error(n: usize) -> f64 {
             p_left: 0.0,
             p_right: 0.0,
             phi_inlet: 100.0,
+            cavity_left: 0.0,
+            cavity_right: 0.0,
         },
         ring: None,
     };
@@ -130,6 +132,8 @@ fn oscillating_squeeze_film_rupture_time_and_front() {
                 p_left: P0,
                 p_right: P0,
                 phi_inlet: 0.0,
+                cavity_left: 0.0,
+                cavity_right: 0.0,
             },
             ring: None,
         };

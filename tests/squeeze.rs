@@ -386,6 +386,9 @@ fn simulate(n: usize, dt: f64) -> Run {
         p_right: P0,
         // Flooded ends: capped at the gap, θ = 1.
         phi_inlet: 10.0,
+        // The film cavitates at 0, below the ambient p0 of its ends.
+        cavity_left: 0.0,
+        cavity_right: 0.0,
     };
     let mut solver = Method::Direct.solver();
     let mut run = Run::new(&g, dt);

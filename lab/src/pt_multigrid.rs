@@ -792,6 +792,7 @@ impl FilmMethod for PtSolver {
         state: &mut FilmState,
         z: &mut f64,
     ) -> Result<SolveStats, FilmError> {
+        crate::solvers::refuse_cavity_pressure(step, "pt-multigrid")?;
         self.gap.begin(step);
         impose_boundary(step, state, *z);
         let cycles = self.cycles(step, state, z)?;

@@ -1,6 +1,7 @@
 //! The film fields on the mesh at one time level: pressure, film content and active set.
 
 use super::{Gap, Grid};
+use crate::model::film::Boundary;
 
 /// The film fields at one time level.
 #[derive(Clone, Debug)]
@@ -22,6 +23,8 @@ impl FilmState {
     }
 
     /// Zero pressure and film φ_0 everywhere (capped at the local gap), nothing pressurised.
+    /// A film solve lays the cavity pressures of its boundary data on the cavitated nodes
+    /// ([`FilmState::lay_cavity_pressure`]).
     pub fn cavitated(grid: &Grid, gap: &Gap, z: f64, phi0: f64) -> Self {
         let n = grid.nodes();
         let phi = (0..n).map(|k| phi0.min(gap.h(grid, k, z))).collect();
@@ -31,6 +34,21 @@ impl FilmState {
             pressurised: vec![false; n],
         }
     }
+    /// p = p_c, the cavity pressure of `bc` (docs/model.md §3), on every cavitated node of
+    /// the interior columns 1..n1 − 1.
+    pub fn lay_cavity_pressure(&mut self, grid: &Grid, bc: &Boundary) {
+        let n2 = grid.n2;
+        for i in 1..grid.n1 {
+            let pc = bc.cavity_pressure(i, grid.n1);
+            let span = i * n2..(i + 1) * n2;
+            for (p, &pr) in self.p[span.clone()].iter_mut().zip(&self.pressurised[span]) {
+                if !pr {
+                    *p = pc;
+                }
+            }
+        }
+    }
+
     /// A full film (θ = 1, p = 0) everywhere.
     pub fn flooded(grid: &Grid, gap: &Gap, z: f64) -> Self {
         Self::cavitated(grid, gap, z, f64::INFINITY)

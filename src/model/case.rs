@@ -135,6 +135,8 @@ impl CaseSpec {
             p_left: 0.0,
             p_right: 0.0,
             phi_inlet: self.d_oil,
+            cavity_left: 0.0,
+            cavity_right: 0.0,
         }
     }
 

@@ -3,10 +3,11 @@
 //! Nondimensional Elrod–Adams film (docs/model.md §3, with the factor 2 the scales imply):
 //!
 //! ```text
-//!     ∇·(h³ ∇p) = u ∂(hθ)/∂x1 + 2 ∂(hθ)/∂t,   p ≥ 0, 0 ≤ θ ≤ 1, p·(1 − θ) = 0
+//!     ∇·(h³ ∇p) = u ∂(hθ)/∂x1 + 2 ∂(hθ)/∂t,   p ≥ p_c, 0 ≤ θ ≤ 1, (p − p_c)·(1 − θ) = 0
 //! ```
 //!
-//! i.e. ∂φ/∂t + ∇·q = 0 with φ = hθ and mass flux q = (u/2)·φ·e1 − (h³/2)·∇p.
+//! i.e. ∂φ/∂t + ∇·q = 0 with φ = hθ and mass flux q = (u/2)·φ·e1 − (h³/2)·∇p; p_c is the
+//! cavity pressure, 0 in the paper, each side's gas pressure in general ([`Boundary`]).
 //!
 //! Finite volumes: vertex-centred in x1 (node columns i = 0..=n1), cell-centred in x2 (rows
 //! j = 0..n2, zero-flux walls). Couette flux upwinded ((u/2)·φ_i at face i+½ for u > 0),
@@ -27,6 +28,39 @@ pub struct Boundary {
     pub p_right: f64,
     /// Film φ = hθ carried in at x1 = 0 (µm); capped at the local gap (θ ≤ 1) per node.
     pub phi_inlet: f64,
+    /// Cavity pressure of the half of the domain at x1 = 0 and of the half at x1 = length
+    /// (0 in the paper): a cavitated node holds its half's value (docs/model.md §3,
+    /// "Gas pressures").
+    pub cavity_left: f64,
+    pub cavity_right: f64,
+}
+
+impl Boundary {
+    /// The cavity pressure p_c of node column i of n1 cells (docs/model.md §3): the left
+    /// half's where 2i < n1, the right half's where 2i > n1, their mean at the centre column.
+    /// The split is symmetric under the mirror i → n1 − i.
+    #[inline(always)]
+    pub fn cavity_pressure(&self, i: usize, n1: usize) -> f64 {
+        match (2 * i).cmp(&n1) {
+            std::cmp::Ordering::Less => self.cavity_left,
+            std::cmp::Ordering::Greater => self.cavity_right,
+            std::cmp::Ordering::Equal => 0.5 * (self.cavity_left + self.cavity_right),
+        }
+    }
+
+    /// The lower of the two cavity pressures: the pressure below which a full film away from
+    /// any cavity ruptures (docs/model.md §3).
+    #[inline(always)]
+    pub fn rupture_pressure(&self) -> f64 {
+        self.cavity_left.min(self.cavity_right)
+    }
+
+    /// Whether the two halves' cavity pressures differ (the floor of a pressurised node then
+    /// depends on its cavitated neighbours, docs/model.md §3).
+    #[inline(always)]
+    pub fn split_cavity(&self) -> bool {
+        self.cavity_left != self.cavity_right
+    }
 }
 
 /// Poiseuille conductance of a face between nodal gaps `a` and `b`: h_f³·s with
@@ -160,6 +194,35 @@ mod tests {
             }
         }
         (pv, fv)
+    }
+
+    #[test]
+    fn the_cavity_pressure_split_mirrors_with_the_sides() {
+        let bc = Boundary {
+            u: 1.0,
+            p_left: 3.0,
+            p_right: 1.0,
+            phi_inlet: 1.0,
+            cavity_left: 3.0,
+            cavity_right: 1.0,
+        };
+        let mirrored = Boundary {
+            cavity_left: 1.0,
+            cavity_right: 3.0,
+            ..bc
+        };
+        for n1 in [8, 9] {
+            for i in 0..=n1 {
+                assert_eq!(
+                    bc.cavity_pressure(i, n1),
+                    mirrored.cavity_pressure(n1 - i, n1)
+                );
+            }
+        }
+        assert_eq!(bc.cavity_pressure(3, 8), 3.0);
+        assert_eq!(bc.cavity_pressure(4, 8), 2.0);
+        assert_eq!(bc.cavity_pressure(5, 8), 1.0);
+        assert_eq!(bc.rupture_pressure(), 1.0);
     }
 
     #[test]

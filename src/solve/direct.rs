@@ -102,7 +102,7 @@ impl FilmSolver {
             } else {
                 pressurised_range(g, &state.pressurised)
             };
-            // Outside the range every node is cavitated with p = 0 around it: exact sweeps.
+            // Outside the range every node is cavitated with p = p_c around it: exact sweeps.
             let (lo, hi) = range.unwrap_or((g.n1, g.n1 - 1));
             upwind_sweep(step, &self.gap.faces(), state, 1..lo);
             let it = match range {
@@ -112,7 +112,7 @@ impl FilmSolver {
             *z += it.dz;
             upwind_sweep(step, &self.gap.faces(), state, hi + 1..g.n1);
             self.gap.fill_h(step, *z);
-            let changes = update_active_set(g, state, self.gap.h());
+            let changes = update_active_set(step, state, self.gap.h());
             check_finite(g, state, *z)?;
             if changes == 0 && it.settled(*z, ring_min_base, self.tol.z_abs) {
                 return Ok(iterations);
@@ -206,7 +206,7 @@ impl FilmSolver {
                 0.0
             }
         };
-        let correction = apply_correction(step.grid, state, self.gap.h(), &self.y1, range);
+        let correction = apply_correction(step, state, self.gap.h(), &self.y1, range);
         Ok(Iterate {
             dz,
             z_matrix: Some(plan.z_matrix),
@@ -275,6 +275,8 @@ mod tests {
                 p_left: 0.0,
                 p_right: 0.0,
                 phi_inlet: 1.0,
+                cavity_left: 0.0,
+                cavity_right: 0.0,
             },
             ring: None,
         };

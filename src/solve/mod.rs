@@ -15,6 +15,8 @@
 
 pub mod band;
 mod direct;
+#[cfg(test)]
+mod gas_tests;
 pub mod newton;
 mod problem;
 mod reuse;

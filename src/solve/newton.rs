@@ -6,8 +6,9 @@
 //! the unknowns x (p on the pressurised set, φ on the cavitated set) and nonlinear in Z only
 //! through h(Z). A Newton iteration solves ∂F/∂x · y1 = −F and ∂F/∂x · y2 = ∂F/∂Z, then the
 //! ring equation G = Z − z_pred − κ(W_h(p) + W_a(Z) − W_ps) = 0 for δZ (the Schur complement;
-//! W_a the asperity load, docs/model.md §11), and moves x by y1 − y2·δZ; then nodes switch sets: a negative pressure cavitates, an over-full
-//! film pressurises.
+//! W_a the asperity load, docs/model.md §11), and moves x by y1 − y2·δZ; then nodes switch
+//! sets: a pressure below its floor (the cavity pressure, docs/model.md §3) cavitates, an
+//! over-full film pressurises.
 
 use super::problem::limit_closing;
 use super::{Stencil5, Step};
@@ -47,7 +48,7 @@ pub fn pressurised_range(g: &Grid, pressurised: &[bool]) -> Option<(usize, usize
     (lo != usize::MAX).then(|| (lo.saturating_sub(1).max(1), (hi + 1).min(n1 - 1)))
 }
 
-/// Exact upwind sweep over node columns `cols`, all cavitated with p = 0 around them: the
+/// Exact upwind sweep over node columns `cols`, all cavitated with p = p_c around them: the
 /// stencil is affine in φ_ij with slope adv + at, and a node's balance reads φ of its own
 /// node and the one upstream only, so each node is solved in order.
 pub fn upwind_sweep(
@@ -287,15 +288,18 @@ pub fn unpressurised_ring_update(step: &Step, link: RingLink, z: f64, ring_min_b
 }
 
 /// Moves the unknowns of columns lo..=hi by `y` (p on the pressurised set, φ elsewhere);
-/// returns the correction's size relative to the solution: max(|δp|/p_max, |δφ|/h).
+/// returns the correction's size relative to the solution: max(|δp|/p_max, |δφ|/h), p_max
+/// the largest |p − p_r| over the pressurised set (p_r the rupture pressure: a gas pressure
+/// common to the whole film moves no correction's size).
 pub fn apply_correction(
-    g: &Grid,
+    step: &Step,
     state: &mut FilmState,
     h: &[f64],
     y: &[f64],
     (lo, hi): (usize, usize),
 ) -> f64 {
-    let n2 = g.n2;
+    let n2 = step.grid.n2;
+    let p_r = step.boundary.rupture_pressure();
     let (mut dp, mut dphi, mut pmax) = (0.0f64, 0.0f64, 0.0f64);
     let span = lo * n2..(hi + 1) * n2;
     for ((((&d, &pr), p), phi), &h) in y
@@ -308,7 +312,7 @@ pub fn apply_correction(
         if pr {
             *p += d;
             dp = dp.max(d.abs());
-            pmax = pmax.max(p.abs());
+            pmax = pmax.max((*p - p_r).abs());
         } else {
             *phi += d;
             dphi = dphi.max(d.abs() / h);
@@ -317,37 +321,69 @@ pub fn apply_correction(
     dphi.max(if pmax > 0.0 { dp / pmax } else { 0.0 })
 }
 
-/// Active-set update with the gap `h` at the new Z: a pressure below −ε·p_max cavitates its
-/// node (p = 0, φ = h to start from), a film over h·(1 + ε) pressurises it (p = 0, φ = h);
-/// ε at round-off. Returns the number of switches.
-pub fn update_active_set(g: &Grid, state: &mut FilmState, h: &[f64]) -> usize {
-    let interior = g.n2..g.n1 * g.n2;
+/// Active-set update with the gap `h` at the new Z (docs/model.md §3): a pressure below its
+/// floor by more than ε·p_scale cavitates its node (p = p_c, φ = h to start from), a film over
+/// h·(1 + ε) pressurises it (p = p_c, φ = h); ε at round-off. The floor is the cavity
+/// pressure p_c: with the two halves' p_c equal, that one; else the highest p_c of the node's
+/// cavitated neighbours, or the rupture pressure (the lower p_c) inside a full film.
+/// Returns the number of switches.
+pub fn update_active_set(step: &Step, state: &mut FilmState, h: &[f64]) -> usize {
+    let (g, bc) = (step.grid, &step.boundary);
+    let (n1, n2) = (g.n1, g.n2);
+    let interior = n2..n1 * n2;
     let pmax = state.pressurised[interior.clone()]
         .iter()
-        .zip(&state.p[interior.clone()])
+        .zip(&state.p[interior])
         .filter(|(&pr, _)| pr)
         .fold(0.0f64, |m, (_, &p)| m.max(p));
-    let p_eps = SWITCH_EPS * pmax;
+    // Round-off of p is relative to |p|, the cavity pressures included.
+    let p_eps = SWITCH_EPS * pmax.max(bc.cavity_left.abs()).max(bc.cavity_right.abs());
+    let split = bc.split_cavity();
     let mut changes = 0;
-    for (((pr, p), phi), &hk) in state.pressurised[interior.clone()]
-        .iter_mut()
-        .zip(&mut state.p[interior.clone()])
-        .zip(&mut state.phi[interior.clone()])
-        .zip(&h[interior])
-    {
-        if *pr {
-            if *p < -p_eps {
-                *pr = false;
-                *p = 0.0;
-                *phi = hk;
+    for i in 1..n1 {
+        let pc = bc.cavity_pressure(i, n1);
+        for j in 0..n2 {
+            let k = i * n2 + j;
+            if state.pressurised[k] {
+                let floor = if split {
+                    meniscus_floor(step, &state.pressurised, i, j)
+                } else {
+                    pc
+                };
+                if state.p[k] < floor - p_eps {
+                    state.pressurised[k] = false;
+                    state.p[k] = pc;
+                    state.phi[k] = h[k];
+                    changes += 1;
+                }
+            } else if state.phi[k] > h[k] * (1.0 + SWITCH_EPS) {
+                state.pressurised[k] = true;
+                state.p[k] = pc;
+                state.phi[k] = h[k];
                 changes += 1;
             }
-        } else if *phi > hk * (1.0 + SWITCH_EPS) {
-            *pr = true;
-            *p = 0.0;
-            *phi = hk;
-            changes += 1;
         }
     }
     changes
+}
+
+/// The floor of pressurised node (i, j) when the halves' cavity pressures differ
+/// (docs/model.md §3): the highest cavity pressure of its cavitated interior neighbours (a
+/// film never draws oil out of a cavity by pressure), else the rupture pressure.
+fn meniscus_floor(step: &Step, pressurised: &[bool], i: usize, j: usize) -> f64 {
+    let (g, bc) = (step.grid, &step.boundary);
+    let (n1, n2) = (g.n1, g.n2);
+    let k = i * n2 + j;
+    let mut floor = bc.rupture_pressure();
+    let mut meet = |cavitated: bool, col: usize| {
+        if cavitated {
+            floor = floor.max(bc.cavity_pressure(col, n1));
+        }
+    };
+    // The end columns hold the boundary pressures, not cavities.
+    meet(i > 1 && !pressurised[k - n2], i - 1);
+    meet(i + 1 < n1 && !pressurised[k + n2], i + 1);
+    meet(j > 0 && !pressurised[k - 1], i);
+    meet(j + 1 < n2 && !pressurised[k + 1], i);
+    floor
 }

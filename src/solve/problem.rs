@@ -116,9 +116,11 @@ impl GapCache {
 }
 
 /// The boundary conditions (docs/model.md §3) on the end columns of `state`: p given at both
-/// ends, the inlet film (capped at the gap) at x1 = 0, nothing pressurised there.
+/// ends, the inlet film (capped at the gap) at x1 = 0, nothing pressurised there; and the
+/// cavity pressures on the cavitated nodes (the state may hold another problem's).
 pub fn impose_boundary(step: &Step, state: &mut FilmState, z: f64) {
     let (g, bc) = (step.grid, step.boundary);
+    state.lay_cavity_pressure(g, &bc);
     for j in 0..g.n2 {
         let (k0, kn) = (g.idx(0, j), g.idx(g.n1, j));
         state.p[k0] = bc.p_left;
@@ -129,9 +131,10 @@ pub fn impose_boundary(step: &Step, state: &mut FilmState, z: f64) {
     }
 }
 
-/// Final state, guards and statistics of a converged solve: p = 0 on the cavitated set and
+/// Final state, guards and statistics of a converged solve: p = p_c on the cavitated set and
 /// θ = 1 on the pressurised set, the outlet column's film copied from upstream, the residual
-/// of the state as solved, then round-off negative pressures clipped and θ checked.
+/// of the state as solved, then round-off pressures below the rupture pressure clipped and θ
+/// checked.
 pub fn finish(
     cache: &mut GapCache,
     step: &Step,
@@ -147,24 +150,30 @@ pub fn finish(
     // clipping it would remove mass where φ ≈ h is large (the flooded gap e upstream of the
     // ring) and break the exact discrete balance.
     cache.fill_h(step, z);
-    for k in interior.clone() {
-        if state.pressurised[k] {
-            state.phi[k] = cache.h[k];
-        } else {
-            state.p[k] = 0.0;
+    let bc = step.boundary;
+    for i in 1..n1 {
+        let pc = bc.cavity_pressure(i, n1);
+        for k in i * n2..(i + 1) * n2 {
+            if state.pressurised[k] {
+                state.phi[k] = cache.h[k];
+            } else {
+                state.p[k] = pc;
+            }
         }
     }
     for j in 0..n2 {
         state.phi[g.idx(n1, j)] = state.phi[g.idx(n1 - 1, j)];
     }
-    // The residual before the round-off negative pressures the switching threshold lets
-    // stand (|p| ≤ 1e-13·p_max) are clipped: next to the face between the ring's edge and the
-    // gap e (h_f ≈ e/2, a conductance ≈ 10⁸) such a clip of 1e-17 alone shows as a residual
-    // of ≈ 1e-7 of the node's fluxes, which says nothing about the solve.
+    // The residual before the round-off excursions below the rupture pressure p_r the
+    // switching threshold lets stand (p_r − p ≤ 1e-13·p_max) are clipped: next to the face
+    // between the ring's edge and the gap e (h_f ≈ e/2, a conductance ≈ 10⁸) such a clip of
+    // 1e-17 alone shows as a residual of ≈ 1e-7 of the node's fluxes, which says nothing
+    // about the solve.
     let residual = cache.residual(step, state, z);
+    let p_r = bc.rupture_pressure();
     for k in interior.clone() {
         if state.pressurised[k] {
-            state.p[k] = state.p[k].max(0.0);
+            state.p[k] = state.p[k].max(p_r);
         }
     }
     // θ = φ/h must stay in [0, 1] up to round-off (a wrong number that looks right is worse

@@ -17,7 +17,7 @@ pub fn equilibrium_start(scene: &Scene, eq: &Steady) -> (FilmState, RingState) {
             let k = g.idx(i, j);
             let h = scene.gap.h(g, k, eq.z);
             st.phi[k] = eq.theta[i].min(1.0) * h;
-            if eq.p[i] > 0.0 && i > 0 && i < g.n1 {
+            if eq.pressurised[i] && i > 0 && i < g.n1 {
                 st.p[k] = eq.p[i];
                 st.pressurised[k] = true;
             }

@@ -30,6 +30,8 @@ pub struct Steady {
     pub x: Vec<f64>,
     pub p: Vec<f64>,
     pub theta: Vec<f64>,
+    /// Nodes of the full film held above their cavity pressure (docs/model.md §3).
+    pub pressurised: Vec<bool>,
 }
 
 /// Solves the untextured steady contact on `n1` cells along x1.
@@ -88,6 +90,9 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
     let theta = (0..g.nodes())
         .map(|k| state.theta(g, &scene.gap, z, k))
         .collect();
+    let pressurised = (0..g.nodes())
+        .map(|k| state.pressurised[k] && state.p[k] > step.boundary.cavity_pressure(k, g.n1))
+        .collect();
     Ok(Steady {
         z,
         w_h,
@@ -97,6 +102,7 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
         x: (0..=g.n1).map(|i| g.x(i)).collect(),
         p: state.p.clone(),
         theta,
+        pressurised,
     })
 }
 

@@ -145,6 +145,7 @@ impl FilmMethod for Cutoff {
         state: &mut FilmState,
         z: &mut f64,
     ) -> Result<SolveStats, FilmError> {
+        super::refuse_cavity_pressure(step, "cut-off")?;
         let g = step.grid;
         let ring_min_base = step.gap.ring_min_base(g);
         self.gap.begin(step);

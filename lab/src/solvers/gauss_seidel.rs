@@ -161,6 +161,7 @@ impl FilmMethod for GaussSeidel {
         state: &mut FilmState,
         z: &mut f64,
     ) -> Result<SolveStats, FilmError> {
+        super::refuse_cavity_pressure(step, "Gauss–Seidel")?;
         self.gap.begin(step);
         impose_boundary(step, state, *z);
         let sweeps = self.with_ring(step, state, z)?;

@@ -13,7 +13,7 @@ pub use gauss_seidel::{GaussSeidel, GS_RESIDUAL};
 pub use newton_mg::{MgTolerance, NewtonMultigrid};
 
 use texopt::model::case::CaseSpec;
-use texopt::solve::{FilmMethod, Method};
+use texopt::solve::{FilmError, FilmMethod, Method, Step};
 use texopt::time::{Numerics, Transient};
 
 /// Every film solver the lab can run: the product's two and its own.
@@ -85,4 +85,19 @@ pub fn cutoff_transient(case: &CaseSpec, num: &Numerics) -> Transient {
 /// predicted Z).
 pub fn explicit_transient(case: &CaseSpec, num: &Numerics) -> Transient {
     Transient::with_solver(case, num, Box::new(Explicit::new(Method::Direct.solver())))
+}
+
+/// Refuses a problem with nonzero cavity pressures (docs/model.md §3) for a solver whose own
+/// active-set rule holds cavities at p = 0: only the product's pieces (the direct, reference
+/// and multigrid solvers) carry the cavity pressure.
+pub fn refuse_cavity_pressure(step: &Step, solver: &str) -> Result<(), FilmError> {
+    let bc = step.boundary;
+    if bc.cavity_left == 0.0 && bc.cavity_right == 0.0 {
+        return Ok(());
+    }
+    Err(FilmError::Other(format!(
+        "the {solver} solver holds cavities at p = 0, but this problem's cavity pressures are \
+         {:e} (left) and {:e} (right): use the direct, reference or multigrid solver",
+        bc.cavity_left, bc.cavity_right
+    )))
 }

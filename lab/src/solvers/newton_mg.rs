@@ -171,14 +171,14 @@ impl NewtonMultigrid {
                         ring_min_base,
                     );
                 }
-                apply_correction(g, state, self.gap.h(), &self.y1, r);
+                apply_correction(step, state, self.gap.h(), &self.y1, r);
             } else if let Some(link) = step.ring {
                 dz = link.z_pred - link.kappa * link.w_ps - *z;
             }
             *z += dz;
             upwind_sweep(step, &self.gap.faces(), state, hi + 1..g.n1);
             self.gap.fill_h(step, *z);
-            let changes = update_active_set(g, state, self.gap.h());
+            let changes = update_active_set(step, state, self.gap.h());
             check_finite(g, state, *z)?;
             // Nothing pressurised: the sweeps are exact.
             if range.is_none() && changes == 0 && dz.abs() <= self.newton.z_abs {

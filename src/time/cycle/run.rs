@@ -485,11 +485,14 @@ impl CycleRun<'_> {
             (b.p_above, b.p_below)
         };
         let nogas = std::env::var("NOGAS").is_ok();
+        let (p_left, p_right) = if nogas { (0.0, 0.0) } else { (p_left, p_right) };
         Boundary {
             u,
-            p_left: if nogas { 0.0 } else { p_left },
-            p_right: if nogas { 0.0 } else { p_right },
+            p_left,
+            p_right,
             phi_inlet,
+            cavity_left: p_left,
+            cavity_right: p_right,
         }
     }
 
