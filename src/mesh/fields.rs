@@ -34,17 +34,14 @@ impl FilmState {
             pressurised: vec![false; n],
         }
     }
-    /// p = p_c, the cavity pressure of `bc` (docs/model.md §3), on every cavitated node of
-    /// the interior columns 1..n1 − 1.
+    /// p = p_c, the cavity pressure of `bc` (docs/model.md §3, [`cavity_pressures`]), on
+    /// every cavitated node of the interior columns 1..n1 − 1.
     pub fn lay_cavity_pressure(&mut self, grid: &Grid, bc: &Boundary) {
-        let n2 = grid.n2;
-        for i in 1..grid.n1 {
-            let pc = bc.cavity_pressure(i, grid.n1);
-            let span = i * n2..(i + 1) * n2;
-            for (p, &pr) in self.p[span.clone()].iter_mut().zip(&self.pressurised[span]) {
-                if !pr {
-                    *p = pc;
-                }
+        let mut pc = Vec::new();
+        cavity_pressures(grid, bc, &self.pressurised, &mut pc);
+        for k in grid.n2..grid.n1 * grid.n2 {
+            if !self.pressurised[k] {
+                self.p[k] = pc[k];
             }
         }
     }
@@ -56,5 +53,77 @@ impl FilmState {
     /// Saturation θ = φ/h at node k.
     pub fn theta(&self, grid: &Grid, gap: &Gap, z: f64, k: usize) -> f64 {
         self.phi[k] / gap.h(grid, k, z)
+    }
+}
+
+/// The cavity pressure of every node into `out` (docs/model.md §3, "Gas pressures"): a cavity
+/// open to the gas at x1 = 0 (connected through cavitated nodes to column 1) holds
+/// `cavity_left`, one open to the other end `cavity_right`, one open to both the value of
+/// its half ([`Boundary::cavity_pressure`]), an enclosed one the rupture pressure. A
+/// pressurised node gets the pressure of the cavity it would join: the highest among its
+/// cavitated interior neighbours' (a film never draws oil out of a cavity by pressure), else
+/// the rupture pressure. With one cavity pressure on both sides every node gets it.
+pub fn cavity_pressures(grid: &Grid, bc: &Boundary, pressurised: &[bool], out: &mut Vec<f64>) {
+    let (n1, n2) = (grid.n1, grid.n2);
+    out.clear();
+    if !bc.split_cavity() {
+        out.resize(grid.nodes(), bc.cavity_left);
+        return;
+    }
+    // Which ends each cavitated node is connected to: bit 1 the x1 = 0 end, bit 2 the other.
+    let mut open = vec![0u8; grid.nodes()];
+    let cavitated = |k: usize| k >= n2 && k < n1 * n2 && !pressurised[k];
+    for (bit, col) in [(1u8, 1), (2u8, n1 - 1)] {
+        let mut stack: Vec<usize> = (0..n2)
+            .map(|j| col * n2 + j)
+            .filter(|&k| cavitated(k))
+            .collect();
+        while let Some(k) = stack.pop() {
+            if open[k] & bit != 0 {
+                continue;
+            }
+            open[k] |= bit;
+            let (i, j) = (k / n2, k % n2);
+            let next = [
+                (i > 1).then(|| k - n2),
+                (i + 1 < n1).then(|| k + n2),
+                (j > 0).then(|| k - 1),
+                (j + 1 < n2).then(|| k + 1),
+            ];
+            stack.extend(
+                next.into_iter()
+                    .flatten()
+                    .filter(|&m| cavitated(m) && open[m] & bit == 0),
+            );
+        }
+    }
+    let of_cavity = |k: usize| match open[k] {
+        1 => bc.cavity_left,
+        2 => bc.cavity_right,
+        3 => bc.cavity_pressure(k / n2, n1),
+        _ => bc.rupture_pressure(),
+    };
+    out.resize(grid.nodes(), bc.rupture_pressure());
+    for k in n2..n1 * n2 {
+        out[k] = if !pressurised[k] {
+            of_cavity(k)
+        } else {
+            let (i, j) = (k / n2, k % n2);
+            let mut floor = bc.rupture_pressure();
+            for m in [
+                (i > 1).then(|| k - n2),
+                (i + 1 < n1).then(|| k + n2),
+                (j > 0).then(|| k - 1),
+                (j + 1 < n2).then(|| k + 1),
+            ]
+            .into_iter()
+            .flatten()
+            {
+                if !pressurised[m] {
+                    floor = floor.max(of_cavity(m));
+                }
+            }
+            floor
+        };
     }
 }

@@ -9,7 +9,7 @@ pub mod integrals;
 mod scene;
 
 pub use faces::face_conductances;
-pub use fields::FilmState;
+pub use fields::{cavity_pressures, FilmState};
 pub use gap::Gap;
 pub use grid::Grid;
 pub use scene::Scene;

@@ -28,17 +28,17 @@ pub struct Boundary {
     pub p_right: f64,
     /// Film φ = hθ carried in at x1 = 0 (µm); capped at the local gap (θ ≤ 1) per node.
     pub phi_inlet: f64,
-    /// Cavity pressure of the half of the domain at x1 = 0 and of the half at x1 = length
-    /// (0 in the paper): a cavitated node holds its half's value (docs/model.md §3,
-    /// "Gas pressures").
+    /// Cavity pressure of the gas at x1 = 0 and of the gas at x1 = length (0 in the paper):
+    /// a cavity open to one end holds its gas's pressure (docs/model.md §3, "Gas pressures";
+    /// `mesh::cavity_pressures`).
     pub cavity_left: f64,
     pub cavity_right: f64,
 }
 
 impl Boundary {
-    /// The cavity pressure p_c of node column i of n1 cells (docs/model.md §3): the left
-    /// half's where 2i < n1, the right half's where 2i > n1, their mean at the centre column.
-    /// The split is symmetric under the mirror i → n1 − i.
+    /// The cavity pressure p_c of node column i of n1 cells for a cavity open to both ends
+    /// (docs/model.md §3): the left end's where 2i < n1, the right end's where 2i > n1, their
+    /// mean at the centre column. The split is symmetric under the mirror i → n1 − i.
     #[inline(always)]
     pub fn cavity_pressure(&self, i: usize, n1: usize) -> f64 {
         match (2 * i).cmp(&n1) {
@@ -55,8 +55,8 @@ impl Boundary {
         self.cavity_left.min(self.cavity_right)
     }
 
-    /// Whether the two halves' cavity pressures differ (the floor of a pressurised node then
-    /// depends on its cavitated neighbours, docs/model.md §3).
+    /// Whether the two ends' cavity pressures differ (a cavity's pressure then depends on
+    /// which end it is open to, docs/model.md §3).
     #[inline(always)]
     pub fn split_cavity(&self) -> bool {
         self.cavity_left != self.cavity_right

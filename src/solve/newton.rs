@@ -13,7 +13,7 @@
 use super::problem::limit_closing;
 use super::{Stencil5, Step};
 use crate::mesh::integrals::{contact_load, load};
-use crate::mesh::{FilmState, Grid};
+use crate::mesh::{cavity_pressures, FilmState, Grid};
 use crate::model::film::{Column, Faces};
 use crate::model::ring::RingLink;
 
@@ -324,9 +324,8 @@ pub fn apply_correction(
 /// Active-set update with the gap `h` at the new Z (docs/model.md §3): a pressure below its
 /// floor by more than ε·p_scale cavitates its node (p = p_c, φ = h to start from), a film over
 /// h·(1 + ε) pressurises it (p = p_c, φ = h); ε at round-off. The floor is the cavity
-/// pressure p_c: with the two halves' p_c equal, that one; else the highest p_c of the node's
-/// cavitated neighbours, or the rupture pressure (the lower p_c) inside a full film.
-/// Returns the number of switches.
+/// pressure p_c: with the two sides' p_c equal, that one; else the pressure of the cavity the
+/// node would join ([`cavity_pressures`]). Returns the number of switches.
 pub fn update_active_set(step: &Step, state: &mut FilmState, h: &[f64]) -> usize {
     let (g, bc) = (step.grid, &step.boundary);
     let (n1, n2) = (g.n1, g.n2);
@@ -339,51 +338,36 @@ pub fn update_active_set(step: &Step, state: &mut FilmState, h: &[f64]) -> usize
     // Round-off of p is relative to |p|, the cavity pressures included.
     let p_eps = SWITCH_EPS * pmax.max(bc.cavity_left.abs()).max(bc.cavity_right.abs());
     let split = bc.split_cavity();
+    // With two gas pressures the floor of a node depends on the cavities around it
+    // (docs/model.md §3): computed once from the active set the iteration arrived with.
+    let mut pc_of = Vec::new();
+    if split {
+        cavity_pressures(g, bc, &state.pressurised, &mut pc_of);
+    }
     let mut changes = 0;
     for i in 1..n1 {
         let pc = bc.cavity_pressure(i, n1);
         for j in 0..n2 {
             let k = i * n2 + j;
+            let floor = if split { pc_of[k] } else { pc };
             if state.pressurised[k] {
-                let floor = if split {
-                    meniscus_floor(step, &state.pressurised, i, j)
-                } else {
-                    pc
-                };
                 if state.p[k] < floor - p_eps {
                     state.pressurised[k] = false;
-                    state.p[k] = pc;
+                    state.p[k] = floor;
                     state.phi[k] = h[k];
                     changes += 1;
                 }
             } else if state.phi[k] > h[k] * (1.0 + SWITCH_EPS) {
                 state.pressurised[k] = true;
-                state.p[k] = pc;
+                state.p[k] = floor;
                 state.phi[k] = h[k];
                 changes += 1;
             }
         }
     }
+    // The cavities as they now are hold their pressures.
+    if split && changes > 0 {
+        state.lay_cavity_pressure(g, bc);
+    }
     changes
-}
-
-/// The floor of pressurised node (i, j) when the halves' cavity pressures differ
-/// (docs/model.md §3): the highest cavity pressure of its cavitated interior neighbours (a
-/// film never draws oil out of a cavity by pressure), else the rupture pressure.
-fn meniscus_floor(step: &Step, pressurised: &[bool], i: usize, j: usize) -> f64 {
-    let (g, bc) = (step.grid, &step.boundary);
-    let (n1, n2) = (g.n1, g.n2);
-    let k = i * n2 + j;
-    let mut floor = bc.rupture_pressure();
-    let mut meet = |cavitated: bool, col: usize| {
-        if cavitated {
-            floor = floor.max(bc.cavity_pressure(col, n1));
-        }
-    };
-    // The end columns hold the boundary pressures, not cavities.
-    meet(i > 1 && !pressurised[k - n2], i - 1);
-    meet(i + 1 < n1 && !pressurised[k + n2], i + 1);
-    meet(j > 0 && !pressurised[k - 1], i);
-    meet(j + 1 < n2 && !pressurised[k + 1], i);
-    floor
 }

@@ -161,6 +161,9 @@ pub fn finish(
             }
         }
     }
+    if bc.split_cavity() {
+        state.lay_cavity_pressure(g, &bc);
+    }
     for j in 0..n2 {
         state.phi[g.idx(n1, j)] = state.phi[g.idx(n1 - 1, j)];
     }

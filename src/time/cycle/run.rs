@@ -484,8 +484,6 @@ impl CycleRun<'_> {
         } else {
             (b.p_above, b.p_below)
         };
-        let nogas = std::env::var("NOGAS").is_ok();
-        let (p_left, p_right) = if nogas { (0.0, 0.0) } else { (p_left, p_right) };
         Boundary {
             u,
             p_left,
