@@ -254,7 +254,7 @@ impl Default for Asperity {
 }
 
 /// Plausible ranges (SI): outside them a value is a slip of unit or digits, not a surface.
-const RANGES: [(&str, f64, f64); 6] = [
+pub const RANGES: [(&str, f64, f64); 6] = [
     ("sigma", 1e-9, 1e-5),
     ("eta_beta_sigma", 1e-3, 1.0),
     ("sigma_over_beta", 1e-6, 0.1),

@@ -216,6 +216,22 @@ pub const COMPOSITE_ROUGHNESS_UM: f64 = 0.3;
 /// mixed).
 pub const FULL_FILM_LAMBDA: f64 = 3.0;
 
+/// Film parameter Λ below which the asperities carry most of the load: boundary lubrication
+/// (Hamrock, Schmid & Jacobson, 2004, ch. 1: Λ < 1).
+pub const BOUNDARY_LAMBDA: f64 = 1.0;
+
+/// The lubrication regime of a film parameter Λ = h_min/σ (docs/model.md §9): "hydrodynamic"
+/// for Λ ≥ 3, "mixed" for 1 ≤ Λ < 3, "boundary" below.
+pub fn regime(lambda: f64) -> &'static str {
+    if lambda >= FULL_FILM_LAMBDA {
+        "hydrodynamic"
+    } else if lambda >= BOUNDARY_LAMBDA {
+        "mixed"
+    } else {
+        "boundary"
+    }
+}
+
 /// Stribeck numbers over which the tiers' accuracy was checked (docs/validation.md).
 pub const VALIDATED_STRIBECK: (f64, f64) = (1e-4, 1e-2);
 
@@ -247,7 +263,7 @@ impl Validity {
         let limit = self.clearance_limit_um();
         if c_min_um.is_nan() || c_min_um < limit {
             return Some(format!(
-                "C_min {c_min_um:.3} µm < {limit:.2} µm ({FULL_FILM_LAMBDA} × composite roughness {} µm): mixed lubrication, asperity contact not modelled",
+                "C_min {c_min_um:.3} µm < {limit:.2} µm ({FULL_FILM_LAMBDA} × composite roughness {} µm): mixed lubrication: the asperities carry part of the load (docs/model.md §11) on a film without roughness flow factors",
                 short(self.roughness_um)
             ));
         }
