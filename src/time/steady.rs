@@ -252,9 +252,13 @@ mod tests {
 
     #[test]
     fn a_flat_plain_ring_is_refused_with_its_reason() {
-        // Parallel surfaces build no steady pressure: no Z balances the load, and the error
-        // says why instead of guessing at the inlet.
-        match solve_untextured(&CaseSpec::paper(f64::INFINITY), 128) {
+        // Parallel surfaces build no steady pressure: without asperity contact no Z balances
+        // the load, and the error says why instead of guessing at the inlet.
+        let film_only = CaseSpec {
+            contact: None,
+            ..CaseSpec::paper(f64::INFINITY)
+        };
+        match solve_untextured(&film_only, 128) {
             Err(SteadyError::NoBracket {
                 hint, w_hi, w_ps, ..
             }) => {
@@ -264,5 +268,15 @@ mod tests {
             other => panic!("expected no force balance, got {other:?}"),
         }
         assert!(solve_untextured(&CaseSpec::paper(0.8), 128).is_ok());
+        // With the asperities (docs/model.md §11) it rides on them: they carry the load.
+        let s = solve_untextured(&CaseSpec::paper(f64::INFINITY), 128).unwrap();
+        let w_ps = CaseSpec::paper(0.8).w_ps;
+        assert!(s.w_h < 2e-3 * w_ps, "W_h = {}", s.w_h);
+        assert!(
+            (s.w_h + s.w_a - w_ps).abs() < 1e-12 * w_ps,
+            "W_a = {}",
+            s.w_a
+        );
+        assert!(s.z < 4.0 * 0.3 && s.friction.boundary > 0.0, "{s:?}");
     }
 }
