@@ -382,7 +382,8 @@ impl ContactLaw {
     /// Whether a gap h (µm) touches: λ = h/σ < 4 (a NaN gap does, and gives NaN).
     #[inline]
     pub fn touches(&self, h: f64) -> bool {
-        !(h / self.sigma >= LAMBDA_CONTACT)
+        let lambda = h / self.sigma;
+        lambda < LAMBDA_CONTACT || lambda.is_nan()
     }
 
     /// Asperity pressure p_a at gap h (µm), in pressure units (eq. A2, cut at λ = 4).
