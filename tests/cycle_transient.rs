@@ -5,11 +5,14 @@ use texopt::study::engine_file::parse;
 use texopt::time::cycle::{CycleNumerics, CycleRun, Drive, StepRule};
 
 fn example_engine() -> texopt::model::engine::Engine {
-    let text = std::fs::read_to_string(concat!(
+    let mut text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/studies/engine_gasoline.toml"
     ))
     .unwrap();
+    if std::env::var("NOGAS").is_ok() {
+        text = text.replace("pressure_bar = [15, 30, 35, 28, 12, 6,  4,   2,   0.5, 0.2, 0,   0,   1.5, 4,   8,   12]", "pressure_bar = [0, 0, 0, 0, 0, 0,  0,   0,   0, 0, 0,   0,   0, 0,   0,   0]");
+    }
     parse::<serde::de::IgnoredAny>(&text).unwrap().0
 }
 
@@ -145,4 +148,34 @@ fn probe_steady_textured() {
         "F mean {f:.5} N/m, Z min {zmin:.4}, Z mean {zmean:.4}  {:.2}s",
         t0.elapsed().as_secs_f64()
     );
+}
+
+#[test]
+#[ignore]
+fn probe_uniform_cycle() {
+    use texopt::model::case::Texture;
+    use texopt::time::cycle::cycle_numerics;
+    use texopt::time::Fidelity;
+    let engine = example_engine();
+    let drive = Drive::new(&engine);
+    let stroke_cm = 0.1 * engine.file.engine.stroke_mm;
+    let t = Texture::circular(0.01, 0.06, 5.0);
+    let fid = match std::env::var("FID").as_deref() {
+        Ok("fast") => Fidelity::Fast,
+        Ok("paper") => Fidelity::Paper,
+        _ => Fidelity::Draft,
+    };
+    let mut num = cycle_numerics(fid, &drive.ring_case(), Some(&t));
+    num.max_cycles = std::env::var("CYC").ok().and_then(|s| s.parse().ok()).unwrap_or(3);
+    eprintln!("{num:?}");
+    let t0 = std::time::Instant::now();
+    let run = CycleRun::new(&drive, drive.ring_case(), LinerLayout::uniform(stroke_cm, Some(t)), num).unwrap();
+    let out = run
+        .run(
+            &mut |c| eprintln!("W {:.6} dW {:.2e} doil {:.2e} steps {} {:.2}s", c.friction_work_j_per_m, c.work_change, c.oil_change, c.steps, t0.elapsed().as_secs_f64()),
+            &mut |_| {},
+        )
+        .unwrap();
+    let m = texopt::time::cycle::metrics(&out.rows, &engine);
+    eprintln!("{m:?}");
 }

@@ -281,6 +281,32 @@ pub struct OperatingArgs {
     pub roughness: Option<f64>,
 }
 
+/// The asperity contact of ring face and liner plateau (Greenwood–Tripp, docs/model.md §11);
+/// σ is --roughness. Defaults: a plateau-honed cast-iron liner against a steel ring.
+#[derive(Args, Debug, Clone, Copy, Default)]
+pub struct ContactArgs {
+    /// No asperity contact: the film alone carries the ring (the contact flags are not used).
+    #[arg(long = "no-contact")]
+    pub no_contact: bool,
+    /// Roughness parameter ηβσ (summit density × summit radius × σ) [default: 0.04].
+    #[arg(long = "eta-beta-sigma", value_name = "X", allow_hyphen_values = true)]
+    pub eta_beta_sigma: Option<f64>,
+    /// Summit slope measure σ/β [default: 1e-3].
+    #[arg(long = "sigma-over-beta", value_name = "X", allow_hyphen_values = true)]
+    pub sigma_over_beta: Option<f64>,
+    /// Composite contact modulus E* in GPa, 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂ (not E′ = 2E*)
+    /// [default: 82.9, grey cast iron on steel].
+    #[arg(long = "e-star", value_name = "GPA", allow_hyphen_values = true)]
+    pub e_star: Option<f64>,
+    /// Shear strength of the boundary film on the asperity tips τ₀ (MPa) [default: 2].
+    #[arg(long = "tau0", value_name = "MPA", allow_hyphen_values = true)]
+    pub tau0: Option<f64>,
+    /// Pressure coefficient ς of the boundary shear strength, τ_b = τ₀·A_a/A + ς·p_a
+    /// [default: 0.17].
+    #[arg(long = "varsigma", value_name = "X", allow_hyphen_values = true)]
+    pub varsigma: Option<f64>,
+}
+
 /// The limits a run is checked against before it starts (time/limits.rs).
 #[derive(Args, Debug, Clone, Copy)]
 pub struct LimitArgs {
@@ -574,6 +600,8 @@ pub struct SimulateArgs {
     pub theta_s: f64,
     #[command(flatten)]
     pub operating: OperatingArgs,
+    #[command(flatten)]
+    pub contact: ContactArgs,
     /// Relative tolerance of the periodic-regime test (estimated distance of the period-mean
     /// friction and Z from their periodic limits) [default: the tier's: 1e-3 for draft, 1e-4
     /// for fast, 1e-5 for paper and fine, as studies use them]

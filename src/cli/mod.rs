@@ -13,8 +13,8 @@ mod study;
 mod values;
 
 pub use args::{
-    ApproachArg, BenchArgs, CacheAction, CacheArgs, Cli, Command, CycleArgs, LimitArgs,
-    OperatingArgs, OptimiseArgs, SimulateArgs, StudyArgs,
+    ApproachArg, BenchArgs, CacheAction, CacheArgs, Cli, Command, ContactArgs, CycleArgs,
+    LimitArgs, OperatingArgs, OptimiseArgs, SimulateArgs, StudyArgs,
 };
 pub use simulate::case_from_args;
 

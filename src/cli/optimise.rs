@@ -252,6 +252,7 @@ fn settings(a: &OptimiseArgs, file: &DesignFile, r: f64) -> Result<Settings, Cmd
     let (op, validity) = operating(a, file).resolve()?;
     let mut base = CaseSpec::paper(r);
     op.apply(&mut base);
+    validity.apply(&mut base);
     base.validate(false)?;
     let space = space(a, file);
     space.validate().map_err(|e| space_error(&e))?;

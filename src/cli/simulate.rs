@@ -2,9 +2,11 @@
 
 use std::io::{IsTerminal, Write};
 
-use super::{flag, input_message, CmdError, SimulateArgs};
+use super::{flag, input_message, CmdError, ContactArgs, SimulateArgs};
+use crate::model::asperity::{self, Asperity};
 use crate::model::case::{bad, short, CaseSpec, InputError, Texture};
-use crate::model::operating::{Operating, Physical, Validity};
+use crate::model::operating::{regime, Operating, Physical, Validity};
+use crate::model::units::H_M;
 use crate::snapshot::Recording;
 use crate::time::limits::Kept;
 use crate::time::{
@@ -95,7 +97,9 @@ fn check_kept(
 fn inputs(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
     let mut case = CaseSpec::paper(a.r);
     case.theta_s = a.theta_s;
-    a.operating.resolve()?.0.apply(&mut case);
+    let (op, validity) = a.operating.resolve()?;
+    op.apply(&mut case);
+    case.contact = contact(&a.contact, &validity)?;
     let depth = a.depth.unwrap_or(0.0);
     if !depth.is_finite() || depth < 0.0 {
         return Err(bad(
@@ -129,6 +133,65 @@ fn inputs(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
     case.validate(a.allow_thick_pockets)?;
     num.validate(&case)?;
     Ok((case, num))
+}
+
+/// Each contact flag's field of [`Asperity`], its unit and that unit in SI (σ is
+/// `--roughness`, in µm).
+const CONTACT_UNITS: [(&str, &str, &str, f64); 6] = [
+    ("sigma", "roughness", "µm", 1e-6),
+    ("eta_beta_sigma", "eta_beta_sigma", "", 1.0),
+    ("sigma_over_beta", "sigma_over_beta", "", 1.0),
+    ("e_star", "e_star", "GPa", 1e9),
+    ("tau0", "tau0", "MPa", 1e6),
+    ("varsigma", "varsigma", "", 1.0),
+];
+
+/// The asperity contact the flags give (docs/model.md §11; σ the validity's roughness), None
+/// with --no-contact; a constant out of its range is refused in the flag's own unit.
+fn contact(c: &ContactArgs, validity: &Validity) -> Result<Option<Asperity>, InputError> {
+    if c.no_contact {
+        return Ok(None);
+    }
+    let d = Asperity::default();
+    let a = Asperity {
+        sigma: validity.roughness_um * H_M,
+        eta_beta_sigma: c.eta_beta_sigma.unwrap_or(d.eta_beta_sigma),
+        sigma_over_beta: c.sigma_over_beta.unwrap_or(d.sigma_over_beta),
+        e_star: c.e_star.map_or(d.e_star, |gpa| gpa * 1e9),
+        tau0: c.tau0.map_or(d.tau0, |mpa| mpa * 1e6),
+        varsigma: c.varsigma.unwrap_or(d.varsigma),
+    };
+    let values = [
+        a.sigma,
+        a.eta_beta_sigma,
+        a.sigma_over_beta,
+        a.e_star,
+        a.tau0,
+        a.varsigma,
+    ];
+    for ((field, lo, hi), (v, (of, name, unit, si))) in asperity::RANGES
+        .into_iter()
+        .zip(values.into_iter().zip(CONTACT_UNITS))
+    {
+        debug_assert_eq!(field, of);
+        if !(v.is_finite() && (lo..=hi).contains(&v)) {
+            let unit = if unit.is_empty() {
+                String::new()
+            } else {
+                format!(" {unit}")
+            };
+            return Err(bad(
+                name,
+                v / si,
+                format!(
+                    "must lie in {} to {}{unit} (docs/model.md §11); --no-contact runs without asperity contact",
+                    short(lo / si),
+                    short(hi / si),
+                ),
+            ));
+        }
+    }
+    Ok(Some(a))
 }
 
 /// The numerics the flags give beside the tier.
@@ -223,6 +286,20 @@ fn input_notes(a: &SimulateArgs, case: &CaseSpec, num: &Numerics) {
         if let Some(note) = approach_note(asked, num.approach_numerics(case).as_ref()) {
             eprintln!("note: {note}");
         }
+    }
+    let c = &a.contact;
+    if c.no_contact
+        && [
+            c.eta_beta_sigma,
+            c.sigma_over_beta,
+            c.e_star,
+            c.tau0,
+            c.varsigma,
+        ]
+        .iter()
+        .any(Option::is_some)
+    {
+        eprintln!("note: --no-contact: the asperity contact flags are not used");
     }
     if case.texture.is_none()
         && (a.l1.is_some() || a.per.is_some() || a.l2.is_some() || a.width.is_some())
@@ -400,11 +477,17 @@ fn print_result(
     let physical = op.scales().physical(case, outcome.f_mean, outcome.c_min);
     let outside = validity.outside(case, outcome.c_min);
     if a.json {
+        let lambda = outcome.c_min / validity.roughness_um;
         let report = serde_json::json!({
             "inputs": { "case": case, "numerics": num, "mesh": mesh_name(outcome.mesh((num.n1, num.n2))),
                         "operating": op, "roughness_um": validity.roughness_um },
             "physical": physical,
             "outside_model": outside,
+            "contact": case.contact.is_some(),
+            "lambda_min": lambda,
+            "regime": regime(lambda),
+            "asperity_share": outcome.asperity_share,
+            "f_boundary": outcome.f_boundary,
         });
         let mut obj = report.as_object().cloned().unwrap_or_default();
         if let serde_json::Value::Object(o) = serde_json::to_value(outcome).unwrap_or_default() {
@@ -414,7 +497,27 @@ fn print_result(
     } else {
         // Times are in units of L/U, U the run's speed: 1 ms at 10 m/s (docs/model.md §1).
         print_summary(case, num, outcome, op.scales().time_ms());
+        print_contact(case, validity, outcome);
         print_physical(op, &physical, outside.as_deref());
+    }
+}
+
+/// The film parameter Λ = C_min/σ and its regime (docs/model.md §9), and what the asperities
+/// carry (docs/model.md §11).
+fn print_contact(case: &CaseSpec, validity: &Validity, o: &Outcome) {
+    let lambda = o.c_min / validity.roughness_um;
+    let film = format!(
+        "film parameter Λ = C_min/σ = {lambda:.2} (σ = {} µm): {}",
+        short(validity.roughness_um),
+        regime(lambda)
+    );
+    match case.contact {
+        Some(_) => println!(
+            "  {film}; the asperities carry {:.2} % of the load, boundary friction {:.5} of f",
+            100.0 * o.asperity_share,
+            o.f_boundary
+        ),
+        None => println!("  {film}; no asperity contact (--no-contact)"),
     }
 }
 
@@ -442,12 +545,16 @@ fn check_series(path: &std::path::Path, transient: bool) -> Result<(), CmdError>
         .map_err(|why| CmdError::Input(format!("--series {}: {why}", path.display())))
 }
 
-/// The series, with the time also in ms (`ms_per_t`: the time scale L/U, 1 ms at 10 m/s).
+/// The series, with the time also in ms (`ms_per_t`: the time scale L/U, 1 ms at 10 m/s);
+/// the asperity load and boundary friction (docs/model.md §11) as two more columns where the
+/// asperities carried load at any step.
 fn write_series(path: &std::path::Path, rows: &[SeriesRow], ms_per_t: f64) -> Result<(), String> {
+    let contact = rows.iter().any(|r| r.w_a != 0.0 || r.f_boundary != 0.0);
     crate::output::write_with(path, |w| {
-        writeln!(w, "t,t_ms,Z,W_h,f,f_couette,f_poiseuille,f_pressure")?;
+        write!(w, "t,t_ms,Z,W_h,f,f_couette,f_poiseuille,f_pressure")?;
+        writeln!(w, "{}", if contact { ",W_a,f_boundary" } else { "" })?;
         for r in rows {
-            writeln!(
+            write!(
                 w,
                 "{},{},{},{},{},{},{},{}",
                 r.t,
@@ -459,6 +566,10 @@ fn write_series(path: &std::path::Path, rows: &[SeriesRow], ms_per_t: f64) -> Re
                 r.f_poiseuille,
                 r.f_pressure
             )?;
+            if contact {
+                write!(w, ",{},{}", r.w_a, r.f_boundary)?;
+            }
+            writeln!(w)?;
         }
         Ok(())
     })

@@ -12,6 +12,11 @@ pub struct FilmState {
     pub phi: Vec<f64>,
     /// Active set: node pressurised (θ = 1).
     pub pressurised: Vec<bool>,
+    /// With two gas pressures (docs/model.md §3), each node's cavity pressure for the solve
+    /// at hand: fixed from the active set the solve starts with ([`cavity_pressures`]), so
+    /// that a solve is a complementarity problem with a fixed floor at each node. Empty with
+    /// one cavity pressure.
+    pub cavity: Vec<f64>,
 }
 
 impl FilmState {
@@ -32,18 +37,33 @@ impl FilmState {
             p: vec![0.0; n],
             phi,
             pressurised: vec![false; n],
+            cavity: Vec::new(),
         }
     }
-    /// p = p_c, the cavity pressure of `bc` (docs/model.md §3, [`cavity_pressures`]), on
+    /// Fixes the cavity pressures of a solve with boundary data `bc` (docs/model.md §3): with
+    /// two gas pressures from the active set as it is ([`cavity_pressures`]), and lays them on
     /// every cavitated node of the interior columns 1..n1 − 1.
     pub fn lay_cavity_pressure(&mut self, grid: &Grid, bc: &Boundary) {
-        let mut pc = Vec::new();
-        cavity_pressures(grid, bc, &self.pressurised, &mut pc);
-        for k in grid.n2..grid.n1 * grid.n2 {
-            if !self.pressurised[k] {
-                self.p[k] = pc[k];
+        if bc.split_cavity() {
+            cavity_pressures(grid, bc, &self.pressurised, &mut self.cavity);
+        } else {
+            self.cavity.clear();
+        }
+        for i in 1..grid.n1 {
+            let pc = bc.cavity_pressure(i, grid.n1);
+            for k in i * grid.n2..(i + 1) * grid.n2 {
+                if !self.pressurised[k] {
+                    self.p[k] = self.cavity.get(k).copied().unwrap_or(pc);
+                }
             }
         }
+    }
+
+    /// The cavity pressure of node k in column i for the solve at hand (see
+    /// [`FilmState::cavity`]).
+    #[inline(always)]
+    pub fn cavity_at(&self, bc: &Boundary, i: usize, n1: usize, k: usize) -> f64 {
+        self.cavity.get(k).copied().unwrap_or_else(|| bc.cavity_pressure(i, n1))
     }
 
     /// A full film (θ = 1, p = 0) everywhere.

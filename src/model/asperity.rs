@@ -254,7 +254,7 @@ impl Default for Asperity {
 }
 
 /// Plausible ranges (SI): outside them a value is a slip of unit or digits, not a surface.
-const RANGES: [(&str, f64, f64); 6] = [
+pub const RANGES: [(&str, f64, f64); 6] = [
     ("sigma", 1e-9, 1e-5),
     ("eta_beta_sigma", 1e-3, 1.0),
     ("sigma_over_beta", 1e-6, 0.1),
@@ -382,7 +382,8 @@ impl ContactLaw {
     /// Whether a gap h (µm) touches: λ = h/σ < 4 (a NaN gap does, and gives NaN).
     #[inline]
     pub fn touches(&self, h: f64) -> bool {
-        !(h / self.sigma >= LAMBDA_CONTACT)
+        let lambda = h / self.sigma;
+        lambda < LAMBDA_CONTACT || lambda.is_nan()
     }
 
     /// Asperity pressure p_a at gap h (µm), in pressure units (eq. A2, cut at λ = 4).
@@ -743,6 +744,53 @@ mod tests {
         let tau = a.shear_stress(h);
         assert!(rel(tau, 2e6 * a.area_fraction(h) + 0.17 * p) < 1e-12);
         assert_eq!(a.pressure(37.0 * a.sigma), 0.0);
+    }
+
+    #[test]
+    fn the_runs_law_is_the_si_law_shifted_and_cut_at_lambda_4() {
+        let a = Asperity::default();
+        let s = Scales {
+            speed_ms: 7.0,
+            viscosity_pas: 0.01,
+        };
+        let law = ContactLaw::new(&a, &s);
+        let shear_unit = s.viscosity_pas * s.speed_ms / H_M;
+        for lambda in [0.0, 0.5, 1.0, 2.0, 3.0, 3.9] {
+            let (h_um, h_m) = (lambda * law.sigma_um(), lambda * a.sigma);
+            let p = law.pressure(h_um) * s.pressure_pa();
+            let want = a.pressure(h_m) - a.pressure_scale() * f_5_2(4.0);
+            assert!(rel(p, want) < 1e-12, "λ = {lambda}: {p} vs {want}");
+            let area = a.area_fraction(h_m) - PI * PI * 0.04f64.powi(2) * f_2(4.0);
+            assert!(rel(law.area_fraction(h_um), area) < 1e-12);
+            let tau = a.tau0 * area + a.varsigma * want;
+            assert!(rel(law.shear(h_um) * shear_unit, tau) < 1e-12);
+            let (p2, dp) = law.pressure_and_dh(h_um);
+            assert_eq!(p2, law.pressure(h_um));
+            let d = 1e-6;
+            let fd = (law.pressure(h_um + d) - law.pressure(h_um - d)) / (2.0 * d);
+            assert!(rel(dp, fd) < 1e-6, "λ = {lambda}: {dp} vs {fd}");
+        }
+        // Exactly nothing from λ = 4 on, continuously.
+        let reach = law.reach_um();
+        assert_eq!(reach, 4.0 * law.sigma_um());
+        for h in [reach, 1.0001 * reach, 10.0, 1e3, f64::INFINITY] {
+            assert!(!law.touches(h));
+            assert_eq!(law.pressure_and_dh(h), (0.0, 0.0));
+            assert_eq!(
+                (law.pressure(h), law.area_fraction(h), law.shear(h)),
+                (0.0, 0.0, 0.0)
+            );
+        }
+        let below = 4.0 * (1.0 - 1e-9) * law.sigma_um();
+        assert!(law.touches(below) && law.pressure(below) >= 0.0);
+        assert!(law.pressure(below) < 1e-12 * law.pressure(law.sigma_um()));
+        // The cut's share at λ = 3, 2, 1 (docs/model.md §11): 1.4 %, 0.043 %, 0.0029 %.
+        for (lambda, share) in [(3.0, 1.377e-2), (2.0, 4.339e-4), (1.0, 2.921e-5)] {
+            assert!(
+                rel(f_5_2(4.0) / f_5_2(lambda), share) < 1e-3,
+                "λ = {lambda}"
+            );
+        }
     }
 
     #[test]

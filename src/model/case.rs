@@ -95,10 +95,10 @@ pub struct CaseSpec {
     )]
     pub contact: Option<Asperity>,
     /// The run's scales U and μ (docs/model.md §1): the scaled film and ring do not depend on
-    /// them, the contact's pressure and shear in scaled units do. Not serialised: a cache key
-    /// holds the scaled case, which is the same for every U and μ of one scaled problem; the
-    /// contact acts only where the film is thinner than 4σ, and only there could two points
-    /// of equal W_ps and m but different μU share a key (docs/model.md §11).
+    /// them, the contact's pressure and shear in scaled units do, through μU. Not serialised,
+    /// so that cache keys stay those of the scaled case: the contact acts only where the film
+    /// is thinner than 4σ, and only there could two points of equal W_ps and m but different
+    /// μU share a key (docs/model.md §11).
     #[serde(skip, default = "paper_scales")]
     pub scales: Scales,
 }

@@ -137,6 +137,7 @@ pub fn points(s: &CycleSettings, step: f64) -> Vec<Point> {
             let excluded = excluded_before(&op, &sample, s);
             if excluded.is_none() {
                 op.apply(&mut base);
+                s.search.validity.apply(&mut base);
             }
             Point {
                 sample,

@@ -9,7 +9,7 @@ use super::newton::{
 use super::problem::{check_finite, finish, impose_boundary, GapCache};
 use super::reuse::{Plan, Reuse, CHORD_CONFIRM, ROUNDED_FACTORS};
 use super::{FilmError, FilmMethod, KeptFactors, Method, SolveStats, Stencil5, Step, Tolerance};
-use crate::mesh::{face_conductances, FilmState};
+use crate::mesh::{cavity_pressures, face_conductances, FilmState};
 use crate::model::film::Faces;
 
 /// The band-LU film solver and its work arrays.
@@ -31,7 +31,14 @@ pub struct FilmSolver {
     jh: Vec<f64>,
     jcx: Vec<f64>,
     jcy: Vec<f64>,
+    /// The cavity pressures of a settled active set, against the solve's (two gas pressures).
+    cavity: Vec<f64>,
 }
+
+/// Most times a solve lays its cavities' pressures anew (two gas pressures): a front that
+/// the gas and the film push back and forth between two nodes is left where the last
+/// settled solve put it (its floors those of the cavities one refresh earlier).
+const CAVITY_REFRESHES: usize = 8;
 
 /// What one iteration did, for the stopping rule.
 struct Iterate {
@@ -92,7 +99,7 @@ impl FilmSolver {
         let g = step.grid;
         let ring_min_base = step.gap.ring_min_base(g);
         let stretch = self.reuse.may_stretch(g.n2);
-        let mut iterations = 0;
+        let (mut iterations, mut refreshes) = (0, 0);
         loop {
             iterations += 1;
             self.gap.set_gap(step, *z)?;
@@ -115,7 +122,16 @@ impl FilmSolver {
             let changes = update_active_set(step, state, self.gap.h());
             check_finite(g, state, *z)?;
             if changes == 0 && it.settled(*z, ring_min_base, self.tol.z_abs) {
-                return Ok(iterations);
+                // With two gas pressures, the cavities the solve has settled on may be open
+                // to other ends than those it started with (docs/model.md §3): their
+                // pressures are laid anew and the solve goes on from there.
+                if !step.boundary.split_cavity()
+                    || refreshes >= CAVITY_REFRESHES
+                    || !self.cavities_moved(step, state)
+                {
+                    return Ok(iterations);
+                }
+                refreshes += 1;
             }
             if iterations >= g.n1 + self.tol.extra_iterations {
                 return Err(FilmError::NotConverged {
@@ -126,6 +142,21 @@ impl FilmSolver {
                 });
             }
         }
+    }
+
+    /// Whether the cavities of the settled active set differ from those the solve started
+    /// with (two gas pressures, docs/model.md §3). A cavity open to a gas invades the film
+    /// next to it wherever the film's pressure is below that gas's, as far as it goes; then
+    /// every cavity's pressure is laid anew (`FilmState::lay_cavity_pressure`).
+    fn cavities_moved(&mut self, step: &Step, state: &mut FilmState) -> bool {
+        let (g, bc) = (step.grid, &step.boundary);
+        cavity_pressures(g, bc, &state.pressurised, &mut self.cavity);
+        let invaded = invade(g, state, &self.cavity, self.gap.h());
+        if invaded == 0 && self.cavity == state.cavity {
+            return false;
+        }
+        state.lay_cavity_pressure(g, bc);
+        true
     }
 
     /// One Newton step over the columns lo..=hi: matrix (factored, or factors at hand),
@@ -215,6 +246,42 @@ impl FilmSolver {
             correction,
         })
     }
+}
+
+/// Cavitates every pressurised node reachable from a cavity through pressurised nodes whose
+/// pressure is below that cavity's (`cavity`: each node's cavity pressure as the active set
+/// stands): the gas open to the cavity pushes into the film as far as the film's pressure
+/// is below its own. Returns the nodes cavitated.
+fn invade(g: &crate::mesh::Grid, state: &mut FilmState, cavity: &[f64], h: &[f64]) -> usize {
+    let (n1, n2) = (g.n1, g.n2);
+    let pmax = state.p.iter().fold(0.0f64, |m, &p| m.max(p.abs()));
+    let eps = 1e-13 * pmax;
+    let mut stack: Vec<(usize, f64)> = (n2..n1 * n2)
+        .filter(|&k| !state.pressurised[k])
+        .map(|k| (k, cavity[k]))
+        .collect();
+    let mut invaded = 0;
+    while let Some((k, pc)) = stack.pop() {
+        let (i, j) = (k / n2, k % n2);
+        for m in [
+            (i > 1).then(|| k - n2),
+            (i + 1 < n1).then(|| k + n2),
+            (j > 0).then(|| k - 1),
+            (j + 1 < n2).then(|| k + 1),
+        ]
+        .into_iter()
+        .flatten()
+        {
+            if state.pressurised[m] && state.p[m] < pc - eps {
+                state.pressurised[m] = false;
+                state.p[m] = pc;
+                state.phi[m] = h[m];
+                invaded += 1;
+                stack.push((m, pc));
+            }
+        }
+    }
+    invaded
 }
 
 impl FilmMethod for FilmSolver {

@@ -13,7 +13,7 @@
 use super::problem::limit_closing;
 use super::{Stencil5, Step};
 use crate::mesh::integrals::{contact_load, load};
-use crate::mesh::{cavity_pressures, FilmState, Grid};
+use crate::mesh::{FilmState, Grid};
 use crate::model::film::{Column, Faces};
 use crate::model::ring::RingLink;
 
@@ -325,7 +325,8 @@ pub fn apply_correction(
 /// floor by more than ε·p_scale cavitates its node (p = p_c, φ = h to start from), a film over
 /// h·(1 + ε) pressurises it (p = p_c, φ = h); ε at round-off. The floor is the cavity
 /// pressure p_c: with the two sides' p_c equal, that one; else the pressure of the cavity the
-/// node would join ([`cavity_pressures`]). Returns the number of switches.
+/// node would join as the solve started (`FilmState::cavity`). Returns the number of
+/// switches.
 pub fn update_active_set(step: &Step, state: &mut FilmState, h: &[f64]) -> usize {
     let (g, bc) = (step.grid, &step.boundary);
     let (n1, n2) = (g.n1, g.n2);
@@ -337,19 +338,12 @@ pub fn update_active_set(step: &Step, state: &mut FilmState, h: &[f64]) -> usize
         .fold(0.0f64, |m, (_, &p)| m.max(p));
     // Round-off of p is relative to |p|, the cavity pressures included.
     let p_eps = SWITCH_EPS * pmax.max(bc.cavity_left.abs()).max(bc.cavity_right.abs());
-    let split = bc.split_cavity();
-    // With two gas pressures the floor of a node depends on the cavities around it
-    // (docs/model.md §3): computed once from the active set the iteration arrived with.
-    let mut pc_of = Vec::new();
-    if split {
-        cavity_pressures(g, bc, &state.pressurised, &mut pc_of);
-    }
     let mut changes = 0;
     for i in 1..n1 {
-        let pc = bc.cavity_pressure(i, n1);
         for j in 0..n2 {
             let k = i * n2 + j;
-            let floor = if split { pc_of[k] } else { pc };
+            // The node's floor, fixed for the solve (docs/model.md §3).
+            let floor = state.cavity_at(bc, i, n1, k);
             if state.pressurised[k] {
                 if state.p[k] < floor - p_eps {
                     state.pressurised[k] = false;
@@ -364,10 +358,6 @@ pub fn update_active_set(step: &Step, state: &mut FilmState, h: &[f64]) -> usize
                 changes += 1;
             }
         }
-    }
-    // The cavities as they now are hold their pressures.
-    if split && changes > 0 {
-        state.lay_cavity_pressure(g, bc);
     }
     changes
 }

@@ -152,17 +152,13 @@ pub fn finish(
     cache.fill_h(step, z);
     let bc = step.boundary;
     for i in 1..n1 {
-        let pc = bc.cavity_pressure(i, n1);
         for k in i * n2..(i + 1) * n2 {
             if state.pressurised[k] {
                 state.phi[k] = cache.h[k];
             } else {
-                state.p[k] = pc;
+                state.p[k] = state.cavity_at(&bc, i, n1, k);
             }
         }
-    }
-    if bc.split_cavity() {
-        state.lay_cavity_pressure(g, &bc);
     }
     for j in 0..n2 {
         state.phi[g.idx(n1, j)] = state.phi[g.idx(n1 - 1, j)];

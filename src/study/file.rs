@@ -185,7 +185,11 @@ pub fn parse(text: &str, file: &str) -> Result<Study, StudyError> {
     check_header(&raw).map_err(&err)?;
     let validity = validity(&raw).map_err(&err)?;
     let (values, textures) = parameter_values(&raw.parameters).map_err(&err)?;
-    let (jobs, skipped) = expand_cases(&raw, &values, &textures).map_err(&err)?;
+    let (mut jobs, skipped) = expand_cases(&raw, &values, &textures).map_err(&err)?;
+    // The asperity contact's σ is the study's roughness (docs/model.md §11).
+    for j in &mut jobs {
+        validity.apply(&mut j.case);
+    }
     if jobs.is_empty() {
         return Err(err(Problem::NoValidCase {
             combinations: skipped.values().sum::<usize>(),

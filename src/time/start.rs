@@ -7,7 +7,7 @@ use crate::model::case::CaseSpec;
 use crate::model::ring::RingState;
 
 /// The untextured force balance (docs/model.md §6) laid on the textured gap: its saturation
-/// and pressure per column, Z at the balance, at rest, W_h = W_ps so Z''(0) = 0. The texture
+/// and pressure per column, Z at the balance, at rest, W_h + W_a = W_ps so Z''(0) = 0. The texture
 /// then only perturbs a balanced ring, so the periodic regime comes sooner.
 pub fn equilibrium_start(scene: &Scene, eq: &Steady) -> (FilmState, RingState) {
     let g = &scene.grid;

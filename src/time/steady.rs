@@ -11,6 +11,7 @@ use super::numerics::TimeScheme;
 use super::outcome::{Outcome, RunResult};
 use crate::mesh::integrals::{contact_load, friction};
 use crate::mesh::{FilmState, Grid, Scene};
+use crate::model::asperity::ContactLaw;
 use crate::model::case::CaseSpec;
 use crate::model::friction::{Friction, FrictionModel};
 use crate::solve::{FilmError, FilmMethod, FilmSolver, Method, Step};
@@ -54,25 +55,31 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
     let mut solver = FilmSolver::new(Method::Direct);
     let mut state = FilmState::cavitated(g, &scene.gap, case.z0, case.d_oil);
     let mut solves = 0;
-    let law = case.contact_law();
     let (mut w_h, mut w_a) = (0.0, 0.0);
-    // Residual of the force balance at Z (warm-started film solves); the asperity load is
-    // added only where it acts, so that without it the residual is W_h − W_ps to the bit.
-    let mut excess = |z: f64| -> Result<f64, FilmError> {
+    // Residual of the force balance at Z with the contact `law` (warm-started film solves).
+    let mut excess = |z: f64, law: Option<&ContactLaw>| -> Result<f64, FilmError> {
         let mut zz = z;
         solves += 1;
         w_h = solver.solve(&step, &mut state, &mut zz)?.w_h;
-        w_a = law.map_or(0.0, |l| contact_load(g, &scene.gap, z, &l).0);
-        Ok(if w_a == 0.0 {
-            w_h - case.w_ps
-        } else {
-            w_h + w_a - case.w_ps
-        })
+        w_a = law.map_or(0.0, |l| contact_load(g, &scene.gap, z, l).0);
+        Ok(w_h + w_a - case.w_ps)
     };
-    let bracket = bracket(case, &mut excess)?;
-    let z = balance(case.w_ps, bracket, &mut excess)?;
+    // The film's balance first: where it leaves every gap under the ring beyond the
+    // asperities' reach, W_a = 0 there and it is the balance with them too, found by the
+    // same steps as without contact (the same bits). Else, or where the film alone cannot
+    // carry the load, the balance with the asperities.
+    let law = case.contact_law();
+    let film_only = root(case, case.z0, &mut |z| excess(z, None));
+    let min_base = scene.gap.ring_min_base(g);
+    let z = match (film_only, law) {
+        (Ok(z), Some(l)) if l.touches(min_base + z) => root(case, z, &mut |z| excess(z, Some(&l)))?,
+        (Err(SteadyError::NoBracket { .. }), Some(l)) => {
+            root(case, case.z0, &mut |z| excess(z, Some(&l)))?
+        }
+        (z, _) => z?,
+    };
     // Final state exactly at the returned Z.
-    excess(z)?;
+    excess(z, law.as_ref())?;
     if law.is_some() && z <= CONTACT_Z {
         return Err(SteadyError::Overloaded {
             z,
@@ -106,13 +113,25 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
     })
 }
 
-/// A bracket (lo, hi, excess at lo, excess at hi) of the force balance: W_h decreases with Z,
-/// so it is expanded geometrically from Z0 until the excess changes sign.
+/// Z at the force balance whose excess load is `excess`, bracketed from `z_start`.
+fn root(
+    case: &CaseSpec,
+    z_start: f64,
+    excess: &mut dyn FnMut(f64) -> Result<f64, FilmError>,
+) -> Result<f64, SteadyError> {
+    let bracket = bracket(case, z_start, excess)?;
+    Ok(balance(case.w_ps, bracket, excess)?)
+}
+
+/// A bracket (lo, hi, excess at lo, excess at hi) of the force balance: the load carried
+/// decreases with Z, so it is expanded geometrically from `z_start` until the excess changes
+/// sign.
 fn bracket(
     case: &CaseSpec,
+    z_start: f64,
     excess: &mut dyn FnMut(f64) -> Result<f64, FilmError>,
 ) -> Result<(f64, f64, f64, f64), SteadyError> {
-    let (mut lo, mut hi) = (case.z0, case.z0);
+    let (mut lo, mut hi) = (z_start, z_start);
     let mut flo = excess(lo)?;
     let mut fhi = flo;
     let mut expansions = 0;
@@ -239,9 +258,13 @@ mod tests {
 
     #[test]
     fn a_flat_plain_ring_is_refused_with_its_reason() {
-        // Parallel surfaces build no steady pressure: no Z balances the load, and the error
-        // says why instead of guessing at the inlet.
-        match solve_untextured(&CaseSpec::paper(f64::INFINITY), 128) {
+        // Parallel surfaces build no steady pressure: without asperity contact no Z balances
+        // the load, and the error says why instead of guessing at the inlet.
+        let film_only = CaseSpec {
+            contact: None,
+            ..CaseSpec::paper(f64::INFINITY)
+        };
+        match solve_untextured(&film_only, 128) {
             Err(SteadyError::NoBracket {
                 hint, w_hi, w_ps, ..
             }) => {
@@ -251,5 +274,15 @@ mod tests {
             other => panic!("expected no force balance, got {other:?}"),
         }
         assert!(solve_untextured(&CaseSpec::paper(0.8), 128).is_ok());
+        // With the asperities (docs/model.md §11) it rides on them: they carry the load.
+        let s = solve_untextured(&CaseSpec::paper(f64::INFINITY), 128).unwrap();
+        let w_ps = CaseSpec::paper(0.8).w_ps;
+        assert!(s.w_h < 2e-3 * w_ps, "W_h = {}", s.w_h);
+        assert!(
+            (s.w_h + s.w_a - w_ps).abs() < 1e-12 * w_ps,
+            "W_a = {}",
+            s.w_a
+        );
+        assert!(s.z < 4.0 * 0.3 && s.friction.boundary > 0.0, "{s:?}");
     }
 }
