@@ -166,13 +166,31 @@ fn probe_uniform_cycle() {
         _ => Fidelity::Draft,
     };
     let mut num = cycle_numerics(fid, &drive.ring_case(), Some(&t));
-    num.max_cycles = std::env::var("CYC").ok().and_then(|s| s.parse().ok()).unwrap_or(3);
+    num.max_cycles = std::env::var("CYC")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(3);
     eprintln!("{num:?}");
     let t0 = std::time::Instant::now();
-    let run = CycleRun::new(&drive, drive.ring_case(), LinerLayout::uniform(stroke_cm, Some(t)), num).unwrap();
+    let run = CycleRun::new(
+        &drive,
+        drive.ring_case(),
+        LinerLayout::uniform(stroke_cm, Some(t)),
+        num,
+    )
+    .unwrap();
     let out = run
         .run(
-            &mut |c| eprintln!("W {:.6} dW {:.2e} doil {:.2e} steps {} {:.2}s", c.friction_work_j_per_m, c.work_change, c.oil_change, c.steps, t0.elapsed().as_secs_f64()),
+            &mut |c| {
+                eprintln!(
+                    "W {:.6} dW {:.2e} doil {:.2e} steps {} {:.2}s",
+                    c.friction_work_j_per_m,
+                    c.work_change,
+                    c.oil_change,
+                    c.steps,
+                    t0.elapsed().as_secs_f64()
+                )
+            },
             &mut |_| {},
         )
         .unwrap();

@@ -63,7 +63,10 @@ impl FilmState {
     /// [`FilmState::cavity`]).
     #[inline(always)]
     pub fn cavity_at(&self, bc: &Boundary, i: usize, n1: usize, k: usize) -> f64 {
-        self.cavity.get(k).copied().unwrap_or_else(|| bc.cavity_pressure(i, n1))
+        self.cavity
+            .get(k)
+            .copied()
+            .unwrap_or_else(|| bc.cavity_pressure(i, n1))
     }
 
     /// A full film (θ = 1, p = 0) everywhere.
