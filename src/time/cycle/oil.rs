@@ -93,10 +93,10 @@ impl OilMap {
         (cells, before, after)
     }
 
-    /// The leading edge sweeps liner [a, b] with `ahead` on it: the stretch's oil is taken
-    /// off the liner into the film. Beyond the map the liner carries the supply of the
+    /// What the leading edge sweeping liner [a, b] with `ahead` on it meets, the map left as
+    /// it is ([`OilMap::take`] takes it). Beyond the map the liner carries the supply of the
     /// nearest cell, or nothing of the ring's own (it has not been there).
-    pub fn take(&mut self, a: f64, b: f64, ahead: Ahead) -> Taken {
+    pub fn meet(&self, a: f64, b: f64, ahead: Ahead) -> Taken {
         let len = (b - a).abs();
         let (cells, before, after) = self.overlaps(a, b);
         let (mut supplied, mut scraped, mut oil) = (0.0, 0.0, 0.0);
@@ -116,14 +116,23 @@ impl OilMap {
                 }
             };
             oil += d * part;
-            // The swept part of the cell leaves; the rest stays, spread over the cell.
-            self.layer[k] *= 1.0 - part / self.cell;
         }
         Taken {
             layer: if len > 0.0 { oil / len } else { 0.0 },
             supplied,
             scraped,
         }
+    }
+
+    /// The leading edge sweeps liner [a, b] with `ahead` on it: what it meets
+    /// ([`OilMap::meet`]) is taken off the liner into the film; the swept part of each cell
+    /// leaves it, the rest stays, spread over the cell.
+    pub fn take(&mut self, a: f64, b: f64, ahead: Ahead) -> Taken {
+        let met = self.meet(a, b, ahead);
+        for (k, part) in self.overlaps(a, b).0 {
+            self.layer[k] *= 1.0 - part / self.cell;
+        }
+        met
     }
 
     /// The trailing edge leaves `volume` (µm·cm) on liner [a, b], spread evenly; on the cell
@@ -147,17 +156,18 @@ impl OilMap {
         volume * (before + after) / len
     }
 
-    /// Largest change of the layer against `other` (same cells), relative to the largest
-    /// layer: the oil map's cycle-to-cycle change.
+    /// The change of the layer against `other` (same cells): Σ|Δd| over Σ|d|, the share of
+    /// the oil on the liner that is not where it was: the oil map's cycle-to-cycle change.
     pub fn change_from(&self, other: &OilMap) -> f64 {
-        let scale = self.layer.iter().fold(0.0f64, |m, &d| m.max(d.abs()));
-        let diff = self
+        let total: f64 = self.layer.iter().map(|d| d.abs()).sum();
+        let diff: f64 = self
             .layer
             .iter()
             .zip(&other.layer)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-        if scale > 0.0 {
-            diff / scale
+            .map(|(a, b)| (a - b).abs())
+            .sum();
+        if total > 0.0 {
+            diff / total
         } else {
             diff
         }

@@ -356,17 +356,88 @@ fn cycle_label(drive: &Drive) -> String {
     format!("engine {} cycle", drive.engine().file.engine.name)
 }
 
+/// Most halvings of a crank step whose film solve does not converge.
+pub const MAX_HALVINGS: usize = 4;
+
+/// A run's state before a step, to take the step again in halves.
+struct Saved {
+    scene: Scene,
+    state: FilmState,
+    phi_old: Vec<f64>,
+    ring: RingState,
+    mirrored: bool,
+    width: Option<f64>,
+    phi_inlet: f64,
+    tally: OilBalance,
+}
+
 /// What a step's film exchanged with the liner.
 struct Exchange {
     /// Oil taken off the liner ahead, its layer (µm), and the inlet film φ = 2·layer.
     taken: f64,
     layer_met: f64,
     phi_inlet: f64,
-    /// Liner swept by the trailing edge over the step (cm, its two ends).
+    /// Liner swept by the leading and the trailing edge over the step (cm, their two ends).
+    lead: (f64, f64),
     trail: (f64, f64),
 }
 
 impl CycleRun<'_> {
+    /// The crank from `from` to `to` degrees (no dead centre strictly between) in one step,
+    /// or, where its film solve does not converge, in halves (at most [`MAX_HALVINGS`] deep):
+    /// the step follows the dynamics where they outrun the crank's steps. Returns the rows of
+    /// the steps taken.
+    pub fn advance(&mut self, from: f64, to: f64) -> Result<Vec<CycleRow>, SolveError> {
+        self.advance_halving(from, to, 0)
+    }
+
+    fn advance_halving(
+        &mut self,
+        from: f64,
+        to: f64,
+        depth: usize,
+    ) -> Result<Vec<CycleRow>, SolveError> {
+        let saved = self.save();
+        match self.step(from, to) {
+            Ok(row) => Ok(vec![row]),
+            Err(SolveError::Film { .. }) if depth < MAX_HALVINGS => {
+                self.restore(saved);
+                let mid = 0.5 * (from + to);
+                let mut rows = self.advance_halving(from, mid, depth + 1)?;
+                rows.extend(self.advance_halving(mid, to, depth + 1)?);
+                Ok(rows)
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// What a step changes but the oil map (which it changes only once its film is solved).
+    fn save(&self) -> Saved {
+        Saved {
+            scene: self.scene.clone(),
+            state: self.state.clone(),
+            phi_old: self.phi_old.clone(),
+            ring: self.ring,
+            mirrored: self.mirrored,
+            width: self.width,
+            phi_inlet: self.phi_inlet,
+            tally: self.tally,
+        }
+    }
+
+    fn restore(&mut self, s: Saved) {
+        self.scene = s.scene;
+        self.state = s.state;
+        self.phi_old = s.phi_old;
+        self.ring = s.ring;
+        self.mirrored = s.mirrored;
+        self.width = s.width;
+        self.phi_inlet = s.phi_inlet;
+        self.tally = s.tally;
+        // A failed solve may leave its factors in any state.
+        self.solver = FilmSolver::new(Method::Direct);
+    }
+
     /// One crank step from `from` to `to` degrees (no dead centre strictly between): the
     /// film of the step's end with the ring's implicit Newmark update, the liner's speed the
     /// step's mean (its displacement over the step's time, so the texture moves and the oil
@@ -426,6 +497,11 @@ impl CycleRun<'_> {
             dt * (inflow.abs() + outflow.abs()),
             to,
         )?;
+        let t = self
+            .oil
+            .take(ex.lead.0, ex.lead.1, self.drive.ahead(self.mirrored));
+        self.tally.supplied += t.supplied;
+        self.tally.scraped += t.scraped;
         self.tally.thrown += ex.taken - dt * inflow;
         self.tally.thrown += self.oil.put(ex.trail.0, ex.trail.1, dt * outflow);
         self.phi_old.copy_from_slice(&self.state.phi);
@@ -451,7 +527,7 @@ impl CycleRun<'_> {
 
     /// The oil the leading edge meets over the step from `a` to `b`: taken off the liner
     /// ahead (the supply's towards the crankcase, the ring's own oil on the way back).
-    fn exchange_ahead(&mut self, a: &DrivePoint, b: &DrivePoint) -> Exchange {
+    fn exchange_ahead(&self, a: &DrivePoint, b: &DrivePoint) -> Exchange {
         let length = self.scene.contact.length_cm;
         let (lead_a, lead_b) = (
             self.liner_y(a.position_cm, 0.0),
@@ -465,13 +541,12 @@ impl CycleRun<'_> {
         // crankcase.
         let t = self
             .oil
-            .take(lead_a, lead_b, self.drive.ahead(self.mirrored));
-        self.tally.supplied += t.supplied;
-        self.tally.scraped += t.scraped;
+            .meet(lead_a, lead_b, self.drive.ahead(self.mirrored));
         Exchange {
             taken: t.layer * (lead_b - lead_a).abs(),
             layer_met: t.layer,
             phi_inlet: 2.0 * t.layer,
+            lead: (lead_a, lead_b),
             trail,
         }
     }
@@ -572,10 +647,11 @@ impl CycleRun<'_> {
         let mut rows = Vec::with_capacity(steps.len());
         let mut work = 0.0;
         for w in steps.windows(2) {
-            let row = self.step(w[0], w[1])?;
-            work += row.power_w_per_m * self.drive.time_of(w[1] - w[0]);
-            on_step(&row);
-            rows.push(row);
+            for row in self.advance(w[0], w[1])? {
+                work += row.power_w_per_m * self.drive.time_of(row.step_deg);
+                on_step(&row);
+                rows.push(row);
+            }
         }
         self.tally.film_end = self.film_oil();
         self.tally.liner_end = self.oil.total();
