@@ -170,6 +170,12 @@ fn probe_uniform_cycle() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(3);
+    if let Some(c) = std::env::var("CELLS")
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+    {
+        num.steps.texture_step = c * 0.3 / num.n1 as f64;
+    }
     eprintln!("{num:?}");
     let t0 = std::time::Instant::now();
     let run = CycleRun::new(

@@ -96,28 +96,32 @@ pub fn cavity_pressures(grid: &Grid, bc: &Boundary, pressurised: &[bool], out: &
     // Which ends each cavitated node is connected to: bit 1 the x1 = 0 end, bit 2 the other.
     let mut open = vec![0u8; grid.nodes()];
     let cavitated = |k: usize| k >= n2 && k < n1 * n2 && !pressurised[k];
+    let mut stack: Vec<usize> = Vec::new();
     for (bit, col) in [(1u8, 1), (2u8, n1 - 1)] {
-        let mut stack: Vec<usize> = (0..n2)
-            .map(|j| col * n2 + j)
-            .filter(|&k| cavitated(k))
-            .collect();
+        stack.extend((col * n2..(col + 1) * n2).filter(|&k| cavitated(k)));
         while let Some(k) = stack.pop() {
             if open[k] & bit != 0 {
                 continue;
             }
             open[k] |= bit;
             let (i, j) = (k / n2, k % n2);
-            let next = [
-                (i > 1).then(|| k - n2),
-                (i + 1 < n1).then(|| k + n2),
-                (j > 0).then(|| k - 1),
-                (j + 1 < n2).then(|| k + 1),
-            ];
-            stack.extend(
-                next.into_iter()
-                    .flatten()
-                    .filter(|&m| cavitated(m) && open[m] & bit == 0),
-            );
+            let mut visit = |m: usize| {
+                if cavitated(m) && open[m] & bit == 0 {
+                    stack.push(m);
+                }
+            };
+            if i > 1 {
+                visit(k - n2);
+            }
+            if i + 1 < n1 {
+                visit(k + n2);
+            }
+            if j > 0 {
+                visit(k - 1);
+            }
+            if j + 1 < n2 {
+                visit(k + 1);
+            }
         }
     }
     let of_cavity = |k: usize| match open[k] {

@@ -95,11 +95,10 @@ pub struct CaseSpec {
     )]
     pub contact: Option<Asperity>,
     /// The run's scales U and μ (docs/model.md §1): the scaled film and ring do not depend on
-    /// them, the contact's pressure and shear in scaled units do, through μU. Not serialised,
-    /// so that cache keys stay those of the scaled case: the contact acts only where the film
-    /// is thinner than 4σ, and only there could two points of equal W_ps and m but different
-    /// μU share a key (docs/model.md §11).
-    #[serde(skip, default = "paper_scales")]
+    /// them, the contact's pressure and shear in scaled units do, through μU. Serialised (so
+    /// in cache keys) unless they are the paper's: two points of equal W_ps and m but
+    /// different μU are one scaled film but not one contact (docs/model.md §11).
+    #[serde(default = "paper_scales", skip_serializing_if = "is_paper_scales")]
     pub scales: Scales,
 }
 
@@ -113,6 +112,10 @@ fn is_default_contact(c: &Option<Asperity>) -> bool {
 
 fn paper_scales() -> Scales {
     Scales::PAPER
+}
+
+fn is_paper_scales(s: &Scales) -> bool {
+    *s == Scales::PAPER
 }
 
 /// The paper's ring width (cm, docs/model.md §2).
