@@ -5,6 +5,7 @@
 
 use serde::Deserialize;
 
+use super::asperity::Asperity;
 use super::case::{face_spans_ring, short};
 use super::operating::Operating;
 
@@ -17,6 +18,74 @@ pub struct EngineFile {
     pub gas: Gas,
     pub oil: Oil,
     pub zones: Zones,
+    /// The asperity contact's constants (docs/model.md §11); the defaults where absent.
+    pub contact: ContactFile,
+}
+
+/// The asperity contact between ring face and liner (docs/model.md §11, §12): each constant
+/// the default of §11 where not given (the roughness is the `[design]` section's).
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ContactFile {
+    pub eta_beta_sigma: Option<f64>,
+    pub sigma_over_beta: Option<f64>,
+    /// The contact modulus E* (GPa), 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂.
+    pub e_star_gpa: Option<f64>,
+    /// Shear strength of the boundary film τ₀ (MPa) and its pressure coefficient ς.
+    pub tau0_mpa: Option<f64>,
+    pub varsigma: Option<f64>,
+    /// No asperity contact: the film alone carries the ring.
+    #[serde(default)]
+    pub off: bool,
+}
+
+impl ContactFile {
+    /// The contact of this section with composite roughness `sigma_um` (µm), None when off.
+    pub fn asperity(&self, sigma_um: f64) -> Option<Asperity> {
+        if self.off {
+            return None;
+        }
+        let d = Asperity::default();
+        Some(Asperity {
+            sigma: sigma_um * 1e-6,
+            eta_beta_sigma: self.eta_beta_sigma.unwrap_or(d.eta_beta_sigma),
+            sigma_over_beta: self.sigma_over_beta.unwrap_or(d.sigma_over_beta),
+            e_star: self.e_star_gpa.map_or(d.e_star, |e| e * 1e9),
+            tau0: self.tau0_mpa.map_or(d.tau0, |t| t * 1e6),
+            varsigma: self.varsigma.unwrap_or(d.varsigma),
+        })
+    }
+
+    /// Each given constant within its plausible range (docs/model.md §11), else an error
+    /// naming the key.
+    fn check(&self) -> Result<(), EngineError> {
+        let Some(a) = self.asperity(0.3) else {
+            return Ok(());
+        };
+        a.check().map_err(|e| {
+            let (key, value, unit) = match e.param.as_str() {
+                "eta_beta_sigma" => ("eta_beta_sigma", a.eta_beta_sigma, ""),
+                "sigma_over_beta" => ("sigma_over_beta", a.sigma_over_beta, ""),
+                "e_star" => ("e_star_gpa", a.e_star * 1e-9, " GPa"),
+                "tau0" => ("tau0_mpa", a.tau0 * 1e-6, " MPa"),
+                _ => ("varsigma", a.varsigma, ""),
+            };
+            let (lo, hi) = crate::model::asperity::RANGES
+                .iter()
+                .find(|r| r.0 == e.param)
+                .map_or((0.0, 0.0), |r| (r.1, r.2));
+            let scale = match key {
+                "e_star_gpa" => 1e-9,
+                "tau0_mpa" => 1e-6,
+                _ => 1.0,
+            };
+            err(
+                &format!("[contact] {key}"),
+                short(value),
+                format!("must lie in [{}, {}]{unit}", short(lo * scale), short(hi * scale)),
+            )
+        })
+    }
 }
 
 /// The crank train.
@@ -308,6 +377,7 @@ impl Engine {
             ));
         }
         Self::check_gas(&file.gas)?;
+        file.contact.check()?;
         let bounds_mm = Self::zone_bounds(&file.zones, e.stroke_mm)?;
         Self::check_oil(&file.oil, e.stroke_mm)?;
         let engine = Engine { file, bounds_mm };
@@ -594,6 +664,7 @@ mod tests {
     /// The example engine of `study::engine_file`'s tests, with these zones.
     fn example(zones: Zones) -> EngineFile {
         EngineFile {
+            contact: ContactFile::default(),
             engine: Crank {
                 name: "test".into(),
                 bore_mm: 80.0,

@@ -35,13 +35,17 @@ pub struct TransientLiners {
     pub kept: Vec<usize>,
 }
 
-/// The engine's ring with the settings' roughness in its contact (docs/model.md §11).
+/// The engine's ring with the engine file's contact and the settings' roughness
+/// (docs/model.md §11).
 pub fn ring_case(s: &CycleSettings, drive: &Drive) -> CaseSpec {
-    let mut ring = drive.ring_case();
-    if let Some(a) = ring.contact.as_mut() {
-        a.sigma = s.search.validity.roughness_um * 1e-6;
+    CaseSpec {
+        contact: s
+            .engine
+            .file
+            .contact
+            .asperity(s.search.validity.roughness_um),
+        ..drive.ring_case()
     }
-    ring
 }
 
 /// Runs the liner of zone `textures` through the cycle at `fidelity` until it repeats
@@ -62,7 +66,7 @@ pub fn run_liner(
         .iter()
         .flatten()
         .min_by(|a, b| a.per.total_cmp(&b.per));
-    let numerics = cycle_numerics(fidelity, &ring, finest);
+    let numerics = cycle_numerics(fidelity, &s.search.overrides, &ring, finest);
     let run = CycleRun::new(&drive, ring, layout, numerics)
         .map_err(|e| OptimiseError::Series(format!("{label}: {e}")))?;
     let progress = s.search.progress;

@@ -13,14 +13,18 @@
 //! width_mm = 1.2
 //! mass_kg_per_m = 0.02
 //! elastic_load_n_per_m = 100
-//! [gas]                       # gauge pressure behind the ring against crank angle
+//! [gas]                       # gauge pressure behind and above the ring against crank angle
 //! crank_deg = [0, 30, 180, 360, 690]
 //! pressure_bar = [30, 50, 2, 0, 10]
+//! below_crank_deg = [0, 360]  # optional: below the ring (ambient without)
+//! below_pressure_bar = [1, 1]
 //! [oil]
 //! viscosity_pa_s = 0.006
 //! d_oil_um = 20               # or a table against position_mm
 //! [zones]
 //! count = 4                   # or boundaries_mm = [0, …, stroke]
+//! [contact]                   # optional: the asperities (docs/model.md §11)
+//! eta_beta_sigma = 0.04       # and sigma_over_beta, e_star_gpa, tau0_mpa, varsigma; off = true
 //! [design]                    # the design's settings (`texopt cycle`)
 //! ```
 
@@ -28,7 +32,9 @@ use serde::de::DeserializeOwned;
 use serde::Deserialize;
 
 use crate::model::case::one_line;
-use crate::model::engine::{Crank, Engine, EngineError, EngineFile, Gas, Oil, RingFile, Zones};
+use crate::model::engine::{
+    ContactFile, Crank, Engine, EngineError, EngineFile, Gas, Oil, RingFile, Zones,
+};
 
 /// An engine file that cannot be used.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -54,6 +60,8 @@ struct FileToml {
     oil: Oil,
     zones: Zones,
     #[serde(default)]
+    contact: ContactFile,
+    #[serde(default)]
     design: toml::Table,
 }
 
@@ -67,6 +75,7 @@ pub fn parse<D: DeserializeOwned>(text: &str) -> Result<(Engine, D), EngineFileE
         gas: raw.gas,
         oil: raw.oil,
         zones: raw.zones,
+        contact: raw.contact,
     })?;
     let design = toml::Value::Table(raw.design)
         .try_into()

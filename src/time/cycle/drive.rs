@@ -123,6 +123,13 @@ impl Drive {
         }
     }
 
+    /// Whether the oil the trailing edge leaves stays on the liner for a later pass: an
+    /// engine's ring comes back over it; a steady slide never does (its oil leaves the scene,
+    /// counted as thrown off).
+    pub fn keeps_trail(&self) -> bool {
+        self.motion == Motion::Engine
+    }
+
     /// The engine's state at crank angle `deg`.
     pub fn at(&self, deg: f64) -> DrivePoint {
         if let Motion::Steady { u, w } = self.motion {

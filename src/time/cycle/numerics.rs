@@ -19,11 +19,13 @@ fn tier_steps(fidelity: Fidelity) -> (f64, f64, f64) {
 }
 
 /// The numerics of a cycle run of a ring (`ring`: its case, width and contact) over liners
-/// whose finest texture is `texture` (None: plain liners), at `fidelity`: the mesh the one
+/// whose finest texture is `texture` (None: plain liners), at `fidelity` with the mesh
+/// `given` (its N1 and N2; a cycle's time steps are its crank steps): the mesh the one
 /// resolver gives the ring over that texture at the mean piston speed, N2 only where pockets
 /// are under the ring.
 pub fn cycle_numerics(
     fidelity: Fidelity,
+    given: &Overrides,
     ring: &CaseSpec,
     texture: Option<&Texture>,
 ) -> CycleNumerics {
@@ -32,7 +34,12 @@ pub fn cycle_numerics(
         texture: texture.cloned(),
         ..ring.clone()
     };
-    let n = resolve(fidelity, &Overrides::default(), &case);
+    let mesh = Overrides {
+        n1: given.n1,
+        n2: given.n2,
+        ..Overrides::default()
+    };
+    let n = resolve(fidelity, &mesh, &case);
     let (step_deg, refine, cells) = tier_steps(fidelity);
     let dx = case.contact().length_cm / n.n1 as f64;
     CycleNumerics {

@@ -211,8 +211,13 @@ impl<'a> CycleRun<'a> {
     /// The oil the film holds, Σφ·dx·dy/B over the interior nodes (µm·cm per unit
     /// circumferential length; the inlet column's film is the boundary's).
     pub fn film_oil(&self) -> f64 {
+        self.oil_of(&self.state.phi)
+    }
+
+    /// The oil of film content `phi` on the run's grid (see [`CycleRun::film_oil`]).
+    fn oil_of(&self, phi: &[f64]) -> f64 {
         let g = &self.scene.grid;
-        let s: f64 = self.state.phi[g.n2..g.n1 * g.n2].iter().sum();
+        let s: f64 = phi[g.n2..g.n1 * g.n2].iter().sum();
         s * g.dx * g.dy / g.width
     }
 
@@ -312,7 +317,7 @@ impl<'a> CycleRun<'a> {
     fn mirror(&mut self) {
         let g = &self.scene.grid;
         let n2 = g.n2;
-        for i in 0..(g.n1 + 1) / 2 {
+        for i in 0..g.n1.div_ceil(2) {
             let m = g.n1 - i;
             for j in 0..n2 {
                 let (a, b) = (i * n2 + j, m * n2 + j);
@@ -465,7 +470,9 @@ impl CycleRun<'_> {
         let s = self.ring;
         let link = ring.link(&s, dt);
         let mut z = (s.z + dt * s.v).max(0.5 * s.z);
-        let film_before = self.film_oil();
+        // The old level's oil: the film as the last step left it, carried onto this step's
+        // grid.
+        let film_before = self.oil_of(&self.phi_old);
         let step = Step {
             grid: &self.scene.grid,
             gap: &self.scene.gap,
@@ -503,7 +510,11 @@ impl CycleRun<'_> {
         self.tally.supplied += t.supplied;
         self.tally.scraped += t.scraped;
         self.tally.thrown += ex.taken - dt * inflow;
-        self.tally.thrown += self.oil.put(ex.trail.0, ex.trail.1, dt * outflow);
+        self.tally.thrown += if self.drive.keeps_trail() {
+            self.oil.put(ex.trail.0, ex.trail.1, dt * outflow)
+        } else {
+            dt * outflow
+        };
         self.phi_old.copy_from_slice(&self.state.phi);
         let f = friction(
             &self.scene.grid,
