@@ -58,26 +58,57 @@ fn bad_engine_files_are_refused_with_exit_2_one_line_and_nothing_written() {
         ("per = [0.0128, 0.06]", "per = [0.0128]", "[design]"),
         ("l1 = [0.005, 0.03]", "pitch = 3", "[design]"),
         ("R_cm = 5", "R_cm = 0.05", "must exceed half the ring width"),
-        // So slow that every angle's Stribeck number is below the validated range.
+        (
+            "[gas]\n",
+            "[gas]\nbelow_crank_deg = [0, 360]\n",
+            "[gas] below_crank_deg",
+        ),
+        (
+            "[gas]\n",
+            "[gas]\nbelow_crank_deg = [0, 360]\nbelow_pressure_bar = [1, -2]\n",
+            "[gas] below_pressure_bar",
+        ),
+        (
+            "[gas]\n",
+            "[gas]\nbelow_crank_deg = [360, 0]\nbelow_pressure_bar = [1, 2]\n",
+            "[gas] below_crank_deg",
+        ),
+        (
+            "[gas]\n",
+            "[gas]\nbelow_crank_deg = [0, 800]\nbelow_pressure_bar = [1, 2]\n",
+            "[gas] below_crank_deg",
+        ),
+        (
+            "[gas]\n",
+            "[gas]\nbelow_pressure_bar = [1, 2]\n",
+            "[gas] below_crank_deg",
+        ),
+        // So slow that every angle's Stribeck number is below the validated range: refused
+        // by the quasi-steady path (the transient one has no such range).
         (
             "rpm = 3000",
             "rpm = 10",
             "no crank angle of the cycle lies inside",
         ),
     ] {
+        let quasi_steady = to == "rpm = 10";
         assert!(engine_text().contains(from), "{from}");
         let file = dir.join("e.toml");
         std::fs::write(&file, engine_text().replace(from, to)).unwrap();
         let out = dir.join("out");
         let cache = dir.join("c.sqlite");
-        let (code, _, err) = texopt(&[
+        let mut args = vec![
             "cycle",
             file.to_str().unwrap(),
             "--out",
             out.to_str().unwrap(),
             "--cache",
             cache.to_str().unwrap(),
-        ]);
+        ];
+        if quasi_steady {
+            args.push("--quasi-steady");
+        }
+        let (code, _, err) = texopt(&args);
         assert_eq!(code, 2, "{to}: {err}");
         assert_eq!(err.lines().count(), 1, "{to}: {err}");
         assert!(err.contains(says), "{to}: expected {says:?} in {err}");
@@ -95,6 +126,7 @@ fn the_dead_centres_are_excluded_and_carry_no_number() {
     let file = dir.join("e.toml");
     std::fs::write(&file, engine_text()).unwrap();
     let mut extra = vec![
+        "--quasi-steady",
         "--step",
         "10",
         "--design-step",
@@ -154,6 +186,75 @@ fn the_dead_centres_are_excluded_and_carry_no_number() {
         md.contains(&format!("{slow} angles slow near a dead centre")),
         "{md}"
     );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn the_transient_cycle_reports_three_liners_and_the_plain_ones_work_is_a_direct_runs() {
+    use texopt::model::liner_layout::LinerLayout;
+    use texopt::time::cycle::{cycle_numerics, metrics, CycleRun, Drive};
+    let dir = scratch("cycle-transient");
+    let file = dir.join("e.toml");
+    std::fs::write(&file, engine_text()).unwrap();
+    let mut extra = vec![
+        "--design-step",
+        "90",
+        "--particles",
+        "2",
+        "--iterations",
+        "1",
+        "--fidelity",
+        "draft",
+    ];
+    extra.extend(QUICK);
+    let t0 = std::time::Instant::now();
+    let (code, _, err, _) = common::cycle(&dir, &file, &extra);
+    eprintln!("texopt cycle: {:.1} s", t0.elapsed().as_secs_f64());
+    assert_eq!(code, 0, "{err}");
+    let out = dir.join("out");
+    for suffix in [
+        ".json",
+        ".md",
+        "_steps.csv",
+        "_cycles.csv",
+        "_oil.csv",
+        "_force.png",
+    ] {
+        let f = out.join(format!("cycle_t{suffix}"));
+        assert!(f.is_file(), "{} missing", f.display());
+    }
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("cycle_t.json")).unwrap()).unwrap();
+    assert_eq!(r["excluded_cycle_fraction"].as_f64(), Some(0.0));
+    let liners = r["liners"].as_array().unwrap();
+    assert_eq!(liners.len(), 3);
+    let work: Vec<f64> = liners
+        .iter()
+        .map(|l| l["work_j_per_m"].as_f64().unwrap())
+        .collect();
+    assert!(work.iter().all(|w| w.is_finite() && *w > 0.0), "{work:?}");
+
+    // The plain liner run directly: the engine's ring with the default roughness, at draft.
+    let (engine, _): (Engine, serde::de::IgnoredAny) = engine_file::parse(&engine_text()).unwrap();
+    let drive = Drive::new(&engine);
+    let mut ring = drive.ring_case();
+    if let Some(a) = ring.contact.as_mut() {
+        a.sigma = Validity::default().roughness_um * 1e-6;
+    }
+    // The command's --mesh 64x4 (a cycle's time steps are its crank steps: --dt is not read).
+    let mesh = Overrides {
+        n1: Some(64),
+        n2: Some(4),
+        ..Overrides::default()
+    };
+    let num = cycle_numerics(Fidelity::Draft, &mesh, &ring, None);
+    let bounds: Vec<f64> = engine.bounds_mm.iter().map(|b| 0.1 * b).collect();
+    let layout = LinerLayout::zoned(bounds, vec![None, None]).unwrap();
+    let plain = CycleRun::new(&drive, ring, layout, num)
+        .unwrap()
+        .run(&mut |_| {}, &mut |_| {})
+        .unwrap();
+    assert_eq!(work[0], metrics(&plain.rows, &engine).work_j_per_m);
     let _ = std::fs::remove_dir_all(dir);
 }
 

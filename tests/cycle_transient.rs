@@ -1,205 +1,343 @@
-//! The engine cycle as one transient (docs/model.md §12).
+//! The engine cycle as one transient (docs/model.md §12): a constant slide run as a cycle is
+//! `simulate`'s periodic regime; at mid-stroke, where the film is quasi-steady, the cycle's
+//! friction is the steady solve's; film and liner conserve the oil cycle by cycle; the plain
+//! liner's cycle repeats itself, its rows cover the cycle, and speed and friction turn at the
+//! dead centres.
 
+use std::sync::OnceLock;
+
+use texopt::model::case::{CaseSpec, Texture};
+use texopt::model::engine::Engine;
 use texopt::model::liner_layout::LinerLayout;
+use texopt::model::operating::{Operating, Validity};
 use texopt::study::engine_file::parse;
-use texopt::time::cycle::{CycleNumerics, CycleRun, Drive, StepRule};
+use texopt::time::cycle::{cycle_numerics, CycleNumerics, CycleOutcome, CycleRun, Drive, StepRule};
+use texopt::time::{resolve, simulate, steady_outcome, Fidelity, Overrides, TimeScheme};
 
-fn example_engine() -> texopt::model::engine::Engine {
-    let mut text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/studies/engine_gasoline.toml"
-    ))
-    .unwrap();
-    if std::env::var("NOGAS").is_ok() {
-        text = text.replace("pressure_bar = [15, 30, 35, 28, 12, 6,  4,   2,   0.5, 0.2, 0,   0,   1.5, 4,   8,   12]", "pressure_bar = [0, 0, 0, 0, 0, 0,  0,   0,   0, 0, 0,   0,   0, 0,   0,   0]");
-    }
-    parse::<serde::de::IgnoredAny>(&text).unwrap().0
-}
-
-#[test]
-#[ignore]
-fn probe_plain_cycle() {
-    let engine = example_engine();
-    let drive = Drive::new(&engine);
-    let stroke_cm = 0.1 * engine.file.engine.stroke_mm;
-    let step: f64 = std::env::var("STEP")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(1.0);
-    let n1: usize = std::env::var("N1")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(600);
-    let num = CycleNumerics {
-        n1,
-        n2: 1,
-        steps: StepRule {
-            step_deg: step,
-            refine: 0.1,
-            texture_step: f64::INFINITY,
-        },
-        oil_cell_cm: 0.001,
-        start_deg: 90.0,
-        cyclic_tol: 1e-3,
-        max_cycles: 8,
-    };
-    let t0 = std::time::Instant::now();
-    let run = CycleRun::new(
-        &drive,
-        drive.ring_case(),
-        LinerLayout::uniform(stroke_cm, None),
-        num,
-    )
-    .unwrap();
-    let out = run
-        .run(
-            &mut |c| eprintln!("{c:?}  {:.2}s", t0.elapsed().as_secs_f64()),
-            &mut |_| {},
-        )
-        .unwrap();
-    for r in out.rows.iter().step_by(out.rows.len() / 60) {
-        eprintln!(
-            "{:7.2} u {:7.3} W {:8.1} Z {:7.3} F {:8.3} P {:8.2} met {:6.3} left {:6.3}",
-            r.crank_deg,
-            r.u_ms,
-            r.load_n_per_m,
-            r.z_um,
-            r.friction_n_per_m,
-            r.power_w_per_m,
-            r.oil_met_um,
-            r.oil_left_um
-        );
-    }
-    eprintln!("{:.2}s", t0.elapsed().as_secs_f64());
-}
-
-#[test]
-#[ignore]
-fn probe_steady_textured() {
-    use texopt::model::case::Texture;
+/// The example engine (studies/engine_gasoline.toml), its oil supply table replaced by `oil`
+/// if given.
+fn example_engine(oil: Option<&str>) -> Engine {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/studies/engine_gasoline.toml"
     ))
-    .unwrap()
-    .replace(
-        "d_oil_um =    [3, 6, 10, 20]",
-        "d_oil_um =    [20, 20, 20, 20]",
-    );
-    let engine = parse::<serde::de::IgnoredAny>(&text).unwrap().0;
+    .unwrap();
+    let table = "d_oil_um =    [3, 6, 10, 20]";
+    assert!(text.contains(table));
+    let text = oil.map_or(text.clone(), |o| text.replace(table, o));
+    parse::<serde::de::IgnoredAny>(&text).unwrap().0
+}
+
+fn stroke_cm(e: &Engine) -> f64 {
+    0.1 * e.file.engine.stroke_mm
+}
+
+/// The example engine's plain liner through the cycle at draft until it repeats itself, run
+/// once for the tests that read it.
+fn plain_cycle() -> &'static (Engine, CycleNumerics, CycleOutcome) {
+    static RUN: OnceLock<(Engine, CycleNumerics, CycleOutcome)> = OnceLock::new();
+    RUN.get_or_init(|| {
+        let engine = example_engine(None);
+        let drive = Drive::new(&engine);
+        let num = cycle_numerics(
+            Fidelity::Draft,
+            &Overrides::default(),
+            &drive.ring_case(),
+            None,
+        );
+        let layout = LinerLayout::uniform(stroke_cm(&engine), None);
+        let out = CycleRun::new(&drive, drive.ring_case(), layout, num.clone())
+            .unwrap()
+            .run(&mut |_| {}, &mut |_| {})
+            .unwrap();
+        (engine, num, out)
+    })
+}
+
+#[test]
+fn a_constant_slide_run_as_a_cycle_is_simulates_periodic_regime() {
+    // The paper's Case I pocket on the example engine's ring at its mean piston speed, 8.1 m/s,
+    // and its elastic load, 20 µm of oil ahead.
+    let engine = example_engine(Some("d_oil_um = 20"));
     let t = Texture::circular(0.01, 0.06, 5.0);
-    let periods: f64 = std::env::var("PERIODS")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(3.0);
-    let n2: usize = std::env::var("N2")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(32);
-    let spp: f64 = std::env::var("SPP")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(121.0);
-    let drive = Drive::steady(&engine, 8.1, 150.0, periods * 0.06 / 1.0);
-    let num = CycleNumerics {
-        n1: 768,
-        n2,
+    let op = Operating {
+        speed_ms: 8.1,
+        load_n_per_m: 150.0,
+        viscosity_pas: 0.02,
+        ring_width_mm: 1.2,
+        ring_mass_kg_per_m: 0.03,
+        d_oil_um: 20.0,
+    };
+    let mut case = CaseSpec::paper(5.0).with_texture(t.clone());
+    op.apply(&mut case);
+    // The same discretisation on both sides: draft's mesh, backward Euler (the cycle's scheme)
+    // at the step draft's resolver gives it.
+    let be = Overrides {
+        scheme: Some(TimeScheme::BackwardEuler),
+        ..Overrides::default()
+    };
+    let num = resolve(Fidelity::Draft, &be, &case);
+    let sim = simulate(&case, &num).unwrap().outcome;
+    assert!(sim.converged);
+    // One texture period a cycle, the texture moved one time step a step.
+    let drive = Drive::steady(&engine, op.speed_ms, op.load_n_per_m, t.per);
+    assert_eq!(drive.scales().speed_ms, op.speed_ms);
+    let steps = (t.per / num.dt).round();
+    let cycles = 30;
+    let cn = CycleNumerics {
+        n1: num.n1,
+        n2: num.n2,
         steps: StepRule {
-            step_deg: 90.0,
+            step_deg: 720.0,
             refine: 1.0,
-            texture_step: 0.06 / spp,
+            texture_step: t.per / steps,
         },
         oil_cell_cm: 0.001,
         start_deg: 0.0,
-        cyclic_tol: 1e-4,
-        max_cycles: 40,
+        // A steady slide returns to its start each cycle and leaves its trailing edge's oil
+        // where the ring does not pass again: the oil map never repeats, so a set number of
+        // cycles is run and the friction work's change checked instead.
+        cyclic_tol: 0.0,
+        max_cycles: cycles,
     };
-    let t0 = std::time::Instant::now();
-    let run = CycleRun::new(
-        &drive,
-        drive.ring_case(),
-        LinerLayout::uniform(8.1, Some(t)),
-        num,
-    )
-    .unwrap();
-    let out = run
-        .run(
-            &mut |c| {
-                eprintln!(
-                    "W {:.6e} dW {:.2e} doil {:.2e} {:.2}s",
-                    c.friction_work_j_per_m,
-                    c.work_change,
-                    c.oil_change,
-                    t0.elapsed().as_secs_f64()
-                )
-            },
-            &mut |_| {},
-        )
+    let layout = LinerLayout::uniform(stroke_cm(&engine), Some(t));
+    let out = CycleRun::new(&drive, drive.ring_case(), layout, cn)
+        .unwrap()
+        .run(&mut |_| {}, &mut |_| {})
         .unwrap();
-    let n = out.rows.len() as f64;
-    let f: f64 = out.rows.iter().map(|r| r.friction_n_per_m).sum::<f64>() / n;
-    let zmin = out
+    assert_eq!(out.cycles.len(), cycles);
+    let last = out.cycles.last().unwrap();
+    assert!(last.work_change < 1e-5, "{last:?}");
+    assert_eq!(out.rows.len() as f64, steps);
+    let f = out.rows.iter().map(|r| r.friction_n_per_m).sum::<f64>() / steps;
+    let c = out
         .rows
         .iter()
-        .map(|r| r.z_um)
+        .map(|r| r.h_min_um)
         .fold(f64::INFINITY, f64::min);
-    let zmean: f64 = out.rows.iter().map(|r| r.z_um).sum::<f64>() / n;
+    let f_sim = sim.f_mean * op.load_n_per_m;
+    let (df, dc) = (f / f_sim - 1.0, c / sim.c_min - 1.0);
     eprintln!(
-        "F mean {f:.5} N/m, Z min {zmin:.4}, Z mean {zmean:.4}  {:.2}s",
-        t0.elapsed().as_secs_f64()
+        "steady slide: cycle F {f:.5} N/m C_min {c:.4} µm; simulate F {f_sim:.5} C_min {:.4} ({df:+.2e}, {dc:+.2e})",
+        sim.c_min
+    );
+    // Measured: +9.0e-6 and −9.9e-6 (draft scheme: −2.4e-3, −5.9e-4). The mesh and step are the same, so the tier's mesh error
+    // does not enter: what is left is how far simulate stops from its periodic limit, its
+    // periodic tolerance at draft (1e-3).
+    let tol = Fidelity::Draft.numerics().periodic_tol;
+    assert!(df.abs() < tol && dc.abs() < tol, "{df:e} {dc:e}");
+
+    // Against the tier's own scheme (draft: along the characteristics): within its stated
+    // errors (docs/validation.md).
+    let tier = simulate(
+        &case,
+        &resolve(Fidelity::Draft, &Overrides::default(), &case),
+    )
+    .unwrap()
+    .outcome;
+    let (df, dc) = (
+        f / (tier.f_mean * op.load_n_per_m) - 1.0,
+        c / tier.c_min - 1.0,
+    );
+    eprintln!("against draft's own scheme: {df:+.2e} {dc:+.2e}");
+    assert!(
+        df.abs() < Fidelity::Draft.f_error() && dc.abs() < Fidelity::Draft.c_error(),
+        "{df:e} {dc:e}"
     );
 }
 
 #[test]
-#[ignore]
-fn probe_uniform_cycle() {
-    use texopt::model::case::Texture;
-    use texopt::time::cycle::cycle_numerics;
-    use texopt::time::Fidelity;
-    let engine = example_engine();
-    let drive = Drive::new(&engine);
-    let stroke_cm = 0.1 * engine.file.engine.stroke_mm;
-    let t = Texture::circular(0.01, 0.06, 5.0);
-    let fid = match std::env::var("FID").as_deref() {
-        Ok("fast") => Fidelity::Fast,
-        Ok("paper") => Fidelity::Paper,
-        _ => Fidelity::Draft,
-    };
-    let mut num = cycle_numerics(fid, &drive.ring_case(), Some(&t));
-    num.max_cycles = std::env::var("CYC")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(3);
-    if let Some(c) = std::env::var("CELLS")
-        .ok()
-        .and_then(|s| s.parse::<f64>().ok())
+fn at_mid_stroke_the_cycles_friction_is_the_quasi_steady_one() {
+    let (engine, num, out) = plain_cycle();
+    // The intake stroke (360–540°): no gas above or below the ring (its table is 0 from 380°
+    // to 540°), so the transient's film and the quasi-steady case, which has no boundary
+    // pressures, see the same boundaries; the load is the elastic load alone, constant; the
+    // ring moves towards the crankcase and meets the supply. Angles where the speed is within
+    // 10 % of the stroke's peak.
+    let intake = |r: &&texopt::time::cycle::CycleRow| (380.0..540.0).contains(&r.crank_deg);
+    let peak = out
+        .rows
+        .iter()
+        .filter(intake)
+        .map(|r| r.u_ms.abs())
+        .fold(0.0, f64::max);
+    let mut worst = (0.0f64, 0.0);
+    let mut worst_after_peak = 0.0f64;
+    let mut mean = (0.0, 0);
+    let peak_deg = out
+        .rows
+        .iter()
+        .filter(intake)
+        .find(|r| r.u_ms.abs() == peak)
+        .unwrap()
+        .crank_deg;
+    for r in out
+        .rows
+        .iter()
+        .filter(intake)
+        .filter(|r| r.u_ms.abs() > 0.9 * peak)
     {
-        num.steps.texture_step = c * 0.3 / num.n1 as f64;
+        assert_eq!((r.p_above_bar, r.p_below_bar), (0.0, 0.0), "{r:?}");
+        // The case as optimise::cycle::points builds it at this speed, load and supply.
+        let op = Operating {
+            speed_ms: r.u_ms.abs(),
+            load_n_per_m: r.load_n_per_m,
+            viscosity_pas: engine.file.oil.viscosity_pa_s,
+            ring_width_mm: engine.file.ring.width_mm,
+            ring_mass_kg_per_m: engine.file.ring.mass_kg_per_m,
+            d_oil_um: engine.d_oil_um(r.position_mm),
+        };
+        let mut case = CaseSpec::paper(engine.file.ring.r_cm);
+        op.apply(&mut case);
+        Validity::default().apply(&mut case);
+        let qs = steady_outcome(&case, num.n1).unwrap().outcome;
+        // Friction is signed as the liner's motion, towards the chamber here.
+        let d = -r.friction_n_per_m / (qs.f_mean * r.load_n_per_m) - 1.0;
+        if d.abs() > worst.0.abs() {
+            worst = (d, r.crank_deg);
+        }
+        if r.crank_deg >= peak_deg {
+            worst_after_peak = worst_after_peak.max(d.abs());
+        }
+        mean = (mean.0 + d, mean.1 + 1);
     }
-    eprintln!("{num:?}");
-    let t0 = std::time::Instant::now();
-    let run = CycleRun::new(
-        &drive,
-        drive.ring_case(),
-        LinerLayout::uniform(stroke_cm, Some(t)),
-        num,
-    )
-    .unwrap();
-    let out = run
-        .run(
-            &mut |c| {
-                eprintln!(
-                    "W {:.6} dW {:.2e} doil {:.2e} steps {} {:.2}s",
-                    c.friction_work_j_per_m,
-                    c.work_change,
-                    c.oil_change,
-                    c.steps,
-                    t0.elapsed().as_secs_f64()
-                )
-            },
-            &mut |_| {},
-        )
+    let (angles, mean) = (mean.1, mean.0 / mean.1 as f64);
+    eprintln!(
+        "{angles} angles: mean {:+.3} %, worst {:+.3} % at {:.1}°, after the peak {:.3} %",
+        100.0 * mean,
+        100.0 * worst.0,
+        worst.1,
+        100.0 * worst_after_peak,
+    );
+    assert!(mean.abs() < 0.02, "{mean}");
+    // Measured: within 1.7 % from the speed's peak on; before it, up to 2.1 %: the film is
+    // still growing back from the squeeze at top dead centre (its h_min 4–5 % under the
+    // steady one's up to some 445°, within 1.4 % after 450°), a memory no quasi-steady
+    // evaluation has. Feeding the steady case the oil the transient's leading edge met
+    // instead of the supply at the ring's centre does not close the gap.
+    assert!(worst_after_peak < 0.02, "{worst_after_peak}");
+    assert!(worst.0.abs() < 0.025, "{worst:?}");
+}
+
+#[test]
+fn film_and_liner_conserve_the_oil_cycle_by_cycle() {
+    // Measured: 6.7e-13 at most over the plain liner's cycles of 1469 steps, 6.5e-13 with the
+    // textured zone: the round-off of the film's and the liner's totals.
+    const ROUND_OFF: f64 = 1e-12;
+    let (_, _, plain) = plain_cycle();
+    for c in &plain.cycles {
+        assert!(
+            c.oil.defect() <= ROUND_OFF,
+            "plain, cycle {}: {:?}",
+            c.index,
+            c.oil
+        );
+    }
+    // A zone textured at top dead centre (the first 3 mm), the rest plain: two cycles.
+    let engine = example_engine(None);
+    let drive = Drive::new(&engine);
+    let t = Texture::circular(0.01, 0.06, 5.0);
+    let mut num = cycle_numerics(
+        Fidelity::Draft,
+        &Overrides::default(),
+        &drive.ring_case(),
+        Some(&t),
+    );
+    num.max_cycles = 2;
+    let layout =
+        LinerLayout::zoned(vec![0.0, 0.3, stroke_cm(&engine)], vec![Some(t), None]).unwrap();
+    let out = CycleRun::new(&drive, drive.ring_case(), layout, num)
+        .unwrap()
+        .run(&mut |_| {}, &mut |_| {})
         .unwrap();
-    let m = texopt::time::cycle::metrics(&out.rows, &engine);
-    eprintln!("{m:?}");
+    assert_eq!(out.cycles.len(), 2);
+    for c in &out.cycles {
+        assert!(c.oil.supplied > 0.0 && c.oil.thrown >= 0.0, "{:?}", c.oil);
+        assert!(
+            c.oil.defect() <= ROUND_OFF,
+            "zoned, cycle {}: {:?}",
+            c.index,
+            c.oil
+        );
+    }
+}
+
+#[test]
+fn the_plain_cycle_repeats_itself_and_turns_at_the_dead_centres() {
+    let (engine, num, out) = plain_cycle();
+    assert!(out.cyclic, "{:?}", out.cycles);
+    let last = out.cycles.last().unwrap();
+    assert!(out.cycles.len() <= num.max_cycles);
+    assert!(
+        last.work_change < 1e-3 && last.oil_change < 1e-3,
+        "{last:?}"
+    );
+    // The rows, sorted by crank angle, tile 0–720° without a gap.
+    let rows = &out.rows;
+    let total: f64 = rows.iter().map(|r| r.step_deg).sum();
+    assert!((total - 720.0).abs() < 1e-9, "{total}");
+    for w in rows.windows(2) {
+        let start = w[1].crank_deg - w[1].step_deg;
+        assert!(
+            (start - w[0].crank_deg).abs() < 1e-9,
+            "{:?} {:?}",
+            w[0],
+            w[1]
+        );
+    }
+    let first = &rows[0];
+    let wrap = (first.crank_deg - first.step_deg).rem_euclid(720.0);
+    let end = rows.last().unwrap().crank_deg;
+    assert!((wrap - end).abs() < 1e-9 || (wrap + 720.0 - end).abs() < 1e-9);
+    for r in rows {
+        assert!(r.h_min_um.is_finite() && r.h_min_um > 0.0, "{r:?}");
+        assert!(
+            r.friction_n_per_m.is_finite() && r.z_um.is_finite(),
+            "{r:?}"
+        );
+    }
+    // At each dead centre a step ends and the liner's speed changes sign, small on either
+    // side (the steps shortened there); the friction changes sign once within a few degrees
+    // of it (measured: within 0.5° either side, the film's pressure-gradient part turning with
+    // the squeeze).
+    let mean_speed = 2.0 * engine.file.engine.stroke_mm * 1e-3 * engine.file.engine.rpm / 60.0;
+    let n = rows.len();
+    let off = |r: &texopt::time::cycle::CycleRow, dc: f64| {
+        let d = (r.crank_deg - dc).rem_euclid(720.0);
+        if d > 360.0 {
+            d - 720.0
+        } else {
+            d
+        }
+    };
+    for dc in [0.0, 180.0, 360.0, 540.0] {
+        let k = rows
+            .iter()
+            .position(|r| off(r, dc).abs() < 1e-9)
+            .unwrap_or_else(|| panic!("no step ends at {dc}°"));
+        let (a, b) = (&rows[k], &rows[(k + 1) % n]);
+        assert!(a.u_ms * b.u_ms < 0.0, "{dc}°: {a:?} {b:?}");
+        assert!(a.u_ms.abs() < 0.1 * mean_speed && b.u_ms.abs() < 0.1 * mean_speed);
+        let window: Vec<_> = (0..n)
+            .map(|j| &rows[(k + n - n / 2 + j) % n])
+            .filter(|r| off(r, dc).abs() <= 3.0)
+            .collect();
+        let (first, last) = (window[0], window[window.len() - 1]);
+        assert!(
+            first.friction_n_per_m * first.u_ms > 0.0,
+            "{dc}°: {first:?}"
+        );
+        assert!(last.friction_n_per_m * last.u_ms > 0.0, "{dc}°: {last:?}");
+        let turns: Vec<f64> = window
+            .windows(2)
+            .filter(|w| w[0].friction_n_per_m * w[1].friction_n_per_m <= 0.0)
+            .map(|w| off(w[1], dc))
+            .collect();
+        eprintln!("{dc}°: the friction turns at {turns:?}° from it");
+        assert_eq!(turns.len(), 1, "{dc}°: {turns:?}");
+    }
+    // Away from them the friction drags along the liner's motion.
+    for r in rows.iter().filter(|r| r.u_ms.abs() > mean_speed) {
+        assert!(r.friction_n_per_m * r.u_ms > 0.0, "{r:?}");
+    }
 }

@@ -82,7 +82,11 @@ impl ContactFile {
             err(
                 &format!("[contact] {key}"),
                 short(value),
-                format!("must lie in [{}, {}]{unit}", short(lo * scale), short(hi * scale)),
+                format!(
+                    "must lie in [{}, {}]{unit}",
+                    short(lo * scale),
+                    short(hi * scale)
+                ),
             )
         })
     }
