@@ -206,7 +206,7 @@ fn the_transient_cycle_reports_three_liners_and_the_plain_ones_work_is_a_direct_
         "--fidelity",
         "draft",
     ];
-    extra.extend(QUICK);
+    extra.extend(["--mesh", "192x8"]);
     let t0 = std::time::Instant::now();
     let (code, _, err, _) = common::cycle(&dir, &file, &extra);
     eprintln!("texopt cycle: {:.1} s", t0.elapsed().as_secs_f64());
@@ -241,10 +241,10 @@ fn the_transient_cycle_reports_three_liners_and_the_plain_ones_work_is_a_direct_
     if let Some(a) = ring.contact.as_mut() {
         a.sigma = Validity::default().roughness_um * 1e-6;
     }
-    // The command's --mesh 64x4 (a cycle's time steps are its crank steps: --dt is not read).
+    // The command's --mesh (a cycle's time steps are its crank steps).
     let mesh = Overrides {
-        n1: Some(64),
-        n2: Some(4),
+        n1: Some(192),
+        n2: Some(8),
         ..Overrides::default()
     };
     let num = cycle_numerics(Fidelity::Draft, &mesh, &ring, None);

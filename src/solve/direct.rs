@@ -133,7 +133,8 @@ impl FilmSolver {
                 }
                 refreshes += 1;
             }
-            if iterations >= g.n1 + self.tol.extra_iterations {
+            // Each laying of the cavities' pressures starts a new iteration, with its own cap.
+            if iterations >= (1 + refreshes) * (g.n1 + self.tol.extra_iterations) {
                 return Err(FilmError::NotConverged {
                     iterations,
                     changes,
