@@ -312,7 +312,7 @@ impl<'a> CycleRun<'a> {
     fn mirror(&mut self) {
         let g = &self.scene.grid;
         let n2 = g.n2;
-        for i in 0..(g.n1 + 1) / 2 {
+        for i in 0..g.n1.div_ceil(2) {
             let m = g.n1 - i;
             for j in 0..n2 {
                 let (a, b) = (i * n2 + j, m * n2 + j);
