@@ -132,6 +132,8 @@ fn a_common_gas_pressure_shifts_a_textured_transient_with_the_ring_free() {
     assert!(ephi <= 1e-9, "φ off by {ephi:e}");
 }
 
+// The smooth film's h³ conductance: the flow factors (docs/model.md §11) change it.
+#[cfg(not(feature = "flow-factors"))]
 #[test]
 fn a_gas_pressure_difference_drives_the_poiseuille_flow_through_a_flat_ring() {
     // A flat ring (uniform gap Z under it), flooded, no sliding, steady: the full film carries
