@@ -341,3 +341,75 @@ fn the_plain_cycle_repeats_itself_and_turns_at_the_dead_centres() {
         assert!(r.friction_n_per_m * r.u_ms > 0.0, "{r:?}");
     }
 }
+
+/// The figures the flow-factor measurement compares (docs/model.md §11, "Flow factors"): the
+/// plain liner (or, with TEX set, the uniform texture of `probe_uniform_cycle`) at the tier
+/// FID (draft, fast, paper).
+#[test]
+#[ignore]
+fn probe_cycle_figures() {
+    use texopt::model::case::Texture;
+    let engine = example_engine(None);
+    let drive = Drive::new(&engine);
+    let stroke_cm = 0.1 * engine.file.engine.stroke_mm;
+    let t = std::env::var("TEX")
+        .is_ok()
+        .then(|| Texture::circular(0.01, 0.06, 5.0));
+    let fid = match std::env::var("FID").as_deref() {
+        Ok("fast") => Fidelity::Fast,
+        Ok("paper") => Fidelity::Paper,
+        _ => Fidelity::Draft,
+    };
+    let mut num = cycle_numerics(fid, &Overrides::default(), &drive.ring_case(), t.as_ref());
+    if let Some(c) = std::env::var("CYC").ok().and_then(|s| s.parse().ok()) {
+        num.max_cycles = c;
+    }
+    eprintln!("{num:?}");
+    let t0 = std::time::Instant::now();
+    let run = CycleRun::new(
+        &drive,
+        drive.ring_case(),
+        LinerLayout::uniform(stroke_cm, t),
+        num,
+    )
+    .unwrap();
+    let out = run
+        .run(
+            &mut |c| {
+                eprintln!(
+                    "W {:.6} dW {:.2e} doil {:.2e} steps {} {:.2}s",
+                    c.friction_work_j_per_m,
+                    c.work_change,
+                    c.oil_change,
+                    c.steps,
+                    t0.elapsed().as_secs_f64()
+                )
+            },
+            &mut |_| {},
+        )
+        .unwrap();
+    let m = texopt::time::cycle::metrics(&out.rows, &engine);
+    let peak = out
+        .rows
+        .iter()
+        .max_by(|a, b| {
+            a.friction_n_per_m
+                .abs()
+                .total_cmp(&b.friction_n_per_m.abs())
+        })
+        .unwrap();
+    eprintln!(
+        "FIGURES work {:.6e} asp_work {:.6e} h_min {:.6} at {:.2} lambda_min {:.6} \
+         peak_F {:.6} at {:.2} asp_share_max {:.6e} contact_time {:.6} cyclic {}",
+        m.work_j_per_m,
+        m.asperity_work_j_per_m,
+        m.h_min_um,
+        m.h_min_deg,
+        m.lambda_min,
+        peak.friction_n_per_m.abs(),
+        peak.crank_deg,
+        m.asperity_share_max,
+        m.contact_time_fraction,
+        out.cyclic
+    );
+}

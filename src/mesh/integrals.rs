@@ -101,6 +101,8 @@ pub fn friction_thresholds(
             let h = gap.h(g, k, z);
             let theta = state.phi[k] / h;
             let shear = couette_shear(model.u, theta, h);
+            #[cfg(feature = "flow-factors")]
+            let shear = shear * crate::model::flow_factors::couette_shear_factor(h);
             if theta > model.theta_s {
                 fc += shear;
             }
@@ -110,6 +112,8 @@ pub fn friction_thresholds(
                 }
             }
             let dpdx = (state.p[k + n2] - state.p[k - n2]) / (2.0 * g.dx);
+            #[cfg(feature = "flow-factors")]
+            let dpdx = dpdx * crate::model::flow_factors::poiseuille_shear_factor(h);
             fp += poiseuille_term(h, dpdx);
             let dhl = (hl[k + n2] - hl[k - n2]) / (2.0 * g.dx);
             fpr += pressure_term(state.p[k], dhl);

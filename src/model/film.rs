@@ -69,6 +69,8 @@ impl Boundary {
 #[inline(always)]
 pub fn face_conductance(a: f64, b: f64, s: f64) -> f64 {
     let hf = 0.5 * (a + b);
+    #[cfg(feature = "flow-factors")]
+    let s = s * super::flow_factors::pressure_flow(hf).0;
     hf * hf * hf * s
 }
 
@@ -76,6 +78,8 @@ pub fn face_conductance(a: f64, b: f64, s: f64) -> f64 {
 /// part (u/2)·φ_upstream and the centred Poiseuille part −(h_f³/2)·∂p/∂x1.
 #[inline]
 pub fn x1_flux(u: f64, phi_upstream: f64, h_face: f64, dp: f64, dx: f64) -> f64 {
+    #[cfg(feature = "flow-factors")]
+    let dp = dp * super::flow_factors::pressure_flow(h_face).0;
     0.5 * u * phi_upstream - 0.5 * h_face * h_face * h_face * dp / dx
 }
 

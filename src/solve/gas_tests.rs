@@ -5,7 +5,7 @@ use super::{FilmMethod, FilmSolver, Method, Step};
 use crate::mesh::integrals::{boundary_flows, load};
 use crate::mesh::{FilmState, Scene};
 use crate::model::case::{CaseSpec, Texture};
-use crate::model::film::{x1_flux, Boundary};
+use crate::model::film::Boundary;
 use crate::model::ring::RingLink;
 
 /// Boundary data with gas pressure `left` at x1 = 0 and `right` at x1 = length, each also
@@ -132,6 +132,8 @@ fn a_common_gas_pressure_shifts_a_textured_transient_with_the_ring_free() {
     assert!(ephi <= 1e-9, "φ off by {ephi:e}");
 }
 
+// The smooth film's h³ conductance: the flow factors (docs/model.md §11) change it.
+#[cfg(not(feature = "flow-factors"))]
 #[test]
 fn a_gas_pressure_difference_drives_the_poiseuille_flow_through_a_flat_ring() {
     // A flat ring (uniform gap Z under it), flooded, no sliding, steady: the full film carries
@@ -175,7 +177,7 @@ fn a_gas_pressure_difference_drives_the_poiseuille_flow_through_a_flat_ring() {
             "{series} vs {expect}"
         );
         for i in 0..g.n1 {
-            let q = x1_flux(0.0, 0.0, face_h(i), st.p[i + 1] - st.p[i], g.dx);
+            let q = crate::model::film::x1_flux(0.0, 0.0, face_h(i), st.p[i + 1] - st.p[i], g.dx);
             // Across the gap e the pressure differences are ≈ 1e-13, a few hundred ulps of p.
             let tol = if face_h(i) < 2.0 * z { 1e-9 } else { 1e-5 };
             assert!(

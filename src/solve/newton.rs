@@ -138,6 +138,21 @@ pub struct RingWork {
     dphi: Vec<f64>,
 }
 
+/// d(h_f³)/dh_f = 3·h_f², with the pressure flow factor d(φx·h_f³)/dh_f (docs/model.md §11,
+/// "Flow factors").
+#[inline(always)]
+fn conductance_slope(hf: f64) -> f64 {
+    #[cfg(feature = "flow-factors")]
+    {
+        let (phi, slope) = crate::model::flow_factors::pressure_flow(hf);
+        3.0 * hf * hf * phi + hf * hf * hf * slope
+    }
+    #[cfg(not(feature = "flow-factors"))]
+    {
+        3.0 * hf * hf
+    }
+}
+
 /// ∂(face conductance)/∂Z = 3·h_f²·∂h_f/∂Z·(geometry factor), ∂h_f/∂Z the mean of the nodal
 /// ∂h/∂Z (1 under the ring, 0 elsewhere).
 pub fn face_conductance_derivatives(
@@ -162,14 +177,14 @@ pub fn face_conductance_derivatives(
         if i < n1 && (ring[i] || ring[i + 1]) {
             for k in i * n2..(i + 1) * n2 {
                 let hf = 0.5 * (h[k] + h[k + n2]);
-                dcx[k] = 3.0 * hf * hf * 0.5 * (dz(i) + dz(i + 1)) * sx;
+                dcx[k] = conductance_slope(hf) * 0.5 * (dz(i) + dz(i + 1)) * sx;
             }
         }
         if ring[i] {
             for j in 0..n2.saturating_sub(1) {
                 let k = i * n2 + j;
                 let hf = 0.5 * (h[k] + h[k + 1]);
-                dcy[i * (n2 - 1) + j] = 3.0 * hf * hf * dz(i) * sy;
+                dcy[i * (n2 - 1) + j] = conductance_slope(hf) * dz(i) * sy;
             }
         }
     }
