@@ -11,4 +11,6 @@ pub use drive::{crank_steps, Drive, DrivePoint, StepRule};
 pub use metrics::{metrics, CycleMetrics, Regime};
 pub use numerics::cycle_numerics;
 pub use oil::{Ahead, OilMap, Taken};
-pub use run::{CycleNumerics, CycleOutcome, CycleRow, CycleRun, CycleSummary, OilBalance};
+pub use run::{
+    CycleNumerics, CycleOutcome, CycleRow, CycleRun, CycleSummary, OilBalance, MAX_HALVINGS,
+};
