@@ -23,8 +23,8 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::sync::OnceLock;
 
-use super::case::{bad, short, InputError};
-use super::operating::{Scales, COMPOSITE_ROUGHNESS_UM};
+use super::input::{bad, short, InputError};
+use super::scales::{Scales, COMPOSITE_ROUGHNESS_UM};
 use super::units::H_M;
 
 /// Separation λ = h/σ from which every F_n is exactly 0 (F_{5/2}(37) ≈ 2.3e-303).

@@ -5,7 +5,7 @@
 //! (J. Lubr. Technol. 100 (1978) 12–17; 101 (1979) 220–229), valid for H ≥ 0.5: below, H is
 //! taken at 0.5.
 
-use super::operating::COMPOSITE_ROUGHNESS_UM;
+use super::scales::COMPOSITE_ROUGHNESS_UM;
 
 /// Liner σ² − ring σ² over σ² (0.25 and 0.15 µm, docs/model.md §9): the weight of the
 /// shear stress factor φfs when the liner, the rougher surface, slides (Patir & Cheng 1979).
