@@ -94,7 +94,8 @@ fn run_transient(a: &CycleArgs, s: &CycleSettings) -> Result<i32, CmdError> {
         // all the same.
         Err(OptimiseError::NoAngleInside(_)) => Designs {
             zones: vec![None; zones],
-            uniform: None,
+            candidates: vec![None; zones],
+            ..Designs::default()
         },
         Err(e) => return Err(CmdError::Other(e.to_string())),
     };

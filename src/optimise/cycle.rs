@@ -329,8 +329,8 @@ impl Objective for ZoneWork<'_> {
 }
 
 /// The texture that minimises the friction work at `pts` relative to the plain liner's
-/// (`plain`: its forces there), or None when none beats the plain liner or there is no point:
-/// a particle swarm polished by a compass search, as `optimise`'s friction search.
+/// (`plain`: its forces there), with that ratio, or None when there is no point: a particle
+/// swarm polished by a compass search, as `optimise`'s friction search.
 pub fn design(
     s: &CycleSettings,
     pts: Vec<&Point>,
@@ -350,14 +350,36 @@ pub fn design(
         stop,
     };
     let (u, c) = swarm_and_refine(&problem, s.search.swarm, &[])?;
-    Ok((c < 1.0).then(|| (s.search.space.decode(&u), c)))
+    Ok(Some((s.search.space.decode(&u), c)))
 }
 
-/// The designs of a cycle: the plain liner's forces, each zone's texture and the uniform one,
-/// at the design's points.
+/// The designs of a cycle: each zone's texture and the uniform one where they beat the plain
+/// liner at the design's points (None: the plain liner), and the best textures the searches
+/// found, beating it there or not (None: no search), which the transient cycle judges.
+#[derive(Clone, Debug, Default)]
 pub struct Designs {
     pub zones: Vec<Option<Texture>>,
     pub uniform: Option<Texture>,
+    pub candidates: Vec<Option<Texture>>,
+    pub uniform_candidate: Option<Texture>,
+}
+
+/// A search's outcome in words: its best texture and ratio, and whether it beats the plain
+/// liner.
+fn found(d: &Option<(Texture, f64)>) -> String {
+    match d {
+        None => "no angle to search".into(),
+        Some((t, c)) if *c < 1.0 => format!("{}, work ratio {c:.4}", t.rounded_label()),
+        Some((t, c)) => format!(
+            "the plain liner (the best texture, {}, has work ratio {c:.4})",
+            t.rounded_label()
+        ),
+    }
+}
+
+/// The texture of a search's outcome where it beats the plain liner.
+fn winner(d: &Option<(Texture, f64)>) -> Option<Texture> {
+    d.as_ref().filter(|x| x.1 < 1.0).map(|x| x.0.clone())
 }
 
 /// The error of a cycle none of whose angles lies inside the model: nothing can be weighed,
@@ -406,7 +428,7 @@ pub fn design_all(
         pts.len()
     ));
     let zone_count = s.engine.bounds_mm.len() - 1;
-    let mut zones = Vec::new();
+    let (mut zones, mut candidates) = (Vec::new(), Vec::new());
     for z in 0..zone_count {
         let at: Vec<usize> = inside
             .iter()
@@ -425,13 +447,10 @@ pub fn design_all(
             "zone {}: {} angles; {}",
             z + 1,
             at.len(),
-            d.as_ref()
-                .map_or("the plain liner".into(), |(t, c)| format!(
-                    "{}, work ratio {c:.4}",
-                    t.rounded_label()
-                ))
+            found(&d)
         ));
-        zones.push(d.map(|x| x.0));
+        zones.push(winner(&d));
+        candidates.push(d.map(|x| x.0));
     }
     let f: Vec<f64> = inside.iter().filter_map(|&k| plain[k]).collect();
     say(format!(
@@ -445,18 +464,12 @@ pub fn design_all(
         cache,
         stop,
     )?;
-    say(format!(
-        "uniform: {}",
-        uniform
-            .as_ref()
-            .map_or("the plain liner".into(), |(t, c)| format!(
-                "{}, work ratio {c:.4}",
-                t.rounded_label()
-            ))
-    ));
+    say(format!("uniform: {}", found(&uniform)));
     Ok(Designs {
         zones,
-        uniform: uniform.map(|x| x.0),
+        uniform: winner(&uniform),
+        candidates,
+        uniform_candidate: uniform.map(|x| x.0),
     })
 }
 
@@ -611,6 +624,7 @@ pub fn evaluate_liners(
     let designs = Designs {
         zones: zone_textures,
         uniform: uniform_kept,
+        ..Designs::default()
     };
     Ok((
         designs,

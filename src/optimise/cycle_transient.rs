@@ -103,8 +103,10 @@ fn percent(x: f64) -> String {
     }
 }
 
-/// The plain, uniform and zoned liners of `d` through the cycle at the report's fidelity
-/// (the three first ones side by side), each zone keeping the least work of the three there.
+/// The plain liner, the uniform search's best texture and the zones' best textures of `d`
+/// (their candidates: whether or not they beat the plain liner at the search's angles, which
+/// leave out the dead centres) through the cycle at the report's fidelity, side by side; each
+/// zone then keeps the least work of the three there.
 pub fn evaluate_transient(
     s: &CycleSettings,
     d: &Designs,
@@ -112,8 +114,8 @@ pub fn evaluate_transient(
     let fidelity = s.search.report_fidelity;
     let zones = d.zones.len();
     let plain_t = vec![None; zones];
-    let uniform_t = vec![d.uniform.clone(); zones];
-    let own_t = d.zones.clone();
+    let uniform_t = vec![d.uniform_candidate.clone(); zones];
+    let own_t = d.candidates.clone();
     let layouts = [
         (plain_t.clone(), "plain liner"),
         (uniform_t.clone(), "uniform texture"),
@@ -155,11 +157,12 @@ pub fn evaluate_transient(
         None => run_liner(s, chosen.clone(), fidelity, "zoned liner")?,
     };
     let uniform_kept = (uniform.metrics.work_j_per_m < plain.metrics.work_j_per_m)
-        .then(|| d.uniform.clone())
+        .then(|| d.uniform_candidate.clone())
         .flatten();
     let designs = Designs {
         zones: chosen,
         uniform: uniform_kept,
+        ..d.clone()
     };
     Ok((
         designs,

@@ -25,9 +25,11 @@ pub struct TransientZone {
     pub zone: usize,
     pub from_mm: f64,
     pub to_mm: f64,
-    /// The texture kept (None: plain) and whose it is.
+    /// The texture kept (None: plain) and whose it is, and the zone's own search's best
+    /// texture, which the zoned designs' run carried there.
     pub texture: Option<Texture>,
     pub kept: &'static str,
+    pub searched: Option<Texture>,
     /// Friction work while the ring's centre is over the zone (J/m): plain, uniform, zoned.
     pub work_j_per_m: [f64; 3],
     /// The zoned liner's against the plain liner's there (%).
@@ -60,7 +62,9 @@ pub struct TransientReport {
     pub fidelity: String,
     /// Share of the cycle outside the model: none, the dead centres included.
     pub excluded_cycle_fraction: f64,
+    /// The uniform texture kept (None: it does not beat the plain liner) and the one judged.
     pub uniform: Option<Texture>,
+    pub uniform_searched: Option<Texture>,
     pub zones: Vec<TransientZone>,
     pub liners: Vec<TransientLinerRow>,
     pub wall_time_s: f64,
@@ -106,6 +110,7 @@ pub fn assemble(s: &CycleSettings, d: &Designs, t: &TransientLiners, wall: f64) 
                 to_mm: b[z + 1],
                 texture: d.zones[z].clone(),
                 kept: KEPT[t.kept[z]],
+                searched: d.candidates.get(z).cloned().flatten(),
                 work_j_per_m: work,
                 change_pct: change_pct(work[2], work[0]),
             }
@@ -120,6 +125,7 @@ pub fn assemble(s: &CycleSettings, d: &Designs, t: &TransientLiners, wall: f64) 
         fidelity: s.search.report_fidelity.name().into(),
         excluded_cycle_fraction: 0.0,
         uniform: d.uniform.clone(),
+        uniform_searched: d.uniform_candidate.clone(),
         zones,
         liners: (0..3).map(|k| liner_row(k, &runs[k], plain)).collect(),
         wall_time_s: wall,
@@ -166,26 +172,36 @@ pub fn table(r: &TransientReport) -> String {
             if l.cyclic { "" } else { " (not cyclic)" }
         );
     }
-    let _ = writeln!(o, "\n| zone | mm from TDC | kept | texture | work plain / uniform / zoned (J/m) | zoned vs plain |");
-    let _ = writeln!(o, "|---|---|---|---|---|---|");
+    let _ = writeln!(o, "\n| zone | mm from TDC | kept | texture | its search's best | work plain / uniform / zoned (J/m) | zoned vs plain |");
+    let _ = writeln!(o, "|---|---|---|---|---|---|---|");
     let bounds: Vec<f64> = std::iter::once(r.zones.first().map_or(0.0, |z| z.from_mm))
         .chain(r.zones.iter().map(|z| z.to_mm))
         .collect();
     for z in &r.zones {
         let _ = writeln!(
             o,
-            "| {} | {} | {} | {} | {:.4} / {:.4} / {:.4} | {} % |",
+            "| {} | {} | {} | {} | {} | {:.4} / {:.4} / {:.4} | {} % |",
             z.zone,
             zone_label(&bounds, z.zone - 1),
             z.kept,
             texture_label(&z.texture),
+            texture_label(&z.searched),
             z.work_j_per_m[0],
             z.work_j_per_m[1],
             z.work_j_per_m[2],
             opt(z.change_pct, 2)
         );
     }
-    let _ = writeln!(o, "\nuniform best: {}", texture_label(&r.uniform));
+    let _ = writeln!(
+        o,
+        "\nuniform texture judged: {} ({})",
+        texture_label(&r.uniform_searched),
+        if r.uniform.is_some() {
+            "kept: it beats the plain liner over the cycle"
+        } else {
+            "not kept"
+        }
+    );
     o
 }
 
