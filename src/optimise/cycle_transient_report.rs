@@ -265,7 +265,7 @@ pub fn write(dir: &Path, r: &TransientReport) -> Result<Vec<PathBuf>, OptimiseEr
     )?;
     let steps: Vec<LinerStep> = (0..3)
         .flat_map(|k| {
-            r.runs[k].outcome.rows.iter().map(move |row| LinerStep {
+            thinned(&r.runs[k].outcome.rows).map(move |row| LinerStep {
                 liner: LINERS[k],
                 row: *row,
             })
@@ -302,6 +302,23 @@ pub fn write(dir: &Path, r: &TransientReport) -> Result<Vec<PathBuf>, OptimiseEr
 
 type Figure = fn(&Path, &TransientReport) -> Result<(), OptimiseError>;
 
+/// Crank angle between the rows the steps' CSV keeps (degrees): a textured liner takes tens
+/// of thousands of steps a cycle, and the file stays small.
+const CSV_EVERY_DEG: f64 = 0.25;
+
+/// The rows of a cycle, the first at or after each multiple of [`CSV_EVERY_DEG`] (every row of
+/// a run whose steps are longer).
+fn thinned(rows: &[CycleRow]) -> impl Iterator<Item = &CycleRow> {
+    let mut next = f64::NEG_INFINITY;
+    rows.iter().filter(move |r| {
+        let keep = r.crank_deg >= next;
+        if keep {
+            next = (r.crank_deg / CSV_EVERY_DEG).floor() * CSV_EVERY_DEG + CSV_EVERY_DEG;
+        }
+        keep
+    })
+}
+
 fn oil_csv(r: &TransientReport) -> Result<Vec<u8>, OptimiseError> {
     let mut w = csv::Writer::from_writer(Vec::new());
     let _ = w.write_record(["y_mm", "plain_um", "uniform_um", "zoned_um"]);
@@ -332,11 +349,11 @@ fn chart<'a>(title: &'a str, x: &'a str, y: &'a str, y_scale: Scale) -> Chart<'a
 
 const CRANK: &str = "crank angle from firing top dead centre (°)";
 
-/// One series per liner of `f(row)` against crank angle.
+/// One series per liner of `f(row)` against crank angle (the rows the CSV keeps).
 fn per_liner(r: &TransientReport, f: impl Fn(&CycleRow) -> f64) -> Vec<Vec<(f64, f64)>> {
     r.runs
         .iter()
-        .map(|l| l.outcome.rows.iter().map(|x| (x.crank_deg, f(x))).collect())
+        .map(|l| thinned(&l.outcome.rows).map(|x| (x.crank_deg, f(x))).collect())
         .collect()
 }
 
