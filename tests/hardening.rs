@@ -364,10 +364,12 @@ fn messages_are_short_and_name_the_flag() {
     let (code, _, err) = simulate(&["--t-max", "0.01"]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("past --t-max 0.01"), "{err}");
-    // An absurd value is printed short in a case's label.
-    let (code, _, err) = texopt(&["simulate", "--R", "1e308"]);
-    assert_ne!(code, 0, "{err}");
-    assert!(err.contains("R=1e308") && err.len() < 400, "{err}");
+    // An absurd value is printed short (the flat ring rests on its asperities, docs/model.md
+    // §11).
+    let (code, out, err) = texopt(&["simulate", "--R", "1e308"]);
+    assert_eq!(code, 0, "{err}");
+    let first = out.lines().next().unwrap_or_default();
+    assert!(first.contains("R = 1e308 cm") && first.len() < 100, "{out}");
     // A mesh is named as it was given.
     refused(&["--mesh", "0x8"], "--mesh = 0x8");
     // Flags an untextured (steady) run does not use are said.
