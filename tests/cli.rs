@@ -131,6 +131,18 @@ fn bad_inputs_are_refused_with_exit_2_and_a_message_naming_the_parameter() {
             "does not exist",
         ),
         (to(&["bench", "--repeat", "0", "--out", s]), "--repeat 0"),
+        (
+            to(&[
+                "bench",
+                "--fidelity",
+                "fast",
+                "--case",
+                "cycle-plain",
+                "--out",
+                s,
+            ]),
+            "the cycle cases run at draft",
+        ),
     ];
     for (args, needle) in &cases {
         let a: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -271,6 +283,56 @@ fn simulate_resolves_small_pockets_as_studies_do() {
     assert_eq!(run(Some("512x8")), "512x10");
     assert_eq!(run(Some("512x2")), "512x10");
     assert_eq!(run(Some("512x12")), "512x12");
+}
+
+#[test]
+fn bench_runs_the_engine_cycle_only_when_named() {
+    let path = scratch("bench-cycle.json");
+    let p = path.to_str().unwrap();
+    let (code, out, err) = texopt(&[
+        "bench",
+        "--case",
+        "cycle-plain",
+        "--case",
+        "untextured-R0.8",
+        "--repeat",
+        "2",
+        "--out",
+        p,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().count(), 2, "{out}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(v["cases"].as_array().unwrap().len(), 1);
+    let rows = v["cycle_cases"].as_array().unwrap();
+    assert_eq!(rows.len(), 1);
+    let c = &rows[0];
+    assert_eq!(c["name"], "cycle-plain");
+    assert_eq!(c["fidelity"], "draft");
+    assert!(c["cyclic"].as_bool().unwrap(), "{c}");
+    assert!(c["cycles"].as_u64().unwrap() >= 2, "{c}");
+    assert!(c["last_cycle_steps"].as_u64().unwrap() > 0, "{c}");
+    assert!(c["work_j_per_m"].as_f64().unwrap() > 0.0, "{c}");
+    assert_eq!(c["wall_times_s"].as_array().unwrap().len(), 2);
+    assert!(c["finer"].is_null() && c["work_error"].is_null(), "{c}");
+
+    // A film case alone writes no cycle rows: the benchmark's own file keeps its form.
+    let (code, _, err) = texopt(&[
+        "bench",
+        "--fidelity",
+        "draft",
+        "--case",
+        "untextured-R0.8",
+        "--repeat",
+        "1",
+        "--out",
+        p,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert!(v.get("cycle_cases").is_none(), "{v}");
 }
 
 #[test]

@@ -1,7 +1,11 @@
 //! `texopt bench`: the fixed benchmark cases, timed, into results/bench/.
 
 use super::{BenchArgs, CmdError};
-use crate::study::bench::{default_runs, run_case, BenchCase, BenchRow};
+use crate::study::bench::{
+    cycle_cases, default_runs, run_case, run_cycle_case, BenchCase, BenchRow, CycleBenchCase,
+    CycleBenchRow, CYCLE_FIDELITY,
+};
+use crate::time::cycle::CycleSummary;
 use crate::time::{Fidelity, Numerics, Overrides};
 
 /// Most runs of each case `--repeat` takes: more is a typo, not a benchmark.
@@ -9,7 +13,8 @@ const MAX_REPEAT: usize = 100;
 
 pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
     let all = crate::study::bench::cases();
-    check_choice(a, &all)?;
+    let cycles = cycle_cases();
+    check_choice(a, &all, &cycles)?;
     let out = out_path(a)?;
     let runs: Vec<(&str, Fidelity)> = match a.fidelity {
         Some(f) => all.iter().map(|c| (c.name, f)).collect(),
@@ -30,20 +35,49 @@ pub(super) fn run(a: &BenchArgs) -> Result<i32, CmdError> {
             None => failed += 1,
         }
     }
-    write_json(a, &out, &rows)?;
+    // The cycle cases run only when named: the uniform one takes minutes.
+    let mut cycle_rows = Vec::new();
+    for c in cycles
+        .iter()
+        .filter(|c| a.cases.iter().any(|n| n == c.name))
+    {
+        match bench_cycle(a, c) {
+            Some(row) => cycle_rows.push(row),
+            None => failed += 1,
+        }
+    }
+    write_json(a, &out, &rows, &cycle_rows)?;
     eprintln!("wrote {}", out.display());
     Ok(if failed > 0 { 1 } else { 0 })
 }
 
 /// The cases asked for exist, and each runs at least once and at most `MAX_REPEAT` times.
-fn check_choice(a: &BenchArgs, all: &[BenchCase]) -> Result<(), CmdError> {
+fn check_choice(
+    a: &BenchArgs,
+    all: &[BenchCase],
+    cycles: &[CycleBenchCase],
+) -> Result<(), CmdError> {
     for name in &a.cases {
-        if !all.iter().any(|c| c.name == name) {
-            let names: Vec<_> = all.iter().map(|c| c.name).collect();
+        let cycle = cycles.iter().any(|c| c.name == name);
+        if !cycle && !all.iter().any(|c| c.name == name) {
+            let names: Vec<_> = all
+                .iter()
+                .map(|c| c.name)
+                .chain(cycles.iter().map(|c| c.name))
+                .collect();
             return Err(CmdError::Input(format!(
                 "--case {name}: no such benchmark case; choose from {}",
                 names.join(", ")
             )));
+        }
+        if let (true, Some(f)) = (cycle, a.fidelity) {
+            if f != CYCLE_FIDELITY {
+                return Err(CmdError::Input(format!(
+                    "--fidelity {} --case {name}: the cycle cases run at {} (their finer tier is part of the case); drop --fidelity or run the cycle case on its own",
+                    f.name(),
+                    CYCLE_FIDELITY.name()
+                )));
+            }
         }
     }
     if a.repeat == 0 {
@@ -110,16 +144,47 @@ fn bench_one(a: &BenchArgs, c: &BenchCase, fidelity: Fidelity) -> Option<(BenchR
     }
 }
 
-/// The benchmark's JSON: the machine and settings, then each case's row with its numerics.
+/// One cycle case, timed and printed, each cycle's end on stderr as it comes; None if it
+/// failed (printed as such).
+fn bench_cycle(a: &BenchArgs, c: &CycleBenchCase) -> Option<CycleBenchRow> {
+    eprintln!("running {} at {} …", c.name, CYCLE_FIDELITY.name());
+    let t0 = std::time::Instant::now();
+    let mut progress = |f: Fidelity, s: &CycleSummary| {
+        eprintln!(
+            "[{:7.1} s] {} at {}: cycle {}, {} steps, friction work {:.5} J/m (change {:.2e})",
+            t0.elapsed().as_secs_f64(),
+            c.name,
+            f.name(),
+            1 + s.index,
+            s.steps,
+            s.friction_work_j_per_m,
+            s.work_change
+        )
+    };
+    match run_cycle_case(c, a.repeat, &mut progress) {
+        Ok(row) => {
+            println!("{}", row.line());
+            Some(row)
+        }
+        Err(e) => {
+            println!("{:17} FAILED: {e}", c.name);
+            None
+        }
+    }
+}
+
+/// The benchmark's JSON: the machine and settings, then each case's row with its numerics,
+/// and the cycle cases' rows if any ran.
 fn write_json(
     a: &BenchArgs,
     out: &std::path::Path,
     rows: &[(BenchRow, Numerics)],
+    cycle_rows: &[CycleBenchRow],
 ) -> Result<(), CmdError> {
     let secs = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());
-    let report = serde_json::json!({
+    let mut report = serde_json::json!({
         "texopt_version": env!("CARGO_PKG_VERSION"),
         "unix_time": secs,
         "threads_available": std::thread::available_parallelism().map_or(1, |n| n.get()),
@@ -135,6 +200,9 @@ fn write_json(
             })
             .collect::<Vec<_>>(),
     });
+    if !cycle_rows.is_empty() {
+        report["cycle_cases"] = serde_json::to_value(cycle_rows).unwrap_or_default();
+    }
     let json = serde_json::to_string_pretty(&report).map_err(|e| CmdError::Other(e.to_string()))?;
     crate::output::write(out, json).map_err(|e| CmdError::Other(format!("--out: {e}")))
 }

@@ -5,7 +5,11 @@
 use serde::{Deserialize, Serialize};
 
 use crate::model::case::{CaseSpec, Texture};
-use crate::time::{simulate, Fidelity, Numerics, Outcome, SolveError};
+use crate::model::engine::Engine;
+use crate::model::liner_layout::LinerLayout;
+use crate::study::engine_file::{parse, EngineFileError};
+use crate::time::cycle::{cycle_numerics, metrics, CycleOutcome, CycleRun, CycleSummary, Drive};
+use crate::time::{simulate, Fidelity, Numerics, Outcome, Overrides, SolveError};
 
 /// One benchmark case.
 pub struct BenchCase {
@@ -236,11 +240,227 @@ pub fn run_case(
     })
 }
 
+/// One benchmark case of the engine cycle: the example engine (studies/engine_gasoline.toml)
+/// through its cycle as one transient (docs/model.md §12) at [`CYCLE_FIDELITY`], until it
+/// repeats itself.
+pub struct CycleBenchCase {
+    pub name: &'static str,
+    /// The liner's texture, uniform over the stroke (None: the plain liner).
+    pub texture: Option<Texture>,
+    /// The finer tier the friction work's error is measured against, if any: the same liner
+    /// run once more there, which costs more than the case itself.
+    pub finer: Option<Fidelity>,
+}
+
+/// The tier the cycle cases are timed at: the cycle optimiser's search tier.
+pub const CYCLE_FIDELITY: Fidelity = Fidelity::Draft;
+
+/// The cycle cases: the plain liner, and a liner uniformly textured with the paper's Case I
+/// pocket, judged against `fast`. Not among the default runs: the uniform one takes minutes.
+pub fn cycle_cases() -> Vec<CycleBenchCase> {
+    vec![
+        CycleBenchCase {
+            name: "cycle-plain",
+            texture: None,
+            finer: None,
+        },
+        CycleBenchCase {
+            name: "cycle-uniform",
+            texture: Some(Texture::circular(0.01, 0.06, 5.0)),
+            finer: Some(Fidelity::Fast),
+        },
+    ]
+}
+
+/// The example engine the cycle cases run, built into the binary so that the benchmark runs
+/// from any directory.
+pub fn example_engine() -> Result<Engine, EngineFileError> {
+    let text = include_str!("../../studies/engine_gasoline.toml");
+    Ok(parse::<serde::de::IgnoredAny>(text)?.0)
+}
+
+/// What one run of a liner through the cycle gave.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CycleRunRow {
+    pub fidelity: String,
+    /// Cells along the film and across half a lattice width (1 across a plain liner).
+    pub n1: usize,
+    pub n2: usize,
+    /// The shortest of the repeats' wall times (s), and every repeat's, in the order run.
+    pub wall_time_s: f64,
+    pub wall_times_s: Vec<f64>,
+    /// Friction work of the last cycle per unit circumferential length (J/m).
+    pub work_j_per_m: f64,
+    /// Cycles run, whether the last repeated the one before within the tolerance, and the
+    /// crank steps of the last.
+    pub cycles: usize,
+    pub cyclic: bool,
+    pub last_cycle_steps: usize,
+    pub ms_per_step: f64,
+}
+
+/// What one cycle case measured: its run at [`CYCLE_FIDELITY`], and for a case with a finer
+/// tier, that run and the friction work's relative error against it (signed:
+/// (case − finer)/finer).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CycleBenchRow {
+    pub name: String,
+    pub label: String,
+    #[serde(flatten)]
+    pub run: CycleRunRow,
+    pub finer: Option<CycleRunRow>,
+    pub work_error: Option<f64>,
+}
+
+impl CycleBenchRow {
+    /// The one-line summary.
+    pub fn line(&self) -> String {
+        let r = &self.run;
+        format!(
+            "{:17} {:5} {:7.2} s{}  {} cycles{}  {:5} steps in the last  {:6.3} ms/step  work {:.5} J/m{}",
+            self.name,
+            r.fidelity,
+            r.wall_time_s,
+            match r.wall_times_s.len() {
+                0 | 1 => String::new(),
+                n => format!(" (best of {n})"),
+            },
+            r.cycles,
+            if r.cyclic { "" } else { " (NOT cyclic)" },
+            r.last_cycle_steps,
+            r.ms_per_step,
+            r.work_j_per_m,
+            match (&self.finer, self.work_error) {
+                (Some(f), Some(e)) => format!(
+                    " ({:+.2} % against {}: {:.5} J/m, {:.2} s, {} cycles{})",
+                    100.0 * e,
+                    f.fidelity,
+                    f.work_j_per_m,
+                    f.wall_time_s,
+                    f.cycles,
+                    if f.cyclic { "" } else { ", NOT cyclic" }
+                ),
+                _ => String::new(),
+            }
+        )
+    }
+}
+
+/// Runs a cycle case `repeat` times (at least once) at [`CYCLE_FIDELITY`], then once at its
+/// finer tier if it has one; `progress` sees each cycle's summary as it ends. The repeats
+/// must agree to the bit, as [`run_case`]'s.
+pub fn run_cycle_case(
+    c: &CycleBenchCase,
+    repeat: usize,
+    progress: &mut dyn FnMut(Fidelity, &CycleSummary),
+) -> Result<CycleBenchRow, BenchError> {
+    let engine = example_engine()?;
+    let mut best: Option<(f64, CycleOutcome)> = None;
+    let mut wall_times_s = Vec::new();
+    for _ in 0..repeat.max(1) {
+        let (s, o) = run_liner(&engine, c.texture.as_ref(), CYCLE_FIDELITY, progress)?;
+        wall_times_s.push(s);
+        if let Some((_, b)) = &best {
+            let (w0, w1) = (work(b), work(&o));
+            if w0.to_bits() != w1.to_bits() || b.rows.len() != o.rows.len() {
+                return Err(BenchError::CycleNotRepeatable {
+                    name: c.name.to_string(),
+                    first: (w0, b.rows.len()),
+                    again: (w1, o.rows.len()),
+                });
+            }
+        }
+        if best.as_ref().is_none_or(|(b, _)| s < *b) {
+            best = Some((s, o));
+        }
+    }
+    let (_, o) = best.expect("at least one run");
+    let run = cycle_row(&engine, c, CYCLE_FIDELITY, &o, wall_times_s);
+    let mut finer = None;
+    if let Some(f) = c.finer {
+        let (s, fo) = run_liner(&engine, c.texture.as_ref(), f, progress)?;
+        finer = Some(cycle_row(&engine, c, f, &fo, vec![s]));
+    }
+    let work_error = finer
+        .as_ref()
+        .map(|f| (run.work_j_per_m - f.work_j_per_m) / f.work_j_per_m);
+    Ok(CycleBenchRow {
+        name: c.name.to_string(),
+        label: CaseSpec {
+            texture: c.texture.clone(),
+            ..Drive::new(&engine).ring_case()
+        }
+        .label(),
+        run,
+        finer,
+        work_error,
+    })
+}
+
+/// The friction work of an outcome's last cycle (J/m).
+fn work(o: &CycleOutcome) -> f64 {
+    o.cycles
+        .last()
+        .map_or(f64::NAN, |c| c.friction_work_j_per_m)
+}
+
+/// An outcome's row, with the wall times (s) of the runs that gave it.
+fn cycle_row(
+    engine: &Engine,
+    c: &CycleBenchCase,
+    f: Fidelity,
+    o: &CycleOutcome,
+    wall_times_s: Vec<f64>,
+) -> CycleRunRow {
+    let drive = Drive::new(engine);
+    let num = cycle_numerics(
+        f,
+        &Overrides::default(),
+        &drive.ring_case(),
+        c.texture.as_ref(),
+    );
+    let wall_time_s = wall_times_s.iter().copied().fold(f64::INFINITY, f64::min);
+    let steps: usize = o.cycles.iter().map(|s| s.steps).sum();
+    CycleRunRow {
+        fidelity: f.name().to_string(),
+        n1: num.n1,
+        // A plain liner's film is one cell across (time::cycle's scene).
+        n2: if c.texture.is_some() { num.n2 } else { 1 },
+        wall_time_s,
+        wall_times_s,
+        work_j_per_m: metrics(&o.rows, engine).work_j_per_m,
+        cycles: o.cycles.len(),
+        cyclic: o.cyclic,
+        last_cycle_steps: o.cycles.last().map_or(0, |s| s.steps),
+        ms_per_step: 1e3 * wall_time_s / steps.max(1) as f64,
+    }
+}
+
+/// The example engine's liner, uniformly `texture`d, through the cycle at `fidelity` until
+/// it repeats itself: its wall time (s) and outcome.
+fn run_liner(
+    engine: &Engine,
+    texture: Option<&Texture>,
+    fidelity: Fidelity,
+    progress: &mut dyn FnMut(Fidelity, &CycleSummary),
+) -> Result<(f64, CycleOutcome), BenchError> {
+    let t0 = std::time::Instant::now();
+    let drive = Drive::new(engine);
+    let ring = drive.ring_case();
+    let layout = LinerLayout::uniform(0.1 * engine.file.engine.stroke_mm, texture.cloned());
+    let numerics = cycle_numerics(fidelity, &Overrides::default(), &ring, texture);
+    let o = CycleRun::new(&drive, ring, layout, numerics)?
+        .run(&mut |s| progress(fidelity, s), &mut |_| {})?;
+    Ok((t0.elapsed().as_secs_f64(), o))
+}
+
 /// Why a benchmark case gave no row.
 #[derive(Debug, thiserror::Error)]
 pub enum BenchError {
     #[error(transparent)]
     Solve(#[from] SolveError),
+    #[error("the example engine (studies/engine_gasoline.toml): {0}")]
+    Engine(#[from] EngineFileError),
     #[error(
         "{name}: a repeat gave another outcome (f̄ {:.17}, C_min {:.17}, {} steps, then f̄ {:.17}, C_min {:.17}, {} steps): the solver is not deterministic here, which is a bug; please report it",
         first.0, first.1, first.2, again.0, again.1, again.2
@@ -249,5 +469,14 @@ pub enum BenchError {
         name: String,
         first: (f64, f64, usize),
         again: (f64, f64, usize),
+    },
+    #[error(
+        "{name}: a repeat gave another cycle (friction work {:.17} J/m over {} steps, then {:.17} J/m over {} steps): the solver is not deterministic here, which is a bug; please report it",
+        first.0, first.1, again.0, again.1
+    )]
+    CycleNotRepeatable {
+        name: String,
+        first: (f64, usize),
+        again: (f64, usize),
     },
 }
