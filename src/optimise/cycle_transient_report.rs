@@ -353,7 +353,11 @@ const CRANK: &str = "crank angle from firing top dead centre (°)";
 fn per_liner(r: &TransientReport, f: impl Fn(&CycleRow) -> f64) -> Vec<Vec<(f64, f64)>> {
     r.runs
         .iter()
-        .map(|l| thinned(&l.outcome.rows).map(|x| (x.crank_deg, f(x))).collect())
+        .map(|l| {
+            thinned(&l.outcome.rows)
+                .map(|x| (x.crank_deg, f(x)))
+                .collect()
+        })
         .collect()
 }
 
