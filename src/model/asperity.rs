@@ -635,7 +635,7 @@ mod tests {
     }
 
     #[test]
-    fn five_digit_values_of_the_issue() {
+    fn five_digit_values_at_lambda_0_to_4() {
         let f52 = [6.16634e-1, 8.05623e-2, 5.42371e-3, 1.70873e-4, 2.35338e-6];
         let f2 = [5.00000e-1, 7.53398e-2, 5.76873e-3, 2.03435e-4, 3.09021e-6];
         for (i, (a, b)) in f52.iter().zip(f2).enumerate() {
