@@ -51,6 +51,23 @@ impl Texture {
             phase: 0.0,
         }
     }
+    /// The liner this texture makes, a pocket centre at `origin_cm` plus the texture's phase
+    /// (docs/model.md §2).
+    pub fn liner(&self, origin_cm: f64) -> Liner {
+        Liner {
+            pocket: Some(Arc::new(HalfEllipsoid {
+                l1_cm: self.l1,
+                l2_cm: self.l2,
+                depth_um: self.depth,
+            })),
+            per_cm: self.per,
+            width_cm: self.width,
+            // The phase within one period: a phase of 1e15 cm would leave no digits for the
+            // pocket's position (the texture repeats every `per`).
+            phase_cm: (origin_cm + self.phase).rem_euclid(self.per),
+        }
+    }
+
     /// Textured area fraction π·l1·l2/(per·width).
     pub fn area_fraction(&self) -> f64 {
         std::f64::consts::PI * self.l1 * self.l2 / (self.per * self.width)
@@ -175,21 +192,10 @@ impl CaseSpec {
 
     /// The contact geometry (docs/model.md §2): the paper's layout scaled to the ring width.
     pub fn contact(&self) -> Contact {
-        let liner = match &self.texture {
-            None => Liner::smooth(),
-            Some(t) => Liner {
-                pocket: Some(Arc::new(HalfEllipsoid {
-                    l1_cm: t.l1,
-                    l2_cm: t.l2,
-                    depth_um: t.depth,
-                })),
-                per_cm: t.per,
-                width_cm: t.width,
-                // The phase within one period: a phase of 1e15 cm would leave no digits for
-                // the pocket's position (the texture repeats every `per`).
-                phase_cm: t.phase.rem_euclid(t.per),
-            },
-        };
+        let liner = self
+            .texture
+            .as_ref()
+            .map_or_else(Liner::smooth, |t| t.liner(0.0));
         let mut c = Contact::paper(Arc::new(CircularArc { radius_cm: self.r }), liner);
         c.e_um = self.e;
         c.with_ring_width(self.ring_width)

@@ -2,10 +2,8 @@
 //! any, lies at each distance from the ring's top-dead-centre position. The engine cycle's
 //! film reads the liner's depth at the liner coordinate under each node.
 
-use std::sync::Arc;
-
 use super::case::Texture;
-use super::geometry::{HalfEllipsoid, Liner};
+use super::geometry::Liner;
 
 /// Zones along the liner, each plain or carrying a lattice of pockets. Positions are liner
 /// coordinates y (cm): the distance along the liner, towards the crankcase, from where the
@@ -44,19 +42,7 @@ impl LinerLayout {
         let zones = textures
             .iter()
             .zip(&bounds_cm)
-            .map(|(t, &start)| match t {
-                None => Liner::smooth(),
-                Some(t) => Liner {
-                    pocket: Some(Arc::new(HalfEllipsoid {
-                        l1_cm: t.l1,
-                        l2_cm: t.l2,
-                        depth_um: t.depth,
-                    })),
-                    per_cm: t.per,
-                    width_cm: t.width,
-                    phase_cm: (start + t.phase).rem_euclid(t.per),
-                },
-            })
+            .map(|(t, &start)| t.as_ref().map_or_else(Liner::smooth, |t| t.liner(start)))
             .collect();
         Ok(LinerLayout {
             bounds_cm,
