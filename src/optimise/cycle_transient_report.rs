@@ -476,28 +476,16 @@ fn oil_plot(path: &Path, r: &TransientReport) -> Result<(), OptimiseError> {
 }
 
 fn convergence_plot(path: &Path, r: &TransientReport) -> Result<(), OptimiseError> {
-    let work: Vec<Vec<(f64, f64)>> = r
-        .runs
-        .iter()
-        .map(|l| {
-            l.outcome
-                .cycles
-                .iter()
-                .map(|c| ((c.index + 1) as f64, c.work_change))
-                .collect()
-        })
-        .collect();
-    let oil: Vec<Vec<(f64, f64)>> = r
-        .runs
-        .iter()
-        .map(|l| {
-            l.outcome
-                .cycles
-                .iter()
-                .map(|c| ((c.index + 1) as f64, c.oil_change))
-                .collect()
-        })
-        .collect();
+    let per_cycle = |f: fn(&CycleSummary) -> f64| -> Vec<Vec<(f64, f64)>> {
+        r.runs
+            .iter()
+            .map(|l| {
+                let c = &l.outcome.cycles;
+                c.iter().map(|c| ((c.index + 1) as f64, f(c))).collect()
+            })
+            .collect()
+    };
+    let (work, oil) = (per_cycle(|c| c.work_change), per_cycle(|c| c.oil_change));
     let mut series = liner_series(&work, ": friction work");
     for (k, p) in oil.iter().enumerate() {
         series.push(Series {
