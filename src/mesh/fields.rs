@@ -104,24 +104,10 @@ pub fn cavity_pressures(grid: &Grid, bc: &Boundary, pressurised: &[bool], out: &
                 continue;
             }
             open[k] |= bit;
-            let (i, j) = (k / n2, k % n2);
-            let mut visit = |m: usize| {
-                if cavitated(m) && open[m] & bit == 0 {
-                    stack.push(m);
-                }
-            };
-            if i > 1 {
-                visit(k - n2);
-            }
-            if i + 1 < n1 {
-                visit(k + n2);
-            }
-            if j > 0 {
-                visit(k - 1);
-            }
-            if j + 1 < n2 {
-                visit(k + 1);
-            }
+            stack.extend(
+                grid.interior_neighbours(k)
+                    .filter(|&m| cavitated(m) && open[m] & bit == 0),
+            );
         }
     }
     let of_cavity = |k: usize| match open[k] {
@@ -135,22 +121,9 @@ pub fn cavity_pressures(grid: &Grid, bc: &Boundary, pressurised: &[bool], out: &
         out[k] = if !pressurised[k] {
             of_cavity(k)
         } else {
-            let (i, j) = (k / n2, k % n2);
-            let mut floor = bc.rupture_pressure();
-            for m in [
-                (i > 1).then(|| k - n2),
-                (i + 1 < n1).then(|| k + n2),
-                (j > 0).then(|| k - 1),
-                (j + 1 < n2).then(|| k + 1),
-            ]
-            .into_iter()
-            .flatten()
-            {
-                if !pressurised[m] {
-                    floor = floor.max(of_cavity(m));
-                }
-            }
-            floor
+            grid.interior_neighbours(k)
+                .filter(|&m| !pressurised[m])
+                .fold(bc.rupture_pressure(), |floor, m| floor.max(of_cavity(m)))
         };
     }
 }

@@ -42,4 +42,20 @@ impl Grid {
     pub fn y(&self, j: usize) -> f64 {
         (j as f64 + 0.5) * self.dy
     }
+
+    /// The neighbours of node k among the interior columns 1..n1 − 1 (x1 − 1, x1 + 1, x2 − 1,
+    /// x2 + 1, in that order): where a cavity can spread or a film meet one.
+    #[inline]
+    pub fn interior_neighbours(&self, k: usize) -> impl Iterator<Item = usize> {
+        let (n1, n2) = (self.n1, self.n2);
+        let (i, j) = (k / n2, k % n2);
+        [
+            (i > 1).then(|| k - n2),
+            (i + 1 < n1).then(|| k + n2),
+            (j > 0).then(|| k - 1),
+            (j + 1 < n2).then(|| k + 1),
+        ]
+        .into_iter()
+        .flatten()
+    }
 }

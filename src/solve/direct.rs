@@ -263,16 +263,7 @@ fn invade(g: &crate::mesh::Grid, state: &mut FilmState, cavity: &[f64], h: &[f64
         .collect();
     let mut invaded = 0;
     while let Some((k, pc)) = stack.pop() {
-        let (i, j) = (k / n2, k % n2);
-        for m in [
-            (i > 1).then(|| k - n2),
-            (i + 1 < n1).then(|| k + n2),
-            (j > 0).then(|| k - 1),
-            (j + 1 < n2).then(|| k + 1),
-        ]
-        .into_iter()
-        .flatten()
-        {
+        for m in g.interior_neighbours(k) {
             if state.pressurised[m] && state.p[m] < pc - eps {
                 state.pressurised[m] = false;
                 state.p[m] = pc;
