@@ -7,6 +7,8 @@
 //!     texopt-lab references run CASE N1xN2 DT | report
 //!     texopt-lab deep-pockets
 //!     texopt-lab shear-threshold
+//!     texopt-lab cycle-steps
+//!     texopt-lab cycle-contact
 
 use texopt_lab::studies;
 
@@ -21,8 +23,10 @@ fn main() {
         Some("references") => studies::references::main(rest),
         Some("deep-pockets") => studies::deep_pockets::main(rest),
         Some("shear-threshold") => studies::shear_threshold::main(rest),
+        Some("cycle-steps") => studies::cycle_steps::main(rest),
+        Some("cycle-contact") => studies::cycle_contact::main(rest),
         _ => Err(
-            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
+            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | cycle-steps | cycle-contact | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
                 .into(),
         ),
     };

@@ -12,13 +12,11 @@ use super::{install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::case::short;
 use crate::model::engine::{three_digits, zone_label, Engine, STEP_RANGE_DEG};
 use crate::model::operating::Validity;
-use crate::optimise::cycle::{
-    design_all, evaluate_liners, no_angle_inside, points, CycleSettings, Designs,
-};
+use crate::optimise::cycle::{design_all, evaluate_liners, no_angle_inside, points, CycleSettings};
 use crate::optimise::cycle_report::{assemble, non_finite, table, write};
+use crate::optimise::cycle_search::design_over_cycle;
 use crate::optimise::cycle_transient::evaluate_transient;
 use crate::optimise::cycle_transient_report as transient_report;
-use crate::optimise::error::OptimiseError;
 use crate::optimise::space::Space;
 use crate::study::engine_file;
 
@@ -79,26 +77,11 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     Ok(0)
 }
 
-/// The transient cycle: the zones' and the uniform designs searched over the angles where
-/// their periodic regimes hold, then the plain, uniform and zoned liners judged over the
-/// whole cycle as one transient each.
+/// The transient cycle: the zones' designs searched over the whole cycle as one transient,
+/// then the plain, uniform and zoned liners judged over it at the report's fidelity.
 fn run_transient(a: &CycleArgs, s: &CycleSettings) -> Result<i32, CmdError> {
-    let cache = open_cache(a.cache.as_deref())?;
-    install_ctrl_c();
-    let cache = std::sync::Mutex::new(cache);
     let t0 = std::time::Instant::now();
-    let zones = s.engine.bounds_mm.len() - 1;
-    let designs = match design_all(s, &cache, &STOP) {
-        Ok(d) => d,
-        // No angle where a periodic regime holds: nothing to search, the liners are judged
-        // all the same.
-        Err(OptimiseError::NoAngleInside(_)) => Designs {
-            zones: vec![None; zones],
-            candidates: vec![None; zones],
-            ..Designs::default()
-        },
-        Err(e) => return Err(CmdError::Other(e.to_string())),
-    };
+    let designs = design_over_cycle(s).map_err(|e| CmdError::Other(e.to_string()))?;
     if s.search.progress {
         eprintln!(
             "[{:6.1} s] the liners through the cycle at {} …",

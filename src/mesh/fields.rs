@@ -94,20 +94,26 @@ pub fn cavity_pressures(grid: &Grid, bc: &Boundary, pressurised: &[bool], out: &
         return;
     }
     // Which ends each cavitated node is connected to: bit 1 the x1 = 0 end, bit 2 the other.
+    // Plain loops: this runs once or twice a film solve, over every node.
     let mut open = vec![0u8; grid.nodes()];
     let cavitated = |k: usize| k >= n2 && k < n1 * n2 && !pressurised[k];
-    let mut stack: Vec<usize> = Vec::new();
+    let mut stack: Vec<usize> = Vec::with_capacity(grid.nodes());
     for (bit, col) in [(1u8, 1), (2u8, n1 - 1)] {
-        stack.extend((col * n2..(col + 1) * n2).filter(|&k| cavitated(k)));
+        for k in col * n2..(col + 1) * n2 {
+            if cavitated(k) {
+                stack.push(k);
+            }
+        }
         while let Some(k) = stack.pop() {
             if open[k] & bit != 0 {
                 continue;
             }
             open[k] |= bit;
-            stack.extend(
-                grid.interior_neighbours(k)
-                    .filter(|&m| cavitated(m) && open[m] & bit == 0),
-            );
+            for m in grid.interior_neighbours(k) {
+                if cavitated(m) && open[m] & bit == 0 {
+                    stack.push(m);
+                }
+            }
         }
     }
     let of_cavity = |k: usize| match open[k] {

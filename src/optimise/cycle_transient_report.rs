@@ -14,7 +14,7 @@ use super::error::OptimiseError;
 use crate::model::case::Texture;
 use crate::model::engine::zone_label;
 use crate::plot::{self, Chart, Scale, Series, Style};
-use crate::time::cycle::{CycleMetrics, CycleRow, CycleSummary, Regime};
+use crate::time::cycle::{CycleMetrics, CycleRow, CycleSummary, Regime, SETTLE_CYCLES};
 
 const LINERS: [&str; 3] = ["plain liner", "uniform best", "zoned"];
 const KEPT: [&str; 3] = ["plain", "uniform", "zone design"];
@@ -60,6 +60,10 @@ pub struct TransientReport {
     pub bore_mm: f64,
     pub stroke_mm: f64,
     pub fidelity: String,
+    /// How the zones were searched: the search's fidelity and swarm.
+    pub search_fidelity: String,
+    pub particles: usize,
+    pub iterations: u64,
     /// Share of the cycle outside the model: none, the dead centres included.
     pub excluded_cycle_fraction: f64,
     /// The uniform texture kept (None: it does not beat the plain liner) and the one judged.
@@ -123,6 +127,9 @@ pub fn assemble(s: &CycleSettings, d: &Designs, t: &TransientLiners, wall: f64) 
         bore_mm: e.bore_mm,
         stroke_mm: e.stroke_mm,
         fidelity: s.search.report_fidelity.name().into(),
+        search_fidelity: s.search.search_fidelity.name().into(),
+        particles: s.search.swarm.particles,
+        iterations: s.search.swarm.iterations,
         excluded_cycle_fraction: 0.0,
         uniform: d.uniform.clone(),
         uniform_searched: d.uniform_candidate.clone(),
@@ -146,8 +153,8 @@ pub fn table(r: &TransientReport) -> String {
     let mut o = String::new();
     let _ = writeln!(
         o,
-        "Engine `{}` at {} rpm, the cycle as one transient at {} (no crank angle excluded).\n",
-        r.name, r.rpm, r.fidelity
+        "Engine `{}` at {} rpm, the cycle as one transient at {} (no crank angle excluded). Each zone's texture searched over the whole cycle at {} ({} particles × {} iterations, each candidate {} cycles from the plain liner's cyclic state).\n",
+        r.name, r.rpm, r.fidelity, r.search_fidelity, r.particles, r.iterations, SETTLE_CYCLES
     );
     let _ = writeln!(o, "| liner | friction work (J/m) | asperities' share | mean power per ring (W) | FMEP (kPa) | vs plain | h_min (µm) at | Λ_min | asperity load, max | time in mixed / boundary | cycles |");
     let _ = writeln!(o, "|---|---|---|---|---|---|---|---|---|---|---|");

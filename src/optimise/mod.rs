@@ -10,6 +10,7 @@
 
 pub mod cycle;
 pub mod cycle_report;
+pub mod cycle_search;
 pub mod cycle_transient;
 pub mod cycle_transient_report;
 pub mod design;

@@ -8,7 +8,10 @@ use crate::model::case::{CaseSpec, Texture};
 use crate::model::engine::Engine;
 use crate::model::liner_layout::LinerLayout;
 use crate::study::engine_file::{parse, EngineFileError};
-use crate::time::cycle::{cycle_numerics, metrics, CycleOutcome, CycleRun, CycleSummary, Drive};
+use crate::time::cycle::{
+    cycle_numerics, metrics, CycleNumerics, CycleOutcome, CycleRun, CycleSummary, Drive,
+    SETTLE_CYCLES,
+};
 use crate::time::{simulate, Fidelity, Numerics, Outcome, Overrides, SolveError};
 
 /// One benchmark case.
@@ -308,8 +311,25 @@ pub struct CycleBenchRow {
     pub label: String,
     #[serde(flatten)]
     pub run: CycleRunRow,
+    /// For a textured liner, the cycle's design searches' judgement of it: the plain liner to
+    /// its cyclic state, then this liner from there for [`SETTLE_CYCLES`] cycles.
+    pub settled: Option<SettledRow>,
     pub finer: Option<CycleRunRow>,
     pub work_error: Option<f64>,
+}
+
+/// A textured liner judged as the cycle's design searches judge it (optimise/cycle_search.rs).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SettledRow {
+    /// The shortest of the repeats' wall times (s), plain liner included, and every repeat's.
+    pub wall_time_s: f64,
+    pub wall_times_s: Vec<f64>,
+    /// The plain liner's part of it (s, the shortest repeat's).
+    pub plain_s: f64,
+    /// The last cycle's friction work (J/m) and its relative difference from the run to the
+    /// cyclic state at the same fidelity.
+    pub work_j_per_m: f64,
+    pub error_vs_cyclic: f64,
 }
 
 impl CycleBenchRow {
@@ -317,7 +337,7 @@ impl CycleBenchRow {
     pub fn line(&self) -> String {
         let r = &self.run;
         format!(
-            "{:17} {:5} {:7.2} s{}  {} cycles{}  {:5} steps in the last  {:6.3} ms/step  work {:.5} J/m{}",
+            "{:17} {:5} {:7.2} s{}  {} cycles{}  {:5} steps in the last  {:6.3} ms/step  work {:.5} J/m{}{}",
             self.name,
             r.fidelity,
             r.wall_time_s,
@@ -341,6 +361,13 @@ impl CycleBenchRow {
                     if f.cyclic { "" } else { ", NOT cyclic" }
                 ),
                 _ => String::new(),
+            },
+            match &self.settled {
+                Some(w) => format!(
+                    "; as the searches judge it: {:.2} s, work {:.5} J/m ({:+.1e} against its cyclic state)",
+                    w.wall_time_s, w.work_j_per_m, w.error_vs_cyclic
+                ),
+                None => String::new(),
             }
         )
     }
@@ -376,6 +403,10 @@ pub fn run_cycle_case(
     }
     let (_, o) = best.expect("at least one run");
     let run = cycle_row(&engine, c, CYCLE_FIDELITY, &o, wall_times_s);
+    let settled = match &c.texture {
+        Some(t) => Some(settled_row(&engine, t, repeat, run.work_j_per_m)?),
+        None => None,
+    };
     let mut finer = None;
     if let Some(f) = c.finer {
         let (s, fo) = run_liner(&engine, c.texture.as_ref(), f, progress)?;
@@ -392,8 +423,57 @@ pub fn run_cycle_case(
         }
         .label(),
         run,
+        settled,
         finer,
         work_error,
+    })
+}
+
+/// The example engine's liner uniformly `texture`d, judged `repeat` times (at least once) as
+/// the design searches judge it: the plain liner to its cyclic state, then the textured liner
+/// resumed from it for [`SETTLE_CYCLES`] cycles; `cyclic_work` is the textured liner's work
+/// at its cyclic state.
+fn settled_row(
+    engine: &Engine,
+    texture: &Texture,
+    repeat: usize,
+    cyclic_work: f64,
+) -> Result<SettledRow, BenchError> {
+    let drive = Drive::new(engine);
+    let ring = drive.ring_case();
+    let stroke = 0.1 * engine.file.engine.stroke_mm;
+    let num = cycle_numerics(CYCLE_FIDELITY, &Overrides::default(), &ring, Some(texture));
+    let (mut best, mut wall_times_s, mut work) = ((f64::INFINITY, 0.0), Vec::new(), f64::NAN);
+    for _ in 0..repeat.max(1) {
+        let t0 = std::time::Instant::now();
+        let plain = CycleRun::new(
+            &drive,
+            ring.clone(),
+            LinerLayout::uniform(stroke, None),
+            num.clone(),
+        )?
+        .run(&mut |_| {}, &mut |_| {})?;
+        let plain_s = t0.elapsed().as_secs_f64();
+        let layout = LinerLayout::uniform(stroke, Some(texture.clone()));
+        let settle = CycleNumerics {
+            max_cycles: SETTLE_CYCLES,
+            ..num.clone()
+        };
+        let o = CycleRun::resume(&drive, ring.clone(), layout, settle, &plain.end)?
+            .run(&mut |_| {}, &mut |_| {})?;
+        let s = t0.elapsed().as_secs_f64();
+        wall_times_s.push(s);
+        if s < best.0 {
+            best = (s, plain_s);
+        }
+        work = metrics(&o.rows, engine).work_j_per_m;
+    }
+    Ok(SettledRow {
+        wall_time_s: best.0,
+        wall_times_s,
+        plain_s: best.1,
+        work_j_per_m: work,
+        error_vs_cyclic: work / cyclic_work - 1.0,
     })
 }
 

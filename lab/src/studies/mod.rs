@@ -1,6 +1,8 @@
 //! The lab's studies, run by `texopt-lab STUDY …`: each writes under `results/<study>/`.
 
 pub mod convergence;
+pub mod cycle_contact;
+pub mod cycle_steps;
 pub mod deep_pockets;
 pub mod references;
 pub mod shear_threshold;

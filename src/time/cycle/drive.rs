@@ -207,6 +207,9 @@ pub struct StepRule {
     /// Largest distance the liner may move under the ring in one step (cm): a texture's
     /// period over the steps it needs per period; infinite for a plain liner.
     pub texture_step: f64,
+    /// Largest change of the asperities' share of the load over one step: a step over which
+    /// the contact takes on or sheds more is taken in halves ([`super::CycleRun::advance`]).
+    pub contact_share: f64,
 }
 
 /// Steps from `from` to `to` (no dead centre strictly between), appended to `out`: the

@@ -9,8 +9,9 @@ mod run;
 
 pub use drive::{crank_steps, Drive, DrivePoint, StepRule};
 pub use metrics::{metrics, CycleMetrics, Regime};
-pub use numerics::cycle_numerics;
+pub use numerics::{cycle_numerics, CONTACT_SHARE};
 pub use oil::{Ahead, OilMap, Taken};
 pub use run::{
-    CycleNumerics, CycleOutcome, CycleRow, CycleRun, CycleSummary, OilBalance, MAX_HALVINGS,
+    CycleNumerics, CycleOutcome, CycleRow, CycleRun, CycleState, CycleSummary, OilBalance,
+    MAX_HALVINGS, SETTLE_CYCLES,
 };

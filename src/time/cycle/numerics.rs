@@ -18,6 +18,10 @@ fn tier_steps(fidelity: Fidelity) -> (f64, f64, f64) {
     }
 }
 
+/// Largest change of the asperities' share of the load over one crank step, every tier
+/// (docs/model.md §12, "Crank steps"; measured: results/cycle_contact/).
+pub const CONTACT_SHARE: f64 = 0.05;
+
 /// The numerics of a cycle run of a ring (`ring`: its case, width and contact) over liners
 /// whose finest texture is `texture` (None: plain liners), at `fidelity` with the mesh
 /// `given` (its N1 and N2; a cycle's time steps are its crank steps): the mesh the one
@@ -53,6 +57,7 @@ pub fn cycle_numerics(
             } else {
                 f64::INFINITY
             },
+            contact_share: CONTACT_SHARE,
         },
         oil_cell_cm: dx,
         start_deg: 90.0,

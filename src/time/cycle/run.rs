@@ -120,8 +120,8 @@ pub struct CycleSummary {
 }
 
 /// What a cycle run found: its last cycle step by step, every cycle's summary, the oil map
-/// at the end.
-#[derive(Clone, Debug, PartialEq)]
+/// at the end, and where the run stands then (for another liner's run to start from).
+#[derive(Clone, Debug)]
 pub struct CycleOutcome {
     pub rows: Vec<CycleRow>,
     pub cycles: Vec<CycleSummary>,
@@ -130,6 +130,34 @@ pub struct CycleOutcome {
     /// Liner coordinates (cm) and layers (µm) of the oil map after the last cycle.
     pub oil_y_cm: Vec<f64>,
     pub oil_um: Vec<f64>,
+    pub end: CycleState,
+}
+
+/// Cycles after which a run resumed from another liner's cyclic state on the same engine
+/// ([`CycleRun::resume`]) is settled: the oil map's memory is one cycle (each stretch of liner
+/// the ring passes is laid anew on each pass), so the first cycle still meets the other
+/// liner's oil and the second its own. Measured on the example engine's uniform Case I
+/// texture at draft: first cycle 0.39 % off the converged work, second 1e-5
+/// (docs/model.md §12).
+pub const SETTLE_CYCLES: usize = 2;
+
+/// Where a cycle run stands at the end of a cycle: film, ring, oil map. A run of another
+/// liner of the same engine, ring and mesh may start from it ([`CycleRun::resume`]): its
+/// first cycle then starts near its own cyclic state instead of the untextured force
+/// balance, and is settled after [`SETTLE_CYCLES`].
+#[derive(Clone, Debug)]
+pub struct CycleState {
+    scene: Scene,
+    state: FilmState,
+    phi_old: Vec<f64>,
+    ring: RingState,
+    mirrored: bool,
+    oil: OilMap,
+    /// The oil map's cell length the run was asked for (its numerics').
+    oil_cell_cm: f64,
+    width: Option<f64>,
+    phi_inlet: f64,
+    last_share: f64,
 }
 
 /// The film, ring and oil of a cycle run, stepped one crank step at a time.
@@ -151,6 +179,8 @@ pub struct CycleRun<'a> {
     width: Option<f64>,
     /// The inlet film of the last step (µm): the layer the liner brings.
     phi_inlet: f64,
+    /// The asperities' share of the load at the end of the last step.
+    last_share: f64,
 }
 
 impl<'a> CycleRun<'a> {
@@ -203,9 +233,68 @@ impl<'a> CycleRun<'a> {
             tally: OilBalance::default(),
             width,
             phi_inlet: start_case.d_oil,
+            last_share: 0.0,
         };
         run.place(&p0);
         Ok(run)
+    }
+
+    /// The run of `layout` started from `from`, the end of a cycle of another liner on the
+    /// same engine, ring (`ring`) and numerics (the start angle, the film's cells along x1,
+    /// the oil map's cells); the film is carried onto the lattice under the ring at the start
+    /// as at any change of lattice. Where `from` was run on other cells the run starts as
+    /// [`CycleRun::new`] does.
+    pub fn resume(
+        drive: &'a Drive,
+        ring: CaseSpec,
+        layout: LinerLayout,
+        numerics: CycleNumerics,
+        from: &CycleState,
+    ) -> Result<Self, SolveError> {
+        let g = &from.scene.grid;
+        let same_cells = g.n1 == numerics.n1
+            && (from.width.is_none() || g.n2 == numerics.n2)
+            && from.oil_cell_cm == numerics.oil_cell_cm;
+        if !same_cells {
+            return Self::new(drive, ring, layout, numerics);
+        }
+        let p0 = drive.at(numerics.start_deg);
+        let mut run = CycleRun {
+            drive,
+            layout,
+            case: ring,
+            scene: from.scene.clone(),
+            state: from.state.clone(),
+            phi_old: from.phi_old.clone(),
+            ring: from.ring,
+            mirrored: from.mirrored,
+            oil: from.oil.clone(),
+            solver: FilmSolver::new(Method::Direct),
+            numerics,
+            tally: OilBalance::default(),
+            width: from.width,
+            phi_inlet: from.phi_inlet,
+            last_share: from.last_share,
+        };
+        run.regrid(&p0);
+        run.place(&p0);
+        Ok(run)
+    }
+
+    /// Where the run stands (see [`CycleState`]).
+    fn snapshot(&self) -> CycleState {
+        CycleState {
+            scene: self.scene.clone(),
+            state: self.state.clone(),
+            phi_old: self.phi_old.clone(),
+            ring: self.ring,
+            mirrored: self.mirrored,
+            oil: self.oil.clone(),
+            oil_cell_cm: self.numerics.oil_cell_cm,
+            width: self.width,
+            phi_inlet: self.phi_inlet,
+            last_share: self.last_share,
+        }
     }
 
     /// The oil the film holds, Σφ·dx·dy/B over the interior nodes (µm·cm per unit
@@ -389,9 +478,10 @@ struct Exchange {
 
 impl CycleRun<'_> {
     /// The crank from `from` to `to` degrees (no dead centre strictly between) in one step,
-    /// or, where its film solve does not converge, in halves (at most [`MAX_HALVINGS`] deep):
-    /// the step follows the dynamics where they outrun the crank's steps. Returns the rows of
-    /// the steps taken.
+    /// or in halves (at most [`MAX_HALVINGS`] deep) where its film solve does not converge or
+    /// the asperities' share of the load changes by more than the step rule's
+    /// `contact_share` over it: the step follows the dynamics where they outrun the crank's
+    /// steps. Returns the rows of the steps taken.
     pub fn advance(&mut self, from: f64, to: f64) -> Result<Vec<CycleRow>, SolveError> {
         self.advance_halving(from, to, 0)
     }
@@ -403,15 +493,16 @@ impl CycleRun<'_> {
         depth: usize,
     ) -> Result<Vec<CycleRow>, SolveError> {
         let saved = self.save();
-        match self.step(from, to) {
-            Ok(row) => Ok(vec![row]),
-            Err(SolveError::Film { .. }) if depth < MAX_HALVINGS => {
+        match self.try_step(from, to, depth < MAX_HALVINGS) {
+            Ok(Some(row)) => Ok(vec![row]),
+            Ok(None) | Err(SolveError::Film { .. }) if depth < MAX_HALVINGS => {
                 self.restore(saved);
                 let mid = 0.5 * (from + to);
                 let mut rows = self.advance_halving(from, mid, depth + 1)?;
                 rows.extend(self.advance_halving(mid, to, depth + 1)?);
                 Ok(rows)
             }
+            Ok(None) => unreachable!("a step is refined only above the least halving"),
             Err(e) => Err(e),
         }
     }
@@ -448,6 +539,19 @@ impl CycleRun<'_> {
     /// step's mean (its displacement over the step's time, so the texture moves and the oil
     /// is carried exactly as far as the crank moves the ring).
     pub fn step(&mut self, from: f64, to: f64) -> Result<CycleRow, SolveError> {
+        self.try_step(from, to, false)
+            .map(|row| row.expect("a step not allowed to refine gives its row"))
+    }
+
+    /// [`CycleRun::step`], or None where `may_refine` and the asperities' share of the load
+    /// changes by more than the step rule's `contact_share` over the step (the run is then
+    /// left mid-step: the caller restores it).
+    fn try_step(
+        &mut self,
+        from: f64,
+        to: f64,
+        may_refine: bool,
+    ) -> Result<Option<CycleRow>, SolveError> {
         let (a, b) = (self.drive.at(from), self.drive.at(to));
         let dt = self.drive.time_of(to - from);
         // The liner's displacement under the ring along x1 is −(the ring's along the stroke).
@@ -496,6 +600,11 @@ impl CycleRun<'_> {
                 z,
             });
         }
+        let share = stats.w_a / b.w;
+        if may_refine && (share - self.last_share).abs() > self.numerics.steps.contact_share {
+            return Ok(None);
+        }
+        self.last_share = share;
         self.ring = ring.advance(&s, dt, z, stats.w_h + stats.w_a);
         let (inflow, outflow) = self.flows(u.abs(), z);
         self.check_mass(
@@ -531,9 +640,9 @@ impl CycleRun<'_> {
         );
         let mut row = self.row(&b, u, z, &f, ex.layer_met, outflow);
         row.step_deg = to - from;
-        row.asperity_share = stats.w_a / b.w;
+        row.asperity_share = share;
         row.lambda = contact.map_or(f64::INFINITY, |c| row.h_min_um / c.sigma_um());
-        Ok(row)
+        Ok(Some(row))
     }
 
     /// The oil the leading edge meets over the step from `a` to `b`: taken off the liner
@@ -726,6 +835,7 @@ impl CycleRun<'_> {
             cyclic,
             oil_y_cm: (0..self.oil.layer().len()).map(|k| self.oil.y(k)).collect(),
             oil_um: self.oil.layer().to_vec(),
+            end: self.snapshot(),
         })
     }
 }
