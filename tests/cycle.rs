@@ -226,6 +226,10 @@ fn the_transient_cycle_reports_three_liners_and_the_plain_ones_work_is_a_direct_
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("cycle_t.json")).unwrap()).unwrap();
     assert_eq!(r["excluded_cycle_fraction"].as_f64(), Some(0.0));
+    // A mesh given in place of the tier's is said beside the tier.
+    assert_eq!(r["mesh"].as_str(), Some("192×8"));
+    let md = std::fs::read_to_string(out.join("cycle_t.md")).unwrap();
+    assert!(md.contains("at draft on the mesh given, 192×8"), "{md}");
     let liners = r["liners"].as_array().unwrap();
     assert_eq!(liners.len(), 3);
     let work: Vec<f64> = liners

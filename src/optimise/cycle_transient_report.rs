@@ -60,6 +60,9 @@ pub struct TransientReport {
     pub bore_mm: f64,
     pub stroke_mm: f64,
     pub fidelity: String,
+    /// The mesh given in place of the tiers' (N1×N2), if any (absent from the JSON if none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<String>,
     /// How the zones were searched: the search's fidelity and swarm.
     pub search_fidelity: String,
     pub particles: usize,
@@ -127,6 +130,14 @@ pub fn assemble(s: &CycleSettings, d: &Designs, t: &TransientLiners, wall: f64) 
         bore_mm: e.bore_mm,
         stroke_mm: e.stroke_mm,
         fidelity: s.search.report_fidelity.name().into(),
+        mesh: match (s.search.overrides.n1, s.search.overrides.n2) {
+            (None, None) => None,
+            (n1, n2) => Some(format!(
+                "{}×{}",
+                n1.map_or("the tier's".into(), |n| n.to_string()),
+                n2.map_or("the tier's".into(), |n| n.to_string())
+            )),
+        },
         search_fidelity: s.search.search_fidelity.name().into(),
         particles: s.search.swarm.particles,
         iterations: s.search.swarm.iterations,
@@ -153,8 +164,17 @@ pub fn table(r: &TransientReport) -> String {
     let mut o = String::new();
     let _ = writeln!(
         o,
-        "Engine `{}` at {} rpm, the cycle as one transient at {} (no crank angle excluded). Each zone's texture searched over the whole cycle at {} ({} particles × {} iterations, each candidate {} cycles from the plain liner's cyclic state).\n",
-        r.name, r.rpm, r.fidelity, r.search_fidelity, r.particles, r.iterations, SETTLE_CYCLES
+        "Engine `{}` at {} rpm, the cycle as one transient at {}{} (no crank angle excluded). Each zone's texture searched over the whole cycle at {} ({} particles × {} iterations, each candidate {} cycles from the plain liner's cyclic state).\n",
+        r.name,
+        r.rpm,
+        r.fidelity,
+        r.mesh
+            .as_ref()
+            .map_or(String::new(), |m| format!(" on the mesh given, {m} (the tiers' errors do not hold)")),
+        r.search_fidelity,
+        r.particles,
+        r.iterations,
+        SETTLE_CYCLES
     );
     let _ = writeln!(o, "| liner | friction work (J/m) | asperities' share | mean power per ring (W) | FMEP (kPa) | vs plain | h_min (µm) at | Λ_min | asperity load, max | time in mixed / boundary | cycles |");
     let _ = writeln!(o, "|---|---|---|---|---|---|---|---|---|---|---|");
