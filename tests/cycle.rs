@@ -197,8 +197,6 @@ fn the_transient_cycle_reports_three_liners_and_the_plain_ones_work_is_a_direct_
     let file = dir.join("e.toml");
     std::fs::write(&file, engine_text()).unwrap();
     let mut extra = vec![
-        "--design-step",
-        "90",
         "--particles",
         "2",
         "--iterations",
@@ -352,4 +350,22 @@ fn a_zone_met_at_one_operating_point_gets_the_design_of_optimise_there() {
     let (u, _) = swarm_and_refine(&pb, swarm, &[]).unwrap();
     assert_eq!(zoned, space.decode(&u));
     let _ = std::fs::remove_file(&path);
+}
+
+#[test]
+fn the_angle_by_angle_steps_are_refused_without_quasi_steady() {
+    let dir = scratch("cycle-steps-refused");
+    let file = dir.join("e.toml");
+    std::fs::write(&file, engine_text()).unwrap();
+    for flag in ["--step", "--design-step"] {
+        let (code, _, err, wrote) = common::cycle(&dir, &file, &[flag, "30"]);
+        assert_eq!(code, 2, "{flag}: {err}");
+        assert_eq!(err.lines().count(), 1, "{flag}: {err}");
+        assert!(
+            err.contains(flag) && err.contains("--quasi-steady"),
+            "{err}"
+        );
+        assert!(!wrote, "{flag}: something was written");
+    }
+    let _ = std::fs::remove_dir_all(dir);
 }

@@ -41,15 +41,16 @@ pub enum Command {
 pub struct CycleArgs {
     /// The engine file (TOML).
     pub file: PathBuf,
-    /// Crank-angle step of the report (degrees) [default: 5].
+    /// Crank-angle step of the report, with --quasi-steady (degrees) [default: 5].
     #[arg(long, value_name = "DEG")]
     pub step: Option<f64>,
-    /// Crank-angle step of the design (degrees) [default: 20].
+    /// Crank-angle step of the design, with --quasi-steady (degrees) [default: 20].
     #[arg(long = "design-step", value_name = "DEG")]
     pub design_step: Option<f64>,
     #[command(flatten)]
     pub search: SearchArgs,
-    /// Cache file [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
+    /// Cache file, with --quasi-steady (the transient cycle's runs are not cached) [default:
+    /// $TEXOPT_CACHE or .texopt/cache.sqlite].
     #[arg(long, value_name = "FILE")]
     pub cache: Option<PathBuf>,
     /// Directory of the report \[default: results/cycle_NAME, NAME the engine's\].

@@ -23,6 +23,16 @@ use crate::study::engine_file;
 pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     let s = settings(a)?;
     if !a.quasi_steady {
+        // The angle-by-angle steps mean nothing to the transient cycle, whose steps follow
+        // the crank (docs/model.md §12): a flag that would be ignored is refused.
+        for (flag, given) in [("--step", a.step), ("--design-step", a.design_step)] {
+            if let Some(v) = given {
+                return Err(CmdError::Input(format!(
+                    "{flag} {}: the angle-by-angle evaluation's step; the transient cycle (the default) steps with the crank and searches over the whole cycle. Add --quasi-steady, or drop {flag}",
+                    short(v)
+                )));
+            }
+        }
         return run_transient(a, &s);
     }
     // A cycle whose every design angle is outside the model before anything runs (an engine
