@@ -151,12 +151,16 @@ pub struct CycleState {
     state: FilmState,
     phi_old: Vec<f64>,
     ring: RingState,
+    /// Whether the film is solved mirrored (the liner moving towards the combustion chamber).
     mirrored: bool,
     oil: OilMap,
     /// The oil map's cell length the run was asked for (its numerics').
     oil_cell_cm: f64,
+    /// The lattice width the film is simulated across (half of it), None: one cell across.
     width: Option<f64>,
+    /// The inlet film of the last step (µm): the layer the liner brings.
     phi_inlet: f64,
+    /// The asperities' share of the load at the end of the last step.
     last_share: f64,
 }
 
@@ -165,22 +169,11 @@ pub struct CycleRun<'a> {
     drive: &'a Drive,
     layout: LinerLayout,
     case: CaseSpec,
-    scene: Scene,
-    state: FilmState,
-    phi_old: Vec<f64>,
-    ring: RingState,
-    /// Whether the film is solved mirrored (the liner moving towards the combustion chamber).
-    mirrored: bool,
-    oil: OilMap,
+    /// Film, ring and oil map: where the run stands.
+    st: CycleState,
     solver: FilmSolver,
     numerics: CycleNumerics,
     tally: OilBalance,
-    /// The lattice width the film is simulated across (half of it), None: one cell across.
-    width: Option<f64>,
-    /// The inlet film of the last step (µm): the layer the liner brings.
-    phi_inlet: f64,
-    /// The asperities' share of the load at the end of the last step.
-    last_share: f64,
 }
 
 impl<'a> CycleRun<'a> {
@@ -218,22 +211,26 @@ impl<'a> CycleRun<'a> {
                 source,
             })?;
         let (state, ring) = equilibrium_start(&scene, &eq);
-        let mut run = CycleRun {
-            drive,
-            layout,
-            case,
+        let st = CycleState {
+            scene,
             phi_old: state.phi.clone(),
             state,
             ring,
             mirrored: p0.u < 0.0,
-            scene,
             oil,
-            solver: FilmSolver::new(Method::Direct),
-            numerics,
-            tally: OilBalance::default(),
+            oil_cell_cm: numerics.oil_cell_cm,
             width,
             phi_inlet: start_case.d_oil,
             last_share: 0.0,
+        };
+        let mut run = CycleRun {
+            drive,
+            layout,
+            case,
+            st,
+            solver: FilmSolver::new(Method::Direct),
+            numerics,
+            tally: OilBalance::default(),
         };
         run.place(&p0);
         Ok(run)
@@ -263,18 +260,10 @@ impl<'a> CycleRun<'a> {
             drive,
             layout,
             case: ring,
-            scene: from.scene.clone(),
-            state: from.state.clone(),
-            phi_old: from.phi_old.clone(),
-            ring: from.ring,
-            mirrored: from.mirrored,
-            oil: from.oil.clone(),
+            st: from.clone(),
             solver: FilmSolver::new(Method::Direct),
             numerics,
             tally: OilBalance::default(),
-            width: from.width,
-            phi_inlet: from.phi_inlet,
-            last_share: from.last_share,
         };
         run.regrid(&p0);
         run.place(&p0);
@@ -283,42 +272,31 @@ impl<'a> CycleRun<'a> {
 
     /// Where the run stands (see [`CycleState`]).
     fn snapshot(&self) -> CycleState {
-        CycleState {
-            scene: self.scene.clone(),
-            state: self.state.clone(),
-            phi_old: self.phi_old.clone(),
-            ring: self.ring,
-            mirrored: self.mirrored,
-            oil: self.oil.clone(),
-            oil_cell_cm: self.numerics.oil_cell_cm,
-            width: self.width,
-            phi_inlet: self.phi_inlet,
-            last_share: self.last_share,
-        }
+        self.st.clone()
     }
 
     /// The oil the film holds, Σφ·dx·dy/B over the interior nodes (µm·cm per unit
     /// circumferential length; the inlet column's film is the boundary's).
     pub fn film_oil(&self) -> f64 {
-        self.oil_of(&self.state.phi)
+        self.oil_of(&self.st.state.phi)
     }
 
     /// The oil of film content `phi` on the run's grid (see [`CycleRun::film_oil`]).
     fn oil_of(&self, phi: &[f64]) -> f64 {
-        let g = &self.scene.grid;
+        let g = &self.st.scene.grid;
         let s: f64 = phi[g.n2..g.n1 * g.n2].iter().sum();
         s * g.dx * g.dy / g.width
     }
 
     pub fn oil(&self) -> &OilMap {
-        &self.oil
+        &self.st.oil
     }
 
     /// The liner coordinate (cm) under solve-frame position `x` with the ring at
     /// `position_cm` from its top-dead-centre position.
     fn liner_y(&self, position_cm: f64, x: f64) -> f64 {
-        let c = &self.scene.contact;
-        let x_phys = if self.mirrored { c.length_cm - x } else { x };
+        let c = &self.st.scene.contact;
+        let x_phys = if self.st.mirrored { c.length_cm - x } else { x };
         position_cm + x_phys - c.x_center_cm
     }
 
@@ -328,21 +306,21 @@ impl<'a> CycleRun<'a> {
     /// gap is e, against which a pocket's depth is nothing, and the film there does not vary
     /// across: so the film is one cell across whenever no pocket is under the ring.
     fn place(&mut self, p: &DrivePoint) {
-        let g = self.scene.grid.clone();
-        let cols = self.scene.gap.ring_columns();
+        let g = self.st.scene.grid.clone();
+        let cols = self.st.scene.gap.ring_columns();
         let textured = cols.start.saturating_sub(1)..(cols.end + 1).min(g.n1 + 1);
         for i in 0..=g.n1 {
             let y = self.liner_y(p.position_cm, g.x(i));
-            let ring_part = self.scene.contact.ring_part_um(g.x(i));
+            let ring_part = self.st.scene.contact.ring_part_um(g.x(i));
             for j in 0..g.n2 {
                 let k = g.idx(i, j);
-                let hl = if textured.contains(&i) && self.width.is_some() {
+                let hl = if textured.contains(&i) && self.st.width.is_some() {
                     self.layout.depth_um(y, g.y(j))
                 } else {
                     0.0
                 };
-                self.scene.hl[k] = hl;
-                self.scene.gap.base[k] = hl + ring_part;
+                self.st.scene.hl[k] = hl;
+                self.st.scene.gap.base[k] = hl + ring_part;
             }
         }
     }
@@ -355,27 +333,27 @@ impl<'a> CycleRun<'a> {
     /// the film is simulated across the width of the one under its centre, the other's
     /// pockets sampled on that grid (docs/model.md §12).
     fn regrid(&mut self, p: &DrivePoint) {
-        let (a, b) = self.scene.contact.ring_edges();
-        let x_c = self.scene.contact.x_center_cm;
+        let (a, b) = self.st.scene.contact.ring_edges();
+        let x_c = self.st.scene.contact.x_center_cm;
         let width = self
             .layout
             .width_over(p.position_cm + a - x_c, p.position_cm + b - x_c);
-        if width == self.width {
+        if width == self.st.width {
             return;
         }
-        self.width = width;
+        self.st.width = width;
         let old = std::mem::replace(
-            &mut self.scene,
+            &mut self.st.scene,
             film_scene(&self.case, &self.numerics, width),
         );
         self.place(p);
-        let z = self.ring.z;
-        let phi = carry(&old, &self.state.phi, &self.scene, z);
-        self.phi_old = carry(&old, &self.phi_old, &self.scene, z);
-        let g = &self.scene.grid;
-        self.state = FilmState::cavitated(g, &self.scene.gap, z, 0.0);
+        let z = self.st.ring.z;
+        let phi = carry(&old, &self.st.state.phi, &self.st.scene, z);
+        self.st.phi_old = carry(&old, &self.st.phi_old, &self.st.scene, z);
+        let g = &self.st.scene.grid;
+        self.st.state = FilmState::cavitated(g, &self.st.scene.gap, z, 0.0);
         for (k, f) in phi.into_iter().enumerate() {
-            self.state.phi[k] = f.min(self.scene.gap.h(g, k, z));
+            self.st.state.phi[k] = f.min(self.st.scene.gap.h(g, k, z));
         }
         self.solver = FilmSolver::new(Method::Direct);
     }
@@ -385,38 +363,38 @@ impl<'a> CycleRun<'a> {
     /// into the ring's land, above it at top dead centre and below at bottom dead centre
     /// (docs/model.md §12). The liner's own layer stays, for the ring to meet on its way back.
     fn throw_off_bank(&mut self) {
-        let g = &self.scene.grid;
-        let (a, _) = self.scene.contact.ring_edges();
+        let g = &self.st.scene.grid;
+        let (a, _) = self.st.scene.contact.ring_edges();
         let mut thrown = 0.0;
         for i in (1..g.n1).take_while(|&i| g.x(i) < a) {
             for j in 0..g.n2 {
                 let k = g.idx(i, j);
-                let keep = self.state.phi[k].min(self.phi_inlet);
-                thrown += self.state.phi[k] - keep;
-                self.state.phi[k] = keep;
-                self.state.p[k] = 0.0;
-                self.state.pressurised[k] = false;
+                let keep = self.st.state.phi[k].min(self.st.phi_inlet);
+                thrown += self.st.state.phi[k] - keep;
+                self.st.state.phi[k] = keep;
+                self.st.state.p[k] = 0.0;
+                self.st.state.pressurised[k] = false;
             }
         }
         self.tally.thrown += thrown * g.dx * g.dy / g.width;
-        self.phi_old.copy_from_slice(&self.state.phi);
+        self.st.phi_old.copy_from_slice(&self.st.state.phi);
     }
 
     /// Mirrors the film and its old level, x1 → length − x1 (the liner's direction turned).
     fn mirror(&mut self) {
-        let g = &self.scene.grid;
+        let g = &self.st.scene.grid;
         let n2 = g.n2;
         for i in 0..g.n1.div_ceil(2) {
             let m = g.n1 - i;
             for j in 0..n2 {
                 let (a, b) = (i * n2 + j, m * n2 + j);
-                self.state.p.swap(a, b);
-                self.state.phi.swap(a, b);
-                self.state.pressurised.swap(a, b);
-                self.phi_old.swap(a, b);
+                self.st.state.p.swap(a, b);
+                self.st.state.phi.swap(a, b);
+                self.st.state.pressurised.swap(a, b);
+                self.st.phi_old.swap(a, b);
             }
         }
-        self.mirrored = !self.mirrored;
+        self.st.mirrored = !self.st.mirrored;
     }
 }
 
@@ -510,25 +488,25 @@ impl CycleRun<'_> {
     /// What a step changes but the oil map (which it changes only once its film is solved).
     fn save(&self) -> Saved {
         Saved {
-            scene: self.scene.clone(),
-            state: self.state.clone(),
-            phi_old: self.phi_old.clone(),
-            ring: self.ring,
-            mirrored: self.mirrored,
-            width: self.width,
-            phi_inlet: self.phi_inlet,
+            scene: self.st.scene.clone(),
+            state: self.st.state.clone(),
+            phi_old: self.st.phi_old.clone(),
+            ring: self.st.ring,
+            mirrored: self.st.mirrored,
+            width: self.st.width,
+            phi_inlet: self.st.phi_inlet,
             tally: self.tally,
         }
     }
 
     fn restore(&mut self, s: Saved) {
-        self.scene = s.scene;
-        self.state = s.state;
-        self.phi_old = s.phi_old;
-        self.ring = s.ring;
-        self.mirrored = s.mirrored;
-        self.width = s.width;
-        self.phi_inlet = s.phi_inlet;
+        self.st.scene = s.scene;
+        self.st.state = s.state;
+        self.st.phi_old = s.phi_old;
+        self.st.ring = s.ring;
+        self.st.mirrored = s.mirrored;
+        self.st.width = s.width;
+        self.st.phi_inlet = s.phi_inlet;
         self.tally = s.tally;
         // A failed solve may leave its factors in any state.
         self.solver = FilmSolver::new(Method::Direct);
@@ -556,14 +534,14 @@ impl CycleRun<'_> {
         let dt = self.drive.time_of(to - from);
         // The liner's displacement under the ring along x1 is −(the ring's along the stroke).
         let u = -(b.position_cm - a.position_cm) / dt;
-        if (u < 0.0) != self.mirrored && u != 0.0 {
+        if (u < 0.0) != self.st.mirrored && u != 0.0 {
             self.throw_off_bank();
             self.mirror();
         }
         self.regrid(&b);
         self.place(&b);
         let ex = self.exchange_ahead(&a, &b);
-        self.phi_inlet = ex.phi_inlet;
+        self.st.phi_inlet = ex.phi_inlet;
         let boundary = self.boundary(&b, u.abs(), ex.phi_inlet);
         let contact = self.case.contact_law();
         let ring = Ring {
@@ -571,23 +549,23 @@ impl CycleRun<'_> {
             w_ps: b.w,
             contact,
         };
-        let s = self.ring;
+        let s = self.st.ring;
         let link = ring.link(&s, dt);
         let mut z = (s.z + dt * s.v).max(0.5 * s.z);
         // The old level's oil: the film as the last step left it, carried onto this step's
         // grid.
-        let film_before = self.oil_of(&self.phi_old);
+        let film_before = self.oil_of(&self.st.phi_old);
         let step = Step {
-            grid: &self.scene.grid,
-            gap: &self.scene.gap,
-            phi_old: &self.phi_old,
+            grid: &self.st.scene.grid,
+            gap: &self.st.scene.gap,
+            phi_old: &self.st.phi_old,
             inv_dt: 1.0 / dt,
             boundary,
             ring: Some(link),
         };
         let stats = self
             .solver
-            .solve(&step, &mut self.state, &mut z)
+            .solve(&step, &mut self.st.state, &mut z)
             .map_err(|source| SolveError::Film {
                 case: cycle_label(self.drive),
                 t: to,
@@ -601,11 +579,11 @@ impl CycleRun<'_> {
             });
         }
         let share = stats.w_a / b.w;
-        if may_refine && (share - self.last_share).abs() > self.numerics.steps.contact_share {
+        if may_refine && (share - self.st.last_share).abs() > self.numerics.steps.contact_share {
             return Ok(None);
         }
-        self.last_share = share;
-        self.ring = ring.advance(&s, dt, z, stats.w_h + stats.w_a);
+        self.st.last_share = share;
+        self.st.ring = ring.advance(&s, dt, z, stats.w_h + stats.w_a);
         let (inflow, outflow) = self.flows(u.abs(), z);
         self.check_mass(
             film_before,
@@ -614,23 +592,24 @@ impl CycleRun<'_> {
             to,
         )?;
         let t = self
+            .st
             .oil
-            .take(ex.lead.0, ex.lead.1, self.drive.ahead(self.mirrored));
+            .take(ex.lead.0, ex.lead.1, self.drive.ahead(self.st.mirrored));
         self.tally.supplied += t.supplied;
         self.tally.scraped += t.scraped;
         self.tally.thrown += ex.taken - dt * inflow;
         self.tally.thrown += if self.drive.keeps_trail() {
-            self.oil.put(ex.trail.0, ex.trail.1, dt * outflow)
+            self.st.oil.put(ex.trail.0, ex.trail.1, dt * outflow)
         } else {
             dt * outflow
         };
-        self.phi_old.copy_from_slice(&self.state.phi);
+        self.st.phi_old.copy_from_slice(&self.st.state.phi);
         let f = friction(
-            &self.scene.grid,
-            &self.scene.gap,
+            &self.st.scene.grid,
+            &self.st.scene.gap,
             z,
-            &self.scene.hl,
-            &self.state,
+            &self.st.scene.hl,
+            &self.st.state,
             &FrictionModel {
                 u: u.abs(),
                 theta_s: self.case.theta_s,
@@ -648,7 +627,7 @@ impl CycleRun<'_> {
     /// The oil the leading edge meets over the step from `a` to `b`: taken off the liner
     /// ahead (the supply's towards the crankcase, the ring's own oil on the way back).
     fn exchange_ahead(&self, a: &DrivePoint, b: &DrivePoint) -> Exchange {
-        let length = self.scene.contact.length_cm;
+        let length = self.st.scene.contact.length_cm;
         let (lead_a, lead_b) = (
             self.liner_y(a.position_cm, 0.0),
             self.liner_y(b.position_cm, 0.0),
@@ -660,8 +639,9 @@ impl CycleRun<'_> {
         // Mirrored: the liner moves towards the combustion chamber, the ring towards the
         // crankcase.
         let t = self
+            .st
             .oil
-            .meet(lead_a, lead_b, self.drive.ahead(self.mirrored));
+            .meet(lead_a, lead_b, self.drive.ahead(self.st.mirrored));
         Exchange {
             taken: t.layer * (lead_b - lead_a).abs(),
             layer_met: t.layer,
@@ -674,7 +654,7 @@ impl CycleRun<'_> {
     /// The film's boundary data in the solve frame: the liner's speed, the gas pressures on
     /// the two sides (above the ring at x1 = 0 unless mirrored) and the inlet film.
     fn boundary(&self, b: &DrivePoint, u: f64, phi_inlet: f64) -> Boundary {
-        let (p_left, p_right) = if self.mirrored {
+        let (p_left, p_right) = if self.st.mirrored {
             (b.p_below, b.p_above)
         } else {
             (b.p_above, b.p_below)
@@ -692,8 +672,8 @@ impl CycleRun<'_> {
     /// Oil flow rates into and out of the film (per unit circumferential length, through the
     /// faces next to the domain's ends).
     fn flows(&self, u: f64, z: f64) -> (f64, f64) {
-        let g = &self.scene.grid;
-        let (i, o) = boundary_flows(g, &self.scene.gap, z, u, &self.state);
+        let g = &self.st.scene.grid;
+        let (i, o) = boundary_flows(g, &self.st.scene.gap, z, u, &self.st.state);
         (i / g.width, o / g.width)
     }
 
@@ -729,7 +709,7 @@ impl CycleRun<'_> {
         // f = (H/6L)·F/W (eq. 11): the force is f·W in load units (docs/model.md §1).
         let force = f.total() * b.w * s.load_n_per_m();
         let asperity = f.boundary * b.w * s.load_n_per_m();
-        let sign = if self.mirrored { -1.0 } else { 1.0 };
+        let sign = if self.st.mirrored { -1.0 } else { 1.0 };
         CycleRow {
             crank_deg: b.crank_deg.rem_euclid(720.0),
             step_deg: 0.0,
@@ -739,7 +719,7 @@ impl CycleRun<'_> {
             p_above_bar: b.p_above * bar,
             p_below_bar: b.p_below * bar,
             z_um: z,
-            h_min_um: self.scene.contact.clearance_um(z),
+            h_min_um: self.st.scene.contact.clearance_um(z),
             friction_n_per_m: sign * force,
             asperity_friction_n_per_m: sign * asperity,
             asperity_share: 0.0,
@@ -761,7 +741,7 @@ impl CycleRun<'_> {
     ) -> Result<(Vec<CycleRow>, CycleSummary), SolveError> {
         self.tally = OilBalance {
             film_start: self.film_oil(),
-            liner_start: self.oil.total(),
+            liner_start: self.st.oil.total(),
             ..OilBalance::default()
         };
         let mut rows = Vec::with_capacity(steps.len());
@@ -774,7 +754,7 @@ impl CycleRun<'_> {
             }
         }
         self.tally.film_end = self.film_oil();
-        self.tally.liner_end = self.oil.total();
+        self.tally.liner_end = self.st.oil.total();
         // Power (W/m) × time (units of L/U, in ms: time_ms) gives mJ/m.
         let summary = CycleSummary {
             index: 0,
@@ -795,8 +775,8 @@ impl CycleRun<'_> {
         on_step: &mut dyn FnMut(&CycleRow),
     ) -> Result<CycleOutcome, SolveError> {
         // Pockets under the ring, or within a ring's width of it, call for the texture's step.
-        let (a, b) = self.scene.contact.ring_edges();
-        let (x_c, w) = (self.scene.contact.x_center_cm, b - a);
+        let (a, b) = self.st.scene.contact.ring_edges();
+        let (x_c, w) = (self.st.scene.contact.x_center_cm, b - a);
         let layout = &self.layout;
         let textured = |pos: f64| {
             layout
@@ -813,14 +793,14 @@ impl CycleRun<'_> {
         let mut last_rows = Vec::new();
         let mut cyclic = false;
         while cycles.len() < self.numerics.max_cycles && !cyclic {
-            let before = self.oil.clone();
+            let before = self.st.oil.clone();
             let (rows, mut summary) = self.cycle(&steps, on_step)?;
             summary.index = cycles.len();
             if let Some(prev) = cycles.last() {
                 summary.work_change = (summary.friction_work_j_per_m - prev.friction_work_j_per_m)
                     .abs()
                     / prev.friction_work_j_per_m.abs().max(f64::MIN_POSITIVE);
-                summary.oil_change = self.oil.change_from(&before);
+                summary.oil_change = self.st.oil.change_from(&before);
                 cyclic = summary.work_change < self.numerics.cyclic_tol
                     && summary.oil_change < self.numerics.cyclic_tol;
             }
@@ -833,8 +813,10 @@ impl CycleRun<'_> {
             rows: last_rows,
             cycles,
             cyclic,
-            oil_y_cm: (0..self.oil.layer().len()).map(|k| self.oil.y(k)).collect(),
-            oil_um: self.oil.layer().to_vec(),
+            oil_y_cm: (0..self.st.oil.layer().len())
+                .map(|k| self.st.oil.y(k))
+                .collect(),
+            oil_um: self.st.oil.layer().to_vec(),
             end: self.snapshot(),
         })
     }
