@@ -93,43 +93,167 @@ pub fn cavity_pressures(grid: &Grid, bc: &Boundary, pressurised: &[bool], out: &
         out.resize(grid.nodes(), bc.cavity_left);
         return;
     }
-    // Which ends each cavitated node is connected to: bit 1 the x1 = 0 end, bit 2 the other.
-    // Plain loops: this runs once or twice a film solve, over every node.
-    let mut open = vec![0u8; grid.nodes()];
-    let cavitated = |k: usize| k >= n2 && k < n1 * n2 && !pressurised[k];
-    let mut stack: Vec<usize> = Vec::with_capacity(grid.nodes());
-    for (bit, col) in [(1u8, 1), (2u8, n1 - 1)] {
-        for k in col * n2..(col + 1) * n2 {
-            if cavitated(k) {
-                stack.push(k);
-            }
-        }
-        while let Some(k) = stack.pop() {
-            if open[k] & bit != 0 {
-                continue;
-            }
-            open[k] |= bit;
-            for m in grid.interior_neighbours(k) {
-                if cavitated(m) && open[m] & bit == 0 {
-                    stack.push(m);
-                }
-            }
-        }
-    }
-    let of_cavity = |k: usize| match open[k] {
+    let open = open_ends(n1, n2, pressurised);
+    let of_cavity = |i: usize, k: usize| match open[k] {
         1 => bc.cavity_left,
         2 => bc.cavity_right,
-        3 => bc.cavity_pressure(k / n2, n1),
+        3 => bc.cavity_pressure(i, n1),
         _ => bc.rupture_pressure(),
     };
     out.resize(grid.nodes(), bc.rupture_pressure());
-    for k in n2..n1 * n2 {
-        out[k] = if !pressurised[k] {
-            of_cavity(k)
-        } else {
-            grid.interior_neighbours(k)
-                .filter(|&m| !pressurised[m])
-                .fold(bc.rupture_pressure(), |floor, m| floor.max(of_cavity(m)))
+    for i in 1..n1 {
+        for j in 0..n2 {
+            let k = i * n2 + j;
+            out[k] = if !pressurised[k] {
+                of_cavity(i, k)
+            } else {
+                // The interior neighbours: columns 1..n1 − 1, no wrap across.
+                let mut floor = bc.rupture_pressure();
+                let mut see = |m: usize, i: usize| {
+                    if !pressurised[m] {
+                        floor = floor.max(of_cavity(i, m));
+                    }
+                };
+                if i > 1 {
+                    see(k - n2, i - 1);
+                }
+                if i + 1 < n1 {
+                    see(k + n2, i + 1);
+                }
+                if j > 0 {
+                    see(k - 1, i);
+                }
+                if j + 1 < n2 {
+                    see(k + 1, i);
+                }
+                floor
+            };
+        }
+    }
+}
+
+/// Which ends each cavitated interior node (columns 1..n1 − 1) is connected to through
+/// cavitated interior nodes: bit 1 the x1 = 0 end (through column 1), bit 2 the other
+/// (through column n1 − 1). Sweeps along x1 one way and back, each column both ways across,
+/// until a round changes nothing: the connected components as a flood fill finds them, in
+/// a few passes over plain arrays (this runs once or twice a film solve, over every node).
+fn open_ends(n1: usize, n2: usize, pressurised: &[bool]) -> Vec<u8> {
+    let mut open = vec![0u8; (n1 + 1) * n2];
+    if n1 < 2 {
+        return open;
+    }
+    // Node k in column i takes the ends of its cavitated neighbours; true if it changed.
+    let visit = |open: &mut [u8], i: usize, j: usize| -> bool {
+        let k = i * n2 + j;
+        if pressurised[k] {
+            return false;
+        }
+        let mut b = open[k];
+        if i == 1 {
+            b |= 1;
+        }
+        if i + 1 == n1 {
+            b |= 2;
+        }
+        if i > 1 {
+            b |= open[k - n2];
+        }
+        if i + 1 < n1 {
+            b |= open[k + n2];
+        }
+        if j > 0 {
+            b |= open[k - 1];
+        }
+        if j + 1 < n2 {
+            b |= open[k + 1];
+        }
+        let changed = b != open[k];
+        open[k] = b;
+        changed
+    };
+    let column = |open: &mut [u8], i: usize| {
+        let mut changed = false;
+        for j in 0..n2 {
+            changed |= visit(open, i, j);
+        }
+        for j in (0..n2).rev() {
+            changed |= visit(open, i, j);
+        }
+        changed
+    };
+    loop {
+        let mut changed = false;
+        for i in 1..n1 {
+            changed |= column(&mut open, i);
+        }
+        for i in (1..n1).rev() {
+            changed |= column(&mut open, i);
+        }
+        if !changed {
+            return open;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::open_ends;
+
+    /// The connected components by a plain flood fill from each end's column.
+    fn flood(n1: usize, n2: usize, pressurised: &[bool]) -> Vec<u8> {
+        let mut open = vec![0u8; (n1 + 1) * n2];
+        let cav = |i: usize, j: usize| (1..n1).contains(&i) && !pressurised[i * n2 + j];
+        for (bit, col) in [(1u8, 1), (2u8, n1 - 1)] {
+            let mut stack: Vec<(usize, usize)> = (0..n2).map(|j| (col, j)).collect();
+            while let Some((i, j)) = stack.pop() {
+                if !cav(i, j) || open[i * n2 + j] & bit != 0 {
+                    continue;
+                }
+                open[i * n2 + j] |= bit;
+                stack.extend([(i - 1, j), (i + 1, j)]);
+                if j > 0 {
+                    stack.push((i, j - 1));
+                }
+                if j + 1 < n2 {
+                    stack.push((i, j + 1));
+                }
+            }
+        }
+        open
+    }
+
+    #[test]
+    fn the_sweeps_find_the_flood_fills_components() {
+        // Random patterns at several densities, and a serpentine cavity that turns back
+        // along x1 many times (the sweeps' worst case).
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) as f64 / (1u64 << 31) as f64
         };
+        for (n1, n2) in [(2, 1), (3, 1), (40, 1), (37, 6), (64, 8)] {
+            for density in [0.2, 0.45, 0.6, 0.8] {
+                let p: Vec<bool> = (0..(n1 + 1) * n2).map(|_| next() < density).collect();
+                assert_eq!(
+                    open_ends(n1, n2, &p),
+                    flood(n1, n2, &p),
+                    "{n1}x{n2} {density}"
+                );
+            }
+        }
+        let (n1, n2) = (41, 9);
+        let mut p = vec![true; (n1 + 1) * n2];
+        for i in 1..n1 {
+            for j in 0..n2 {
+                // Rows 0, 2, 4, … open; the rows between joined at alternate ends.
+                let joint = (j / 2) % 2 == 0 && i == n1 - 1 || (j / 2) % 2 == 1 && i == 1;
+                p[i * n2 + j] = !(j % 2 == 0 || joint);
+            }
+        }
+        p[n2..n2 + n2].fill(true);
+        p[n2] = false;
+        assert_eq!(open_ends(n1, n2, &p), flood(n1, n2, &p));
     }
 }

@@ -1,10 +1,14 @@
-//! What the crank step and the cells do to a textured liner's cycle (results/cycle_steps/):
-//! `texopt-lab cycle-steps`.
+//! What the time scheme, the crank step and the cells do to a textured liner's cycle
+//! (results/cycle_steps/): `texopt-lab cycle-steps`.
 //!
 //! The example engine's liner uniformly textured with the paper's Case I pocket, through the
-//! cycle at `draft` until it repeats itself, on draft's cells with the texture moving 2, 3 and
-//! 4 cells a step, and on coarser cells at 2 (docs/solver.md, "The engine cycle"). One core,
-//! one run after the other (≈ 6 minutes): the wall times are the study's too.
+//! cycle until it repeats itself: along the Couette characteristics (the cycle's scheme) on
+//! the cells of `draft`, `fast` and `paper` and coarser, the texture moving 2 cells a step
+//! (Courant number 1) and 1 (0.5); then backward Euler on `fast`'s cells with the texture
+//! moving 2, 3 and 4 cells a step, and on `draft`'s at 2 (docs/solver.md, "The engine
+//! cycle"). One core, one run after the other (≈ 20 minutes): the wall times are the
+//! study's too. `texopt-lab cycle-steps K [N1]` runs row K alone (on N1 cells along x1 if
+//! given) and writes nothing.
 
 use std::fmt::Write as _;
 use std::fs;
@@ -12,55 +16,83 @@ use std::fs;
 use texopt::model::case::Texture;
 use texopt::model::liner_layout::LinerLayout;
 use texopt::study::bench::example_engine;
-use texopt::time::cycle::{cycle_numerics, CycleRun, Drive};
-use texopt::time::{Fidelity, Overrides};
+use texopt::time::cycle::{cycle_numerics, CycleRun, Drive, TEXTURE_CELLS};
+use texopt::time::{Fidelity, Overrides, TimeScheme};
 
-/// (cells along x1, None: draft's own; the texture's travel a step in cells).
-const RUNS: [(Option<usize>, f64); 5] = [
-    (None, 2.0),
-    (None, 3.0),
-    (None, 4.0),
-    (Some(300), 2.0),
-    (Some(200), 2.0),
+/// One run: the tier whose cells it takes (along x1), the texture's travel a step in cells,
+/// the scheme.
+#[derive(Clone, Copy)]
+struct Run {
+    cells_of: Fidelity,
+    /// Cells along x1 given instead of the tier's.
+    n1: Option<usize>,
+    travel: f64,
+    scheme: TimeScheme,
+}
+
+const fn run_of(cells_of: Fidelity, n1: Option<usize>, travel: f64, scheme: TimeScheme) -> Run {
+    Run {
+        cells_of,
+        n1,
+        travel,
+        scheme,
+    }
+}
+
+const RUNS: [Run; 10] = [
+    run_of(Fidelity::Draft, None, 2.0, TimeScheme::Characteristic),
+    run_of(Fidelity::Draft, Some(200), 2.0, TimeScheme::Characteristic),
+    run_of(Fidelity::Fast, None, 2.0, TimeScheme::Characteristic),
+    run_of(Fidelity::Paper, None, 2.0, TimeScheme::Characteristic),
+    run_of(Fidelity::Draft, None, 1.0, TimeScheme::Characteristic),
+    run_of(Fidelity::Fast, None, 1.0, TimeScheme::Characteristic),
+    run_of(Fidelity::Fast, None, 2.0, TimeScheme::BackwardEuler),
+    run_of(Fidelity::Fast, None, 3.0, TimeScheme::BackwardEuler),
+    run_of(Fidelity::Fast, None, 4.0, TimeScheme::BackwardEuler),
+    run_of(Fidelity::Draft, None, 2.0, TimeScheme::BackwardEuler),
 ];
 
-/// One run's row: cells, travel, steps a cycle, seconds a cycle, cycles, work (J/m).
+/// One run's row: cells, travel, scheme, steps a cycle, seconds a cycle, cycles, work (J/m).
 struct Row {
     n1: usize,
-    cells: f64,
+    travel: f64,
+    scheme: TimeScheme,
     steps: usize,
     s_per_cycle: f64,
     cycles: usize,
     work: f64,
 }
 
-fn run(n1: Option<usize>, cells: f64) -> Result<Row, String> {
+fn run(r: &Run) -> Result<Row, String> {
     let engine = example_engine().map_err(|e| e.to_string())?;
     let drive = Drive::new(&engine);
     let ring = drive.ring_case();
     let t = Texture::circular(0.01, 0.06, 5.0);
     let layout = LinerLayout::uniform(0.1 * engine.file.engine.stroke_mm, Some(t.clone()));
     let given = Overrides {
-        n1,
+        n1: r.n1,
         ..Overrides::default()
     };
-    let mut num = cycle_numerics(Fidelity::Draft, &given, &ring, Some(&t));
-    // Draft's rule is 2 cells a step: scale its texture step to `cells`.
-    num.steps.texture_step *= cells / 2.0;
+    let mut num = cycle_numerics(r.cells_of, &given, &ring, Some(&t));
+    // The tiers' texture step is TEXTURE_CELLS cells: scale it to the run's travel.
+    num.steps.texture_step *= r.travel / TEXTURE_CELLS;
+    num.scheme = r.scheme;
     let n1 = num.n1;
     let t0 = std::time::Instant::now();
     let o = CycleRun::new(&drive, ring, layout, num)
-        .and_then(|r| r.run(&mut |_| {}, &mut |_| {}))
+        .and_then(|run| run.run(&mut |_| {}, &mut |_| {}))
         .map_err(|e| e.to_string())?;
     let last = o.cycles.last().ok_or("no cycle ran")?;
     if !o.cyclic {
         return Err(format!(
-            "{n1} cells, {cells} a step: the cycle did not repeat itself"
+            "{n1} cells, {} a step: the cycle did not repeat itself",
+            r.travel
         ));
     }
     Ok(Row {
         n1,
-        cells,
+        travel: r.travel,
+        scheme: r.scheme,
         steps: last.steps,
         s_per_cycle: t0.elapsed().as_secs_f64() / o.cycles.len() as f64,
         cycles: o.cycles.len(),
@@ -68,31 +100,72 @@ fn run(n1: Option<usize>, cells: f64) -> Result<Row, String> {
     })
 }
 
-pub fn main(_args: &[String]) -> Result<(), String> {
+fn scheme_name(s: TimeScheme) -> &'static str {
+    match s {
+        TimeScheme::Characteristic => "characteristic",
+        TimeScheme::BackwardEuler => "backward Euler",
+        TimeScheme::Bdf2 => "BDF2",
+    }
+}
+
+pub fn main(args: &[String]) -> Result<(), String> {
+    if let Some(k) = args.first() {
+        let k: usize = k
+            .parse()
+            .ok()
+            .filter(|&k| k < RUNS.len())
+            .ok_or_else(|| format!("cycle-steps: row {k:?}: give 0 to {}", RUNS.len() - 1))?;
+        // A second argument gives the cells along x1 instead of the row's.
+        let n1 = match args.get(1) {
+            Some(n) => Some(n.parse().map_err(|_| format!("cycle-steps: cells {n:?}"))?),
+            None => RUNS[k].n1,
+        };
+        let r = run(&Run { n1, ..RUNS[k] })?;
+        println!(
+            "{} cells, {} a step, {}: {:?} J/m, {} steps a cycle, {:.1} s a cycle, {} cycles",
+            r.n1,
+            r.travel,
+            scheme_name(r.scheme),
+            r.work,
+            r.steps,
+            r.s_per_cycle,
+            r.cycles
+        );
+        return Ok(());
+    }
     let mut rows = Vec::new();
-    for (n1, cells) in RUNS {
-        let r = run(n1, cells)?;
+    for (k, spec) in RUNS.iter().enumerate() {
+        let r = run(spec)?;
         eprintln!(
-            "{} cells, {} a step: {:?} J/m, {} steps a cycle, {:.1} s a cycle",
-            r.n1, r.cells, r.work, r.steps, r.s_per_cycle
+            "{k}: {} cells, {} a step, {}: {:.5} J/m, {:.1} s a cycle",
+            r.n1,
+            r.travel,
+            scheme_name(r.scheme),
+            r.work,
+            r.s_per_cycle
         );
         rows.push(r);
     }
-    let base = rows[0].work;
+    // The finest characteristic run is the reference.
+    let base = rows[3].work;
     let mut md = String::from(
-        "# A textured liner's cycle against its crank step and cells\n\n\
-         `texopt-lab cycle-steps` (one core): the example engine (studies/engine_gasoline.toml), \
-         its liner uniformly textured with the paper's Case I pocket, at `draft` until the \
-         cycle repeats itself (docs/solver.md, \"The engine cycle\").\n\n\
-         | cells along x1 | texture's travel a step (cells) | steps a cycle | s a cycle | cycles | friction work (J/m) | vs the first row |\n\
-         |---|---|---|---|---|---|---|\n",
+        "# A textured liner's cycle against its time scheme, crank step and cells\n\n\
+         `texopt-lab cycle-steps` (one core, ≈ 20 min): the example engine \
+         (studies/engine_gasoline.toml), its liner uniformly textured with the paper's Case I \
+         pocket, through the cycle until it repeats itself (docs/solver.md, \"The engine \
+         cycle\"). The tiers' cells along x1: `draft` 300, `fast` 600, `paper` 1200; the \
+         texture moves 2 cells a step, the characteristic scheme's Courant number 1. The last \
+         column is against the characteristic scheme on `paper`'s cells.\n\n\
+         | scheme | cells along x1 | texture's travel a step (cells) | steps a cycle | s a cycle | cycles | friction work (J/m) | vs 1200 cells |\n\
+         |---|---|---|---|---|---|---|---|\n",
     );
     for r in &rows {
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {:.1} | {} | {:.4} | {:+.2} % |",
+            "| {} | {} | {} | {} | {:.1} | {} | {:.4} | {:+.2} % |",
+            scheme_name(r.scheme),
             r.n1,
-            r.cells,
+            r.travel,
             r.steps,
             r.s_per_cycle,
             r.cycles,

@@ -9,7 +9,7 @@ mod run;
 
 pub use drive::{crank_steps, Drive, DrivePoint, StepRule};
 pub use metrics::{metrics, CycleMetrics, Regime};
-pub use numerics::{cycle_numerics, CONTACT_SHARE};
+pub use numerics::{cycle_numerics, CONTACT_SHARE, TEXTURE_CELLS};
 pub use oil::{Ahead, OilMap, Taken};
 pub use run::{
     CycleNumerics, CycleOutcome, CycleRow, CycleRun, CycleState, CycleSummary, OilBalance,

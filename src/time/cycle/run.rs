@@ -18,9 +18,11 @@ use crate::model::friction::{Friction, FrictionModel};
 use crate::model::liner_layout::LinerLayout;
 use crate::model::ring::{Ring, RingState};
 use crate::solve::{FilmMethod, FilmSolver, Method, Step};
+use crate::time::characteristic::{courant, shift, MAX_COURANT};
 use crate::time::common::{SolveError, CONTACT_Z, MASS_TOL};
 use crate::time::start::equilibrium_start;
 use crate::time::steady::solve_untextured;
+use crate::time::TimeScheme;
 
 /// How a cycle run is discretised and when it stops.
 #[derive(Clone, Debug, PartialEq)]
@@ -30,6 +32,9 @@ pub struct CycleNumerics {
     pub n1: usize,
     pub n2: usize,
     pub steps: StepRule,
+    /// The film's storage term: backward Euler, or along the Couette characteristics on the
+    /// steps whose Courant number u·dt/(2·dx1) is at most 1 (backward Euler on the others).
+    pub scheme: TimeScheme,
     /// Length of the oil map's cells along the liner (cm).
     pub oil_cell_cm: f64,
     /// Crank angle the first cycle starts from (degrees): mid-stroke, where the untextured
@@ -443,6 +448,17 @@ struct Saved {
     tally: OilBalance,
 }
 
+/// The old level a crank step reads ([`CycleRun::old_level`]).
+struct OldLevel {
+    /// φⁿ moved along the characteristics; None: φⁿ as it is.
+    phi: Option<Vec<f64>>,
+    /// The liner's speed in the stencil: 0 where the old level carries the Couette flux.
+    stencil_u: f64,
+    /// The oil the move carries in at the inlet and out past the last interior column over
+    /// the step (µm·cm per unit circumferential length; 0 without the move).
+    carried: (f64, f64),
+}
+
 /// What a step's film exchanged with the liner.
 struct Exchange {
     /// Oil taken off the liner ahead, its layer (µm), and the inlet film φ = 2·layer.
@@ -552,15 +568,20 @@ impl CycleRun<'_> {
         let s = self.st.ring;
         let link = ring.link(&s, dt);
         let mut z = (s.z + dt * s.v).max(0.5 * s.z);
-        // The old level's oil: the film as the last step left it, carried onto this step's
-        // grid.
-        let film_before = self.oil_of(&self.st.phi_old);
+        // The old level: the film as the last step left it, carried onto this step's grid,
+        // and moved along the Couette characteristics where the scheme and the step allow.
+        let old = self.old_level(u.abs(), dt, ex.phi_inlet);
+        let phi_old = old.phi.as_deref().unwrap_or(&self.st.phi_old);
+        let film_before = self.oil_of(phi_old);
         let step = Step {
             grid: &self.st.scene.grid,
             gap: &self.st.scene.gap,
-            phi_old: &self.st.phi_old,
+            phi_old,
             inv_dt: 1.0 / dt,
-            boundary,
+            boundary: Boundary {
+                u: old.stencil_u,
+                ..boundary
+            },
             ring: Some(link),
         };
         let stats = self
@@ -584,11 +605,13 @@ impl CycleRun<'_> {
         }
         self.st.last_share = share;
         self.st.ring = ring.advance(&s, dt, z, stats.w_h + stats.w_a);
-        let (inflow, outflow) = self.flows(u.abs(), z);
+        // Oil in and out over the step: the stencil's flows, and the shifted Couette content.
+        let (inflow, outflow) = self.flows(old.stencil_u, z);
+        let (inflow, outflow) = (dt * inflow + old.carried.0, dt * outflow + old.carried.1);
         self.check_mass(
             film_before,
-            dt * (inflow - outflow),
-            dt * (inflow.abs() + outflow.abs()),
+            inflow - outflow - (old.carried.0 - old.carried.1),
+            inflow.abs() + outflow.abs(),
             to,
         )?;
         let t = self
@@ -597,11 +620,11 @@ impl CycleRun<'_> {
             .take(ex.lead.0, ex.lead.1, self.drive.ahead(self.st.mirrored));
         self.tally.supplied += t.supplied;
         self.tally.scraped += t.scraped;
-        self.tally.thrown += ex.taken - dt * inflow;
+        self.tally.thrown += ex.taken - inflow;
         self.tally.thrown += if self.drive.keeps_trail() {
-            self.st.oil.put(ex.trail.0, ex.trail.1, dt * outflow)
+            self.st.oil.put(ex.trail.0, ex.trail.1, outflow)
         } else {
-            dt * outflow
+            outflow
         };
         self.st.phi_old.copy_from_slice(&self.st.state.phi);
         let f = friction(
@@ -617,11 +640,41 @@ impl CycleRun<'_> {
                 contact,
             },
         );
-        let mut row = self.row(&b, u, z, &f, ex.layer_met, outflow);
+        let mut row = self.row(&b, u, z, &f, ex.layer_met, outflow / dt);
         row.step_deg = to - from;
         row.asperity_share = share;
         row.lambda = contact.map_or(f64::INFINITY, |c| row.h_min_um / c.sigma_um());
         Ok(Some(row))
+    }
+
+    /// The old level a step of `dt` at liner speed `u` reads, with inlet film `phi_inlet`.
+    /// Along the characteristics (docs/solver.md, "Time scheme"), where the scheme asks for
+    /// it and u·dt/(2·dx1) ≤ 1, φⁿ moved by that many cells downstream, the inlet's film
+    /// entering behind it: the Couette flux is that move, so the stencil's liner speed is 0.
+    /// Otherwise φⁿ as it is (None) at the liner's speed.
+    fn old_level(&self, u: f64, dt: f64, phi_inlet: f64) -> OldLevel {
+        let g = &self.st.scene.grid;
+        let c = courant(u, dt, g.dx);
+        if self.numerics.scheme != TimeScheme::Characteristic || c > MAX_COURANT {
+            return OldLevel {
+                phi: None,
+                stencil_u: u,
+                carried: (0.0, 0.0),
+            };
+        }
+        let mut phi = self.st.phi_old.clone();
+        phi[..g.n2].fill(phi_inlet);
+        // What the move brings in at the inlet and takes past the last interior column
+        // (characteristic.rs: Σφ changes by c·(column 0) − c·(column n1 − 1)).
+        let column = |i: usize| phi[i * g.n2..(i + 1) * g.n2].iter().sum::<f64>();
+        let area = c.min(1.0) * g.dx * g.dy / g.width;
+        let carried = (area * column(0), area * column(g.n1 - 1));
+        shift(&mut phi, g.n1, g.n2, c.min(1.0));
+        OldLevel {
+            phi: Some(phi),
+            stencil_u: 0.0,
+            carried,
+        }
     }
 
     /// The oil the leading edge meets over the step from `a` to `b`: taken off the liner
