@@ -38,7 +38,8 @@ fn stroke_cm(e: &Engine) -> f64 {
 /// repeats itself, run once for the tests that read it. At `fast` rather than `draft`: the
 /// transient's memory of the squeeze at top dead centre, which no quasi-steady evaluation
 /// has, is mesh-dependent before the speed's peak (worst difference from the quasi-steady
-/// friction on the intake stroke: 3.4 / 2.1 / 1.8 / 1.7 % on 300 / 600 / 1200 / 2400 cells).
+/// friction on the intake stroke at draft's crank steps: 3.4 / 2.1 / 1.8 / 1.7 % on 300 / 600
+/// / 1200 / 2400 cells).
 fn plain_cycle() -> &'static (Engine, CycleNumerics, CycleOutcome) {
     static RUN: OnceLock<(Engine, CycleNumerics, CycleOutcome)> = OnceLock::new();
     RUN.get_or_init(|| {
@@ -339,8 +340,8 @@ fn the_plain_cycle_repeats_itself_and_turns_at_the_dead_centres() {
 }
 
 /// The figures the flow-factor measurement compares (docs/model.md §11, "Flow factors"): the
-/// plain liner (or, with TEX set, the uniform texture of `probe_uniform_cycle`) at the tier
-/// FID (draft, fast, paper).
+/// plain liner (or, with TEX set, the uniform Case I texture) at the tier FID (draft, fast,
+/// paper), with SCHEME=be by backward Euler at every step.
 #[test]
 #[ignore]
 fn probe_cycle_figures() {
@@ -359,6 +360,11 @@ fn probe_cycle_figures() {
     let mut num = cycle_numerics(fid, &Overrides::default(), &drive.ring_case(), t.as_ref());
     if let Some(c) = std::env::var("CYC").ok().and_then(|s| s.parse().ok()) {
         num.max_cycles = c;
+    }
+    // SCHEME=be: backward Euler at every step (the flow factors' φs is in the ring-frame
+    // stencil only).
+    if std::env::var("SCHEME").as_deref() == Ok("be") {
+        num.scheme = texopt::time::TimeScheme::BackwardEuler;
     }
     eprintln!("{num:?}");
     let t0 = std::time::Instant::now();

@@ -183,10 +183,7 @@ fn coarse_faces(
 
 impl Fine {
     fn faces(&self) -> Faces<'_> {
-        Faces {
-            cx: &self.cx,
-            cy: &self.cy,
-        }
+        Faces::new(&self.cx, &self.cy)
     }
 
     /// The one stencil at interior node (i, j) ([`crate::stencil::balance`]).

@@ -485,9 +485,9 @@ pub struct BenchArgs {
     pub fidelity: Option<Fidelity>,
     /// Only the named cases (repeatable): case-I, case-III, conformal-R51.2,
     /// deep-close-packed, untextured-R0.8; or the engine cycle's (never run by default):
-    /// cycle-plain (the example engine's plain liner through its cycle at draft, ≈ 0.5 s) and
-    /// cycle-uniform (its liner textured with Case I's pocket, at draft then at fast for the
-    /// friction work's error: minutes). --start and --approach are the film cases' only.
+    /// cycle-plain (the example engine's plain liner through its cycle at draft, then at fast
+    /// for the friction work's error: seconds) and cycle-uniform (its liner textured with Case
+    /// I's pocket, the same way: minutes). --start and --approach are the film cases' only.
     #[arg(long = "case", value_name = "NAME")]
     pub cases: Vec<String>,
     /// Initial state of every case: the paper's (the speed targets are stated from it) or

@@ -55,7 +55,12 @@ pub fn boundary_flows(g: &Grid, gap: &Gap, z: f64, u: f64, state: &FilmState) ->
     let flux = |i: usize, j: usize| {
         let (k, kn) = (g.idx(i, j), g.idx(i + 1, j));
         let hf = 0.5 * (gap.h(g, k, z) + gap.h(g, kn, z));
-        x1_flux(u, state.phi[k], hf, state.p[kn] - state.p[k], g.dx)
+        #[cfg(feature = "flow-factors")]
+        let content =
+            state.phi[k] * crate::model::flow_factors::couette_content_factor(gap.h(g, k, z));
+        #[cfg(not(feature = "flow-factors"))]
+        let content = state.phi[k];
+        x1_flux(u, content, hf, state.p[kn] - state.p[k], g.dx)
     };
     let inflow = (0..g.n2).map(|j| flux(0, j) * g.dy).sum();
     let outflow = (0..g.n2).map(|j| flux(n1 - 1, j) * g.dy).sum();

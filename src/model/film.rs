@@ -84,11 +84,21 @@ pub fn x1_flux(u: f64, phi_upstream: f64, h_face: f64, dp: f64, dx: f64) -> f64 
 }
 
 /// Face conductances of a mesh: `cx[i·n2 + j]` of the x1 face east of node (i, j),
-/// `cy[i·(n2 − 1) + j]` of the x2 face north of node (i, j).
+/// `cy[i·(n2 − 1) + j]` of the x2 face north of node (i, j); and `kappa`, per node, the
+/// factor κ of the film content in the Couette flux (u/2)·κ·φ, empty where it is 1 (always,
+/// but with the experimental flow factors: `model::flow_factors::couette_content_factor`).
 #[derive(Clone, Copy)]
 pub struct Faces<'a> {
     pub cx: &'a [f64],
     pub cy: &'a [f64],
+    pub kappa: &'a [f64],
+}
+
+impl<'a> Faces<'a> {
+    /// Conductances with κ = 1.
+    pub fn new(cx: &'a [f64], cy: &'a [f64]) -> Self {
+        Faces { cx, cy, kappa: &[] }
+    }
 }
 
 /// What the stencil reads around node column i, sliced once for the column: a pass over a
@@ -107,6 +117,9 @@ pub struct Column<'a> {
     pub cx_w: &'a [f64],
     pub cx_e: &'a [f64],
     pub cy: &'a [f64],
+    /// κ of columns i − 1 and i ([`Faces::kappa`]); empty where it is 1.
+    pub kappa_w: &'a [f64],
+    pub kappa: &'a [f64],
 }
 
 impl<'a> Column<'a> {
@@ -132,6 +145,8 @@ impl<'a> Column<'a> {
             cx_w: &f.cx[w..c],
             cx_e: &f.cx[c..e],
             cy: &f.cy[i * (n2 - 1)..(i + 1) * (n2 - 1)],
+            kappa_w: f.kappa.get(w..c).unwrap_or(&[]),
+            kappa: f.kappa.get(c..e).unwrap_or(&[]),
         }
     }
 
@@ -156,12 +171,27 @@ impl<'a> Column<'a> {
         if j + 1 < n2 {
             r += self.cy[j] * (pk - self.p[j + 1]);
         }
-        r += adv * (phi_j - self.phi_w[j]);
+        r += if self.kappa.is_empty() {
+            adv * (phi_j - self.phi_w[j])
+        } else {
+            adv * (self.kappa[j] * phi_j - self.kappa_w[j] * self.phi_w[j])
+        };
         r += at * phi_j;
         if let Some(old) = self.old {
             r -= at * old[j];
         }
         r
+    }
+
+    /// κ of node (i, j) and of the node upstream: the factors of ∂(balance)/∂φ through the
+    /// Couette flux, adv·κ.
+    #[inline(always)]
+    pub fn content_factors(&self, j: usize) -> (f64, f64) {
+        if self.kappa.is_empty() {
+            (1.0, 1.0)
+        } else {
+            (self.kappa[j], self.kappa_w[j])
+        }
     }
 
     /// Sum of the four face conductances of node (i, j): ∂(balance)/∂p_ij.
@@ -237,7 +267,7 @@ mod tests {
         let (p, phi) = block(n2, |_, _| 0.7, |_, _| h);
         let c = face_conductance(h, h, 2.0);
         let (cx, cy) = (vec![c; 3 * n2], vec![c; 3 * (n2 - 1)]);
-        let faces = Faces { cx: &cx, cy: &cy };
+        let faces = Faces::new(&cx, &cy);
         let col = Column::new(n2, &faces, &p, &phi, None, 1);
         for j in 0..n2 {
             assert_eq!(col.balance(0.25, 0.0, j), 0.0);
@@ -256,7 +286,7 @@ mod tests {
         let cyv = face_conductance(h, h, dx / dy);
         let (cx, cy) = (vec![cxv; 3 * n2], vec![cyv; 3 * (n2 - 1)]);
         let old = vec![1.4; 3 * n2];
-        let faces = Faces { cx: &cx, cy: &cy };
+        let faces = Faces::new(&cx, &cy);
         let col = Column::new(n2, &faces, &p, &phi, Some(&old), 1);
         let (adv, at) = (u * dy, 2.0 * dx * dy / dt);
         for j in 0..n2 {
@@ -287,7 +317,7 @@ mod tests {
                 )
             })
             .collect();
-        let faces = Faces { cx: &cx, cy: &cy };
+        let faces = Faces::new(&cx, &cy);
         let col = Column::new(n2, &faces, &p, &phi, None, 1);
         for j in 0..n2 {
             let (a, b) = (col.balance(0.3, 0.0, j), col.balance(0.3, 0.0, n2 - 1 - j));
@@ -301,7 +331,7 @@ mod tests {
         let (p, phi) = block(n2, |i, j| (i * n2 + j) as f64, |_, _| 1.0);
         let cx: Vec<f64> = (0..3 * n2).map(|k| 1.0 + k as f64).collect();
         let cy: Vec<f64> = (0..3 * (n2 - 1)).map(|k| 0.5 + k as f64).collect();
-        let faces = Faces { cx: &cx, cy: &cy };
+        let faces = Faces::new(&cx, &cy);
         let col = Column::new(n2, &faces, &p, &phi, None, 1);
         for j in 0..n2 {
             // ∂balance/∂p_ij by a unit change of p_ij.

@@ -1,7 +1,8 @@
 //! Patir–Cheng average flow model for isotropic roughness (γ = 1), an experiment behind the
 //! cargo feature `flow-factors` (docs/model.md §11, "Flow factors"): the pressure flow factor
-//! φx on the film's Poiseuille conductance and the shear stress factors φf, φfs, φfp on the
-//! friction. H = h/σ with σ the default composite roughness; the fits are Patir & Cheng's
+//! φx on the film's Poiseuille conductance, the shear flow factor φs on its Couette flux (in
+//! the ring-frame schemes: backward Euler, BDF2), and the shear stress factors φf, φfs, φfp on
+//! the friction. H = h/σ with σ the default composite roughness; the fits are Patir & Cheng's
 //! (J. Lubr. Technol. 100 (1978) 12–17; 101 (1979) 220–229), valid for H ≥ 0.5: below, H is
 //! taken at 0.5.
 
@@ -30,6 +31,22 @@ pub fn pressure_flow(h_um: f64) -> (f64, f64) {
         0.0
     };
     (1.0 - e, slope)
+}
+
+/// The Couette flux's factor on the film content with the shear flow factor:
+/// (u/2)·θ·(h + σ·φs) = (u/2)·φ·κ, κ = 1 + σ·φs(H)/h, with φs = w·Φs(H) (w: [`SLIDING_ROUGHER`],
+/// the liner sliding) and Φs = 1.899·H^0.98·e^(−0.92·H + 0.05·H²) for H ≤ 5, 1.126·e^(−0.25·H)
+/// beyond (Patir & Cheng 1979, γ = 1), H held at 0.5 below. The cavitated film's flux is taken
+/// as the full film's times θ.
+#[inline(always)]
+pub fn couette_content_factor(h_um: f64) -> f64 {
+    let hr = film_ratio(h_um);
+    let big = if hr <= 5.0 {
+        1.899 * hr.powf(0.98) * (-0.92 * hr + 0.05 * hr * hr).exp()
+    } else {
+        1.126 * (-0.25 * hr).exp()
+    };
+    1.0 + COMPOSITE_ROUGHNESS_UM * SLIDING_ROUGHER * big / h_um
 }
 
 /// Shear stress factor φf of the Couette shear (Patir & Cheng 1979, γ = 1): with z = H/3,
@@ -89,5 +106,14 @@ mod tests {
         let d = 1e-6;
         let fd = (pressure_flow(1.0 + d).0 - pressure_flow(1.0 - d).0) / (2.0 * d);
         assert!((fd - pressure_flow(1.0).1).abs() < 1e-8);
+        // Φs's two fits meet at H = 5 to their 3 digits; κ → 1 on a thick film.
+        let at5 = |e: f64| couette_content_factor((5.0 + e) * COMPOSITE_ROUGHNESS_UM);
+        assert!(
+            (at5(-1e-9) - at5(1e-9)).abs() < 2e-4 * (at5(0.0) - 1.0),
+            "{} {}",
+            at5(-1e-9),
+            at5(1e-9)
+        );
+        assert!((couette_content_factor(100.0) - 1.0).abs() < 1e-6);
     }
 }

@@ -190,6 +190,7 @@ impl FilmSolver {
             Some(_) => Faces {
                 cx: &self.jcx,
                 cy: &self.jcy,
+                kappa: faces.kappa,
             },
             None => faces,
         };
@@ -214,6 +215,7 @@ impl FilmSolver {
                     step,
                     state,
                     self.gap.h(),
+                    self.gap.faces().kappa,
                     range,
                     &mut self.ring,
                     &mut self.rhs2,

@@ -65,7 +65,7 @@ pub fn upwind_sweep(
         let col = Column::new(n2, faces, &state.p, done, phi_old, i);
         for (j, phi) in rest[..n2].iter_mut().enumerate() {
             let r = col.balance_with(adv, at, j, *phi);
-            *phi -= r / (adv + at);
+            *phi -= r / (adv * col.content_factors(j).0 + at);
         }
     }
 }
@@ -112,7 +112,12 @@ pub fn assemble(
             let cn = if j + 1 < n2 { cy[j] } else { 0.0 };
             // Diagonal: ∂F/∂p_ij = Σc on the pressurised set, ∂F/∂φ_ij = adv + at on the
             // cavitated set.
-            ac[j] = if pr[j] { cw + ce + cs + cn } else { adv + at };
+            let (kappa, kappa_w) = col.content_factors(j);
+            ac[j] = if pr[j] {
+                cw + ce + cs + cn
+            } else {
+                adv * kappa + at
+            };
             // Off-diagonals depend on the neighbour's unknown only: its pressure enters
             // through −c, the upstream φ through −adv, downstream φ not at all.
             aw[j] = if i == lo {
@@ -120,7 +125,7 @@ pub fn assemble(
             } else if pr_w[j] {
                 -cw
             } else {
-                -adv
+                -(adv * kappa_w)
             };
             let coupled = |on: bool, c: f64| if on { -c } else { 0.0 };
             ae[j] = coupled(i < hi && pr_e[j], ce);
@@ -197,6 +202,7 @@ pub fn ring_sensitivity(
     step: &Step,
     state: &FilmState,
     h: &[f64],
+    kappa: &[f64],
     (lo, hi): (usize, usize),
     work: &mut RingWork,
     rhs: &mut Vec<f64>,
@@ -216,9 +222,12 @@ pub fn ring_sensitivity(
             *d = if pr && ring[i] { 1.0 } else { 0.0 };
         }
     }
+    // With the flow factors' κ, d(κφ)/dZ is taken as κ·φ': its κ'(h)·φ is left out of this
+    // Jacobian column (the iteration still converges to the same balance, only slower).
     let dfaces = Faces {
         cx: &work.dcx,
         cy: &work.dcy,
+        kappa,
     };
     rhs.clear();
     rhs.resize((hi - lo + 1) * n2, 0.0);

@@ -22,6 +22,8 @@ pub struct GapCache {
     faces_fresh: bool,
     cx: Vec<f64>,
     cy: Vec<f64>,
+    /// κ per node, empty where it is 1 ([`Faces::kappa`]).
+    kappa: Vec<f64>,
 }
 
 impl GapCache {
@@ -42,6 +44,7 @@ impl GapCache {
         Faces {
             cx: &self.cx,
             cy: &self.cy,
+            kappa: &self.kappa,
         }
     }
 
@@ -69,6 +72,15 @@ impl GapCache {
     pub fn refresh_faces(&mut self, step: &Step) {
         let only_ring = self.faces_fresh.then_some(&step.gap.ring[..]);
         face_conductances(step.grid, &self.h, only_ring, &mut self.cx, &mut self.cy);
+        #[cfg(feature = "flow-factors")]
+        {
+            self.kappa.clear();
+            self.kappa.extend(
+                self.h
+                    .iter()
+                    .map(|&h| crate::model::flow_factors::couette_content_factor(h)),
+            );
+        }
         self.faces_fresh = true;
     }
 

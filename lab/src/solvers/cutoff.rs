@@ -81,10 +81,7 @@ impl Cutoff {
         self.dphi.clear();
         self.dphi
             .extend((0..g.nodes()).map(|k| if ring[k / n2] { 1.0 } else { 0.0 }));
-        let dfaces = Faces {
-            cx: &self.dcx,
-            cy: &self.dcy,
-        };
+        let dfaces = Faces::new(&self.dcx, &self.dcy);
         self.y2.clear();
         self.y2.resize((hi - lo + 1) * n2, 0.0);
         for i in lo..=hi {

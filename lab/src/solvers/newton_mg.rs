@@ -144,6 +144,7 @@ impl NewtonMultigrid {
                             step,
                             state,
                             self.gap.h(),
+                            self.gap.faces().kappa,
                             r,
                             &mut self.ring,
                             &mut self.rhs2,

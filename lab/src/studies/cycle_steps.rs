@@ -55,6 +55,7 @@ const RUNS: [Run; 10] = [
 /// One run's row: cells, travel, scheme, steps a cycle, seconds a cycle, cycles, work (J/m).
 struct Row {
     n1: usize,
+    step_deg: f64,
     travel: f64,
     scheme: TimeScheme,
     steps: usize,
@@ -77,7 +78,7 @@ fn run(r: &Run) -> Result<Row, String> {
     // The tiers' texture step is TEXTURE_CELLS cells: scale it to the run's travel.
     num.steps.texture_step *= r.travel / TEXTURE_CELLS;
     num.scheme = r.scheme;
-    let n1 = num.n1;
+    let (n1, step_deg) = (num.n1, num.steps.step_deg);
     let t0 = std::time::Instant::now();
     let o = CycleRun::new(&drive, ring, layout, num)
         .and_then(|run| run.run(&mut |_| {}, &mut |_| {}))
@@ -91,6 +92,7 @@ fn run(r: &Run) -> Result<Row, String> {
     }
     Ok(Row {
         n1,
+        step_deg,
         travel: r.travel,
         scheme: r.scheme,
         steps: last.steps,
@@ -153,18 +155,20 @@ pub fn main(args: &[String]) -> Result<(), String> {
          `texopt-lab cycle-steps` (one core, ≈ 20 min): the example engine \
          (studies/engine_gasoline.toml), its liner uniformly textured with the paper's Case I \
          pocket, through the cycle until it repeats itself (docs/solver.md, \"The engine \
-         cycle\"). The tiers' cells along x1: `draft` 300, `fast` 600, `paper` 1200; the \
-         texture moves 2 cells a step, the characteristic scheme's Courant number 1. The last \
-         column is against the characteristic scheme on `paper`'s cells.\n\n\
-         | scheme | cells along x1 | texture's travel a step (cells) | steps a cycle | s a cycle | cycles | friction work (J/m) | vs 1200 cells |\n\
-         |---|---|---|---|---|---|---|---|\n",
+         cycle\"). The tiers' cells along x1 and crank steps at speed: `draft` 300 and 1°, \
+         `fast` 600 and 0.5°, `paper` 1200 and 0.25°; the texture moves 2 cells a step, the \
+         characteristic scheme's Courant number 1, where pockets pass under the ring (all the \
+         stroke here). The last column is against the characteristic scheme at `paper`.\n\n\
+         | scheme | cells along x1 | crank step (°) | texture's travel a step (cells) | steps a cycle | s a cycle | cycles | friction work (J/m) | vs `paper` |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
     );
     for r in &rows {
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {:.1} | {} | {:.4} | {:+.2} % |",
+            "| {} | {} | {} | {} | {} | {:.1} | {} | {:.4} | {:+.2} % |",
             scheme_name(r.scheme),
             r.n1,
+            r.step_deg,
             r.travel,
             r.steps,
             r.s_per_cycle,
