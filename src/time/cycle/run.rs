@@ -142,7 +142,7 @@ pub struct CycleOutcome {
 /// ([`CycleRun::resume`]) is settled: the oil map's memory is one cycle (each stretch of liner
 /// the ring passes is laid anew on each pass), so the first cycle still meets the other
 /// liner's oil and the second its own. Measured on the example engine's uniform Case I
-/// texture at draft: first cycle 0.39 % off the converged work, second 1e-5
+/// texture at draft: first cycle 0.55 % off the converged work, second 1.6e-5
 /// (docs/model.md §12).
 pub const SETTLE_CYCLES: usize = 2;
 
