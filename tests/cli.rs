@@ -315,7 +315,9 @@ fn bench_runs_the_engine_cycle_only_when_named() {
     assert!(c["last_cycle_steps"].as_u64().unwrap() > 0, "{c}");
     assert!(c["work_j_per_m"].as_f64().unwrap() > 0.0, "{c}");
     assert_eq!(c["wall_times_s"].as_array().unwrap().len(), 2);
-    assert!(c["finer"].is_null() && c["work_error"].is_null(), "{c}");
+    // Judged against `fast` (measured −0.07 %: the plain liner's tier error).
+    assert_eq!(c["finer"]["fidelity"], "fast", "{c}");
+    assert!(c["work_error"].as_f64().unwrap().abs() < 5e-3, "{c}");
 
     // A film case alone writes no cycle rows: the benchmark's own file keeps its form.
     let (code, _, err) = texopt(&[
