@@ -23,10 +23,8 @@ use crate::time::cycle::{
 };
 use crate::time::Fidelity;
 
-/// The plain liner's cyclic run at one mesh: its friction work (J/m), least film (µm) and
-/// end state.
+/// The plain liner's cyclic run: its friction work (J/m), least film (µm) and end state.
 struct PlainAt {
-    n1: usize,
     work: f64,
     h_min_um: f64,
     end: CycleState,
@@ -40,12 +38,13 @@ struct Judged {
 }
 
 /// Runs liners through the cycle at the search's fidelity, each from the plain liner's
-/// cyclic state on its mesh (computed once per mesh).
+/// cyclic state (computed once: the cells along x1, which a resumed run shares, do not depend
+/// on the texture, and a plain liner is one cell across).
 pub struct CycleJudge<'a> {
     s: &'a CycleSettings,
     drive: Drive,
     fidelity: Fidelity,
-    plains: Mutex<Vec<std::sync::Arc<PlainAt>>>,
+    plain: Mutex<Option<std::sync::Arc<PlainAt>>>,
 }
 
 impl<'a> CycleJudge<'a> {
@@ -54,7 +53,7 @@ impl<'a> CycleJudge<'a> {
             s,
             drive: Drive::new(&s.engine),
             fidelity: s.search.search_fidelity,
-            plains: Mutex::new(Vec::new()),
+            plain: Mutex::new(None),
         }
     }
 
@@ -72,10 +71,10 @@ impl<'a> CycleJudge<'a> {
         LinerLayout::zoned(bounds_cm, textures).map_err(|e| OptimiseError::Series(e.to_string()))
     }
 
-    /// The plain liner on the mesh of `numerics`, run until it repeats itself (once per mesh).
+    /// The plain liner with `numerics`, run until it repeats itself (once).
     fn plain(&self, numerics: &CycleNumerics) -> Result<std::sync::Arc<PlainAt>, OptimiseError> {
-        let mut plains = self.plains.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(p) = plains.iter().find(|p| p.n1 == numerics.n1) {
+        let mut plain = self.plain.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(p) = plain.as_ref() {
             return Ok(p.clone());
         }
         let zones = self.s.engine.bounds_mm.len() - 1;
@@ -86,12 +85,11 @@ impl<'a> CycleJudge<'a> {
             .map_err(|e| OptimiseError::Series(format!("plain liner: {e}")))?;
         let m = metrics(&o.rows, &self.s.engine);
         let p = std::sync::Arc::new(PlainAt {
-            n1: numerics.n1,
             work: m.work_j_per_m,
             h_min_um: m.h_min_um,
             end: o.end,
         });
-        plains.push(p.clone());
+        *plain = Some(p.clone());
         Ok(p)
     }
 

@@ -152,15 +152,22 @@ pub const SETTLE_CYCLES: usize = 2;
 /// balance, and is settled after [`SETTLE_CYCLES`].
 #[derive(Clone, Debug)]
 pub struct CycleState {
+    film: Standing,
+    oil: OilMap,
+    /// The oil map's cell length the run was asked for (its numerics').
+    oil_cell_cm: f64,
+}
+
+/// Film and ring where a run stands: what a step changes but the oil map (which it changes
+/// only once its film is solved), so what a step taken again in halves starts from.
+#[derive(Clone, Debug)]
+struct Standing {
     scene: Scene,
     state: FilmState,
     phi_old: Vec<f64>,
     ring: RingState,
     /// Whether the film is solved mirrored (the liner moving towards the combustion chamber).
     mirrored: bool,
-    oil: OilMap,
-    /// The oil map's cell length the run was asked for (its numerics').
-    oil_cell_cm: f64,
     /// The lattice width the film is simulated across (half of it), None: one cell across.
     width: Option<f64>,
     /// The inlet film of the last step (µm): the layer the liner brings.
@@ -217,16 +224,18 @@ impl<'a> CycleRun<'a> {
             })?;
         let (state, ring) = equilibrium_start(&scene, &eq);
         let st = CycleState {
-            scene,
-            phi_old: state.phi.clone(),
-            state,
-            ring,
-            mirrored: p0.u < 0.0,
+            film: Standing {
+                scene,
+                phi_old: state.phi.clone(),
+                state,
+                ring,
+                mirrored: p0.u < 0.0,
+                width,
+                phi_inlet: start_case.d_oil,
+                last_share: 0.0,
+            },
             oil,
             oil_cell_cm: numerics.oil_cell_cm,
-            width,
-            phi_inlet: start_case.d_oil,
-            last_share: 0.0,
         };
         let mut run = CycleRun {
             drive,
@@ -253,9 +262,9 @@ impl<'a> CycleRun<'a> {
         numerics: CycleNumerics,
         from: &CycleState,
     ) -> Result<Self, SolveError> {
-        let g = &from.scene.grid;
+        let g = &from.film.scene.grid;
         let same_cells = g.n1 == numerics.n1
-            && (from.width.is_none() || g.n2 == numerics.n2)
+            && (from.film.width.is_none() || g.n2 == numerics.n2)
             && from.oil_cell_cm == numerics.oil_cell_cm;
         if !same_cells {
             return Self::new(drive, ring, layout, numerics);
@@ -283,12 +292,12 @@ impl<'a> CycleRun<'a> {
     /// The oil the film holds, Σφ·dx·dy/B over the interior nodes (µm·cm per unit
     /// circumferential length; the inlet column's film is the boundary's).
     pub fn film_oil(&self) -> f64 {
-        self.oil_of(&self.st.state.phi)
+        self.oil_of(&self.st.film.state.phi)
     }
 
     /// The oil of film content `phi` on the run's grid (see [`CycleRun::film_oil`]).
     fn oil_of(&self, phi: &[f64]) -> f64 {
-        let g = &self.st.scene.grid;
+        let g = &self.st.film.scene.grid;
         let s: f64 = phi[g.n2..g.n1 * g.n2].iter().sum();
         s * g.dx * g.dy / g.width
     }
@@ -300,8 +309,12 @@ impl<'a> CycleRun<'a> {
     /// The liner coordinate (cm) under solve-frame position `x` with the ring at
     /// `position_cm` from its top-dead-centre position.
     fn liner_y(&self, position_cm: f64, x: f64) -> f64 {
-        let c = &self.st.scene.contact;
-        let x_phys = if self.st.mirrored { c.length_cm - x } else { x };
+        let c = &self.st.film.scene.contact;
+        let x_phys = if self.st.film.mirrored {
+            c.length_cm - x
+        } else {
+            x
+        };
         position_cm + x_phys - c.x_center_cm
     }
 
@@ -311,21 +324,21 @@ impl<'a> CycleRun<'a> {
     /// gap is e, against which a pocket's depth is nothing, and the film there does not vary
     /// across: so the film is one cell across whenever no pocket is under the ring.
     fn place(&mut self, p: &DrivePoint) {
-        let g = self.st.scene.grid.clone();
-        let cols = self.st.scene.gap.ring_columns();
+        let g = self.st.film.scene.grid.clone();
+        let cols = self.st.film.scene.gap.ring_columns();
         let textured = cols.start.saturating_sub(1)..(cols.end + 1).min(g.n1 + 1);
         for i in 0..=g.n1 {
             let y = self.liner_y(p.position_cm, g.x(i));
-            let ring_part = self.st.scene.contact.ring_part_um(g.x(i));
+            let ring_part = self.st.film.scene.contact.ring_part_um(g.x(i));
             for j in 0..g.n2 {
                 let k = g.idx(i, j);
-                let hl = if textured.contains(&i) && self.st.width.is_some() {
+                let hl = if textured.contains(&i) && self.st.film.width.is_some() {
                     self.layout.depth_um(y, g.y(j))
                 } else {
                     0.0
                 };
-                self.st.scene.hl[k] = hl;
-                self.st.scene.gap.base[k] = hl + ring_part;
+                self.st.film.scene.hl[k] = hl;
+                self.st.film.scene.gap.base[k] = hl + ring_part;
             }
         }
     }
@@ -338,27 +351,27 @@ impl<'a> CycleRun<'a> {
     /// the film is simulated across the width of the one under its centre, the other's
     /// pockets sampled on that grid (docs/model.md §12).
     fn regrid(&mut self, p: &DrivePoint) {
-        let (a, b) = self.st.scene.contact.ring_edges();
-        let x_c = self.st.scene.contact.x_center_cm;
+        let (a, b) = self.st.film.scene.contact.ring_edges();
+        let x_c = self.st.film.scene.contact.x_center_cm;
         let width = self
             .layout
             .width_over(p.position_cm + a - x_c, p.position_cm + b - x_c);
-        if width == self.st.width {
+        if width == self.st.film.width {
             return;
         }
-        self.st.width = width;
+        self.st.film.width = width;
         let old = std::mem::replace(
-            &mut self.st.scene,
+            &mut self.st.film.scene,
             film_scene(&self.case, &self.numerics, width),
         );
         self.place(p);
-        let z = self.st.ring.z;
-        let phi = carry(&old, &self.st.state.phi, &self.st.scene, z);
-        self.st.phi_old = carry(&old, &self.st.phi_old, &self.st.scene, z);
-        let g = &self.st.scene.grid;
-        self.st.state = FilmState::cavitated(g, &self.st.scene.gap, z, 0.0);
+        let z = self.st.film.ring.z;
+        let phi = carry(&old, &self.st.film.state.phi, &self.st.film.scene, z);
+        self.st.film.phi_old = carry(&old, &self.st.film.phi_old, &self.st.film.scene, z);
+        let g = &self.st.film.scene.grid;
+        self.st.film.state = FilmState::cavitated(g, &self.st.film.scene.gap, z, 0.0);
         for (k, f) in phi.into_iter().enumerate() {
-            self.st.state.phi[k] = f.min(self.st.scene.gap.h(g, k, z));
+            self.st.film.state.phi[k] = f.min(self.st.film.scene.gap.h(g, k, z));
         }
         self.solver = FilmSolver::new(Method::Direct);
     }
@@ -368,38 +381,41 @@ impl<'a> CycleRun<'a> {
     /// into the ring's land, above it at top dead centre and below at bottom dead centre
     /// (docs/model.md §12). The liner's own layer stays, for the ring to meet on its way back.
     fn throw_off_bank(&mut self) {
-        let g = &self.st.scene.grid;
-        let (a, _) = self.st.scene.contact.ring_edges();
+        let g = &self.st.film.scene.grid;
+        let (a, _) = self.st.film.scene.contact.ring_edges();
         let mut thrown = 0.0;
         for i in (1..g.n1).take_while(|&i| g.x(i) < a) {
             for j in 0..g.n2 {
                 let k = g.idx(i, j);
-                let keep = self.st.state.phi[k].min(self.st.phi_inlet);
-                thrown += self.st.state.phi[k] - keep;
-                self.st.state.phi[k] = keep;
-                self.st.state.p[k] = 0.0;
-                self.st.state.pressurised[k] = false;
+                let keep = self.st.film.state.phi[k].min(self.st.film.phi_inlet);
+                thrown += self.st.film.state.phi[k] - keep;
+                self.st.film.state.phi[k] = keep;
+                self.st.film.state.p[k] = 0.0;
+                self.st.film.state.pressurised[k] = false;
             }
         }
         self.tally.thrown += thrown * g.dx * g.dy / g.width;
-        self.st.phi_old.copy_from_slice(&self.st.state.phi);
+        self.st
+            .film
+            .phi_old
+            .copy_from_slice(&self.st.film.state.phi);
     }
 
     /// Mirrors the film and its old level, x1 → length − x1 (the liner's direction turned).
     fn mirror(&mut self) {
-        let g = &self.st.scene.grid;
+        let g = &self.st.film.scene.grid;
         let n2 = g.n2;
         for i in 0..g.n1.div_ceil(2) {
             let m = g.n1 - i;
             for j in 0..n2 {
                 let (a, b) = (i * n2 + j, m * n2 + j);
-                self.st.state.p.swap(a, b);
-                self.st.state.phi.swap(a, b);
-                self.st.state.pressurised.swap(a, b);
-                self.st.phi_old.swap(a, b);
+                self.st.film.state.p.swap(a, b);
+                self.st.film.state.phi.swap(a, b);
+                self.st.film.state.pressurised.swap(a, b);
+                self.st.film.phi_old.swap(a, b);
             }
         }
-        self.st.mirrored = !self.st.mirrored;
+        self.st.film.mirrored = !self.st.film.mirrored;
     }
 }
 
@@ -438,13 +454,7 @@ pub const MAX_HALVINGS: usize = 4;
 
 /// A run's state before a step, to take the step again in halves.
 struct Saved {
-    scene: Scene,
-    state: FilmState,
-    phi_old: Vec<f64>,
-    ring: RingState,
-    mirrored: bool,
-    width: Option<f64>,
-    phi_inlet: f64,
+    film: Standing,
     tally: OilBalance,
 }
 
@@ -504,25 +514,13 @@ impl CycleRun<'_> {
     /// What a step changes but the oil map (which it changes only once its film is solved).
     fn save(&self) -> Saved {
         Saved {
-            scene: self.st.scene.clone(),
-            state: self.st.state.clone(),
-            phi_old: self.st.phi_old.clone(),
-            ring: self.st.ring,
-            mirrored: self.st.mirrored,
-            width: self.st.width,
-            phi_inlet: self.st.phi_inlet,
+            film: self.st.film.clone(),
             tally: self.tally,
         }
     }
 
     fn restore(&mut self, s: Saved) {
-        self.st.scene = s.scene;
-        self.st.state = s.state;
-        self.st.phi_old = s.phi_old;
-        self.st.ring = s.ring;
-        self.st.mirrored = s.mirrored;
-        self.st.width = s.width;
-        self.st.phi_inlet = s.phi_inlet;
+        self.st.film = s.film;
         self.tally = s.tally;
         // A failed solve may leave its factors in any state.
         self.solver = FilmSolver::new(Method::Direct);
@@ -550,14 +548,14 @@ impl CycleRun<'_> {
         let dt = self.drive.time_of(to - from);
         // The liner's displacement under the ring along x1 is −(the ring's along the stroke).
         let u = -(b.position_cm - a.position_cm) / dt;
-        if (u < 0.0) != self.st.mirrored && u != 0.0 {
+        if (u < 0.0) != self.st.film.mirrored && u != 0.0 {
             self.throw_off_bank();
             self.mirror();
         }
         self.regrid(&b);
         self.place(&b);
         let ex = self.exchange_ahead(&a, &b);
-        self.st.phi_inlet = ex.phi_inlet;
+        self.st.film.phi_inlet = ex.phi_inlet;
         let boundary = self.boundary(&b, u.abs(), ex.phi_inlet);
         let contact = self.case.contact_law();
         let ring = Ring {
@@ -565,17 +563,17 @@ impl CycleRun<'_> {
             w_ps: b.w,
             contact,
         };
-        let s = self.st.ring;
+        let s = self.st.film.ring;
         let link = ring.link(&s, dt);
         let mut z = (s.z + dt * s.v).max(0.5 * s.z);
         // The old level: the film as the last step left it, carried onto this step's grid,
         // and moved along the Couette characteristics where the scheme and the step allow.
         let old = self.old_level(u.abs(), dt, ex.phi_inlet);
-        let phi_old = old.phi.as_deref().unwrap_or(&self.st.phi_old);
+        let phi_old = old.phi.as_deref().unwrap_or(&self.st.film.phi_old);
         let film_before = self.oil_of(phi_old);
         let step = Step {
-            grid: &self.st.scene.grid,
-            gap: &self.st.scene.gap,
+            grid: &self.st.film.scene.grid,
+            gap: &self.st.film.scene.gap,
             phi_old,
             inv_dt: 1.0 / dt,
             boundary: Boundary {
@@ -586,7 +584,7 @@ impl CycleRun<'_> {
         };
         let stats = self
             .solver
-            .solve(&step, &mut self.st.state, &mut z)
+            .solve(&step, &mut self.st.film.state, &mut z)
             .map_err(|source| SolveError::Film {
                 case: cycle_label(self.drive),
                 t: to,
@@ -600,11 +598,12 @@ impl CycleRun<'_> {
             });
         }
         let share = stats.w_a / b.w;
-        if may_refine && (share - self.st.last_share).abs() > self.numerics.steps.contact_share {
+        if may_refine && (share - self.st.film.last_share).abs() > self.numerics.steps.contact_share
+        {
             return Ok(None);
         }
-        self.st.last_share = share;
-        self.st.ring = ring.advance(&s, dt, z, stats.w_h + stats.w_a);
+        self.st.film.last_share = share;
+        self.st.film.ring = ring.advance(&s, dt, z, stats.w_h + stats.w_a);
         // Oil in and out over the step: the stencil's flows, and the shifted Couette content.
         let (inflow, outflow) = self.flows(old.stencil_u, z);
         let (inflow, outflow) = (dt * inflow + old.carried.0, dt * outflow + old.carried.1);
@@ -614,10 +613,11 @@ impl CycleRun<'_> {
             inflow.abs() + outflow.abs(),
             to,
         )?;
-        let t = self
-            .st
-            .oil
-            .take(ex.lead.0, ex.lead.1, self.drive.ahead(self.st.mirrored));
+        let t = self.st.oil.take(
+            ex.lead.0,
+            ex.lead.1,
+            self.drive.ahead(self.st.film.mirrored),
+        );
         self.tally.supplied += t.supplied;
         self.tally.scraped += t.scraped;
         self.tally.thrown += ex.taken - inflow;
@@ -626,13 +626,16 @@ impl CycleRun<'_> {
         } else {
             outflow
         };
-        self.st.phi_old.copy_from_slice(&self.st.state.phi);
+        self.st
+            .film
+            .phi_old
+            .copy_from_slice(&self.st.film.state.phi);
         let f = friction(
-            &self.st.scene.grid,
-            &self.st.scene.gap,
+            &self.st.film.scene.grid,
+            &self.st.film.scene.gap,
             z,
-            &self.st.scene.hl,
-            &self.st.state,
+            &self.st.film.scene.hl,
+            &self.st.film.state,
             &FrictionModel {
                 u: u.abs(),
                 theta_s: self.case.theta_s,
@@ -653,7 +656,7 @@ impl CycleRun<'_> {
     /// entering behind it: the Couette flux is that move, so the stencil's liner speed is 0.
     /// Otherwise φⁿ as it is (None) at the liner's speed.
     fn old_level(&self, u: f64, dt: f64, phi_inlet: f64) -> OldLevel {
-        let g = &self.st.scene.grid;
+        let g = &self.st.film.scene.grid;
         let c = courant(u, dt, g.dx);
         if self.numerics.scheme != TimeScheme::Characteristic || c > MAX_COURANT {
             return OldLevel {
@@ -662,7 +665,7 @@ impl CycleRun<'_> {
                 carried: (0.0, 0.0),
             };
         }
-        let mut phi = self.st.phi_old.clone();
+        let mut phi = self.st.film.phi_old.clone();
         phi[..g.n2].fill(phi_inlet);
         // What the move brings in at the inlet and takes past the last interior column
         // (characteristic.rs: Σφ changes by c·(column 0) − c·(column n1 − 1)).
@@ -680,7 +683,7 @@ impl CycleRun<'_> {
     /// The oil the leading edge meets over the step from `a` to `b`: taken off the liner
     /// ahead (the supply's towards the crankcase, the ring's own oil on the way back).
     fn exchange_ahead(&self, a: &DrivePoint, b: &DrivePoint) -> Exchange {
-        let length = self.st.scene.contact.length_cm;
+        let length = self.st.film.scene.contact.length_cm;
         let (lead_a, lead_b) = (
             self.liner_y(a.position_cm, 0.0),
             self.liner_y(b.position_cm, 0.0),
@@ -694,7 +697,7 @@ impl CycleRun<'_> {
         let t = self
             .st
             .oil
-            .meet(lead_a, lead_b, self.drive.ahead(self.st.mirrored));
+            .meet(lead_a, lead_b, self.drive.ahead(self.st.film.mirrored));
         Exchange {
             taken: t.layer * (lead_b - lead_a).abs(),
             layer_met: t.layer,
@@ -707,7 +710,7 @@ impl CycleRun<'_> {
     /// The film's boundary data in the solve frame: the liner's speed, the gas pressures on
     /// the two sides (above the ring at x1 = 0 unless mirrored) and the inlet film.
     fn boundary(&self, b: &DrivePoint, u: f64, phi_inlet: f64) -> Boundary {
-        let (p_left, p_right) = if self.st.mirrored {
+        let (p_left, p_right) = if self.st.film.mirrored {
             (b.p_below, b.p_above)
         } else {
             (b.p_above, b.p_below)
@@ -725,8 +728,8 @@ impl CycleRun<'_> {
     /// Oil flow rates into and out of the film (per unit circumferential length, through the
     /// faces next to the domain's ends).
     fn flows(&self, u: f64, z: f64) -> (f64, f64) {
-        let g = &self.st.scene.grid;
-        let (i, o) = boundary_flows(g, &self.st.scene.gap, z, u, &self.st.state);
+        let g = &self.st.film.scene.grid;
+        let (i, o) = boundary_flows(g, &self.st.film.scene.gap, z, u, &self.st.film.state);
         (i / g.width, o / g.width)
     }
 
@@ -762,7 +765,7 @@ impl CycleRun<'_> {
         // f = (H/6L)·F/W (eq. 11): the force is f·W in load units (docs/model.md §1).
         let force = f.total() * b.w * s.load_n_per_m();
         let asperity = f.boundary * b.w * s.load_n_per_m();
-        let sign = if self.st.mirrored { -1.0 } else { 1.0 };
+        let sign = if self.st.film.mirrored { -1.0 } else { 1.0 };
         CycleRow {
             crank_deg: b.crank_deg.rem_euclid(720.0),
             step_deg: 0.0,
@@ -772,7 +775,7 @@ impl CycleRun<'_> {
             p_above_bar: b.p_above * bar,
             p_below_bar: b.p_below * bar,
             z_um: z,
-            h_min_um: self.st.scene.contact.clearance_um(z),
+            h_min_um: self.st.film.scene.contact.clearance_um(z),
             friction_n_per_m: sign * force,
             asperity_friction_n_per_m: sign * asperity,
             asperity_share: 0.0,
@@ -828,8 +831,8 @@ impl CycleRun<'_> {
         on_step: &mut dyn FnMut(&CycleRow),
     ) -> Result<CycleOutcome, SolveError> {
         // Pockets under the ring, or within a ring's width of it, call for the texture's step.
-        let (a, b) = self.st.scene.contact.ring_edges();
-        let (x_c, w) = (self.st.scene.contact.x_center_cm, b - a);
+        let (a, b) = self.st.film.scene.contact.ring_edges();
+        let (x_c, w) = (self.st.film.scene.contact.x_center_cm, b - a);
         let layout = &self.layout;
         let textured = |pos: f64| {
             layout
