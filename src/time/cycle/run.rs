@@ -458,10 +458,8 @@ struct Saved {
     tally: OilBalance,
 }
 
-/// The old level a crank step reads ([`CycleRun::old_level`]).
+/// How a crank step reads its old level ([`CycleRun::old_level`]).
 struct OldLevel {
-    /// φⁿ moved along the characteristics; None: φⁿ as it is.
-    phi: Option<Vec<f64>>,
     /// The liner's speed in the stencil: 0 where the old level carries the Couette flux.
     stencil_u: f64,
     /// The oil the move carries in at the inlet and out past the last interior column over
@@ -569,7 +567,7 @@ impl CycleRun<'_> {
         // The old level: the film as the last step left it, carried onto this step's grid,
         // and moved along the Couette characteristics where the scheme and the step allow.
         let old = self.old_level(u.abs(), dt, ex.phi_inlet);
-        let phi_old = old.phi.as_deref().unwrap_or(&self.st.film.phi_old);
+        let phi_old = &self.st.film.phi_old;
         let film_before = self.oil_of(phi_old);
         let step = Step {
             grid: &self.st.film.scene.grid,
@@ -652,29 +650,28 @@ impl CycleRun<'_> {
 
     /// The old level a step of `dt` at liner speed `u` reads, with inlet film `phi_inlet`.
     /// Along the characteristics (docs/solver.md, "Time scheme"), where the scheme asks for
-    /// it and u·dt/(2·dx1) ≤ 1, φⁿ moved by that many cells downstream, the inlet's film
-    /// entering behind it: the Couette flux is that move, so the stencil's liner speed is 0.
-    /// Otherwise φⁿ as it is (None) at the liner's speed.
-    fn old_level(&self, u: f64, dt: f64, phi_inlet: f64) -> OldLevel {
+    /// it and u·dt/(2·dx1) ≤ 1, φⁿ is moved in place by that many cells downstream, the
+    /// inlet's film entering behind it: the Couette flux is that move, so the stencil's liner
+    /// speed is 0. Otherwise φⁿ stays as it is, at the liner's speed. (A step that is taken
+    /// again restores φⁿ; one that goes through replaces it.)
+    fn old_level(&mut self, u: f64, dt: f64, phi_inlet: f64) -> OldLevel {
         let g = &self.st.film.scene.grid;
         let c = courant(u, dt, g.dx);
         if self.numerics.scheme != TimeScheme::Characteristic || c > MAX_COURANT {
             return OldLevel {
-                phi: None,
                 stencil_u: u,
                 carried: (0.0, 0.0),
             };
         }
-        let mut phi = self.st.film.phi_old.clone();
+        let phi = &mut self.st.film.phi_old;
         phi[..g.n2].fill(phi_inlet);
         // What the move brings in at the inlet and takes past the last interior column
         // (characteristic.rs: Σφ changes by c·(column 0) − c·(column n1 − 1)).
         let column = |i: usize| phi[i * g.n2..(i + 1) * g.n2].iter().sum::<f64>();
         let area = c.min(1.0) * g.dx * g.dy / g.width;
         let carried = (area * column(0), area * column(g.n1 - 1));
-        shift(&mut phi, g.n1, g.n2, c.min(1.0));
+        shift(phi, g.n1, g.n2, c.min(1.0));
         OldLevel {
-            phi: Some(phi),
             stencil_u: 0.0,
             carried,
         }
