@@ -14,6 +14,7 @@ fn slider_error(n: usize) -> f64 {
     let gap = Gap {
         base: (0..=n).map(|i| h1 - (h1 - h2) * g.x(i)).collect(),
         ring: vec![false; n + 1],
+        flow: None,
     };
     let phi_old = vec![0.0; g.nodes()];
     let step = Step {
@@ -23,6 +24,7 @@ fn slider_error(n: usize) -> f64 {
         inv_dt: 0.0,
         boundary: Boundary {
             u,
+            u_rough: u,
             p_left: 0.0,
             p_right: 0.0,
             phi_inlet: 100.0,
@@ -110,6 +112,7 @@ fn oscillating_squeeze_film_rupture_time_and_front() {
     let mut gap = Gap {
         base: vec![h(0.0); n + 1],
         ring: vec![false; n + 1],
+        flow: None,
     };
     let mut state = FilmState::flooded(&g, &gap, 0.0);
     let mut solver = FilmSolver::new(Method::Direct);
@@ -129,6 +132,7 @@ fn oscillating_squeeze_film_rupture_time_and_front() {
             inv_dt: 1.0 / dt,
             boundary: Boundary {
                 u: 0.0,
+                u_rough: 0.0,
                 p_left: P0,
                 p_right: P0,
                 phi_inlet: 0.0,

@@ -83,6 +83,11 @@ fn bad_engine_files_are_refused_with_exit_2_one_line_and_nothing_written() {
             "[gas]\nbelow_pressure_bar = [1, 2]\n",
             "[gas] below_crank_deg",
         ),
+        (
+            "[gas]\n",
+            "[contact]\nliner_roughness_share = 1.5\n\n[gas]\n",
+            "[contact] liner_roughness_share",
+        ),
         // So slow that every angle's Stribeck number is below the validated range: refused
         // by the quasi-steady path (the transient one has no such range).
         (

@@ -328,7 +328,7 @@ impl Run {
     fn record(&mut self, s: usize, g: &Grid, gap: &Gap, state: &FilmState, phi_old: &[f64]) {
         let (dt, t) = (self.dt, s as f64 * self.dt);
         let change = content_change(g, &state.phi, phi_old);
-        let (inflow, outflow) = boundary_flows(g, gap, 0.0, 0.0, state);
+        let (inflow, outflow) = boundary_flows(g, gap, 0.0, (0.0, 0.0), state);
         let defect = change - dt * (inflow - outflow);
         let held = state.phi[1..g.n1].iter().sum::<f64>() * g.dx;
         self.mass = self.mass.max(defect.abs() / held);
@@ -377,11 +377,13 @@ fn simulate(n: usize, dt: f64) -> Run {
     let mut gap = Gap {
         base: vec![h(0.0); n + 1],
         ring: vec![false; n + 1],
+        flow: None,
     };
     let mut state = FilmState::flooded(&g, &gap, 0.0);
     state.p.fill(P0);
     let boundary = Boundary {
         u: 0.0,
+        u_rough: 0.0,
         p_left: P0,
         p_right: P0,
         // Flooded ends: capped at the gap, θ = 1.

@@ -2,6 +2,7 @@
 //! docs/model.md §2): only the node columns under the ring depend on Z.
 
 use super::Grid;
+use crate::model::flow_factors::FlowFactors;
 
 /// The gap at the new time level as an affine function of the ring position:
 /// h = base + Z on the node columns under the ring, h = base elsewhere (eq. 15).
@@ -11,6 +12,9 @@ pub struct Gap {
     pub base: Vec<f64>,
     /// Per node column i: whether it lies under the ring (a < x_i < b), where ∂h/∂Z = 1.
     pub ring: Vec<bool>,
+    /// The surfaces' roughness as the film's flow sees it (docs/model.md §11, "Flow
+    /// factors"); None: smooth surfaces.
+    pub flow: Option<FlowFactors>,
 }
 
 impl Gap {

@@ -48,19 +48,29 @@ pub fn contact_load(g: &Grid, gap: &Gap, z: f64, law: &ContactLaw) -> (f64, f64)
 
 /// Mass flow rates of φ = hθ through the x1 boundaries of the interior control volumes,
 /// summed over the simulated width: (inflow through the face at x1 = dx/2, outflow through
-/// the face at x1 = length − dx/2), with the flux of [`x1_flux`]. Over a step,
+/// the face at x1 = length − dx/2), with the flux of [`x1_flux`] at liner speed `u` and, on
+/// a rough film, its φx and its share (u_rough/2)·(κ − 1)·φ of the Couette flux
+/// (docs/model.md §11, "Flow factors"). Over a step,
 /// Σ(φ^{n+1} − φ^n)·dx·dy = dt·(inflow − outflow) at the new level.
-pub fn boundary_flows(g: &Grid, gap: &Gap, z: f64, u: f64, state: &FilmState) -> (f64, f64) {
+pub fn boundary_flows(
+    g: &Grid,
+    gap: &Gap,
+    z: f64,
+    (u, u_rough): (f64, f64),
+    state: &FilmState,
+) -> (f64, f64) {
     let n1 = g.n1;
     let flux = |i: usize, j: usize| {
         let (k, kn) = (g.idx(i, j), g.idx(i + 1, j));
         let hf = 0.5 * (gap.h(g, k, z) + gap.h(g, kn, z));
-        #[cfg(feature = "flow-factors")]
-        let content =
-            state.phi[k] * crate::model::flow_factors::couette_content_factor(gap.h(g, k, z));
-        #[cfg(not(feature = "flow-factors"))]
-        let content = state.phi[k];
-        x1_flux(u, content, hf, state.p[kn] - state.p[k], g.dx)
+        let dp = state.p[kn] - state.p[k];
+        match &gap.flow {
+            None => x1_flux(u, state.phi[k], hf, dp, g.dx),
+            Some(f) => {
+                let rough = 0.5 * u_rough * f.couette_excess(gap.h(g, k, z)) * state.phi[k];
+                x1_flux(u, state.phi[k], hf, dp * f.pressure_flow(hf).0, g.dx) + rough
+            }
+        }
     };
     let inflow = (0..g.n2).map(|j| flux(0, j) * g.dy).sum();
     let outflow = (0..g.n2).map(|j| flux(n1 - 1, j) * g.dy).sum();
@@ -105,9 +115,12 @@ pub fn friction_thresholds(
             let k = i * n2 + j;
             let h = gap.h(g, k, z);
             let theta = state.phi[k] / h;
-            let shear = couette_shear(model.u, theta, h);
-            #[cfg(feature = "flow-factors")]
-            let shear = shear * crate::model::flow_factors::couette_shear_factor(h);
+            let mut shear = couette_shear(model.u, theta, h);
+            let mut dpdx = (state.p[k + n2] - state.p[k - n2]) / (2.0 * g.dx);
+            if let Some(f) = &gap.flow {
+                shear *= f.couette_shear(h);
+                dpdx *= f.poiseuille_shear(h);
+            }
             if theta > model.theta_s {
                 fc += shear;
             }
@@ -116,9 +129,6 @@ pub fn friction_thresholds(
                     *sum += shear;
                 }
             }
-            let dpdx = (state.p[k + n2] - state.p[k - n2]) / (2.0 * g.dx);
-            #[cfg(feature = "flow-factors")]
-            let dpdx = dpdx * crate::model::flow_factors::poiseuille_shear_factor(h);
             fp += poiseuille_term(h, dpdx);
             let dhl = (hl[k + n2] - hl[k - n2]) / (2.0 * g.dx);
             fpr += pressure_term(state.p[k], dhl);

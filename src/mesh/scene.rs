@@ -2,6 +2,7 @@
 
 use super::{Gap, Grid};
 use crate::model::case::CaseSpec;
+use crate::model::flow_factors::FlowFactors;
 use crate::model::geometry::Contact;
 
 /// Mesh plus the fields the geometry imposes on it.
@@ -25,10 +26,12 @@ impl Scene {
         let contact = case.contact();
         let width = case.texture.as_ref().map_or(1.0, |t| 0.5 * t.width);
         let length = contact.length_cm;
-        Self::with_grid(contact, Grid::new(n1, n2, length, width), case.u)
+        Self::with_grid(contact, Grid::new(n1, n2, length, width), case.u, case.flow)
     }
 
-    pub fn with_grid(contact: Contact, grid: Grid, u: f64) -> Self {
+    /// The scene of `contact` on `grid`, the liner at speed `u`, its film's flow factors
+    /// `flow` (None: smooth surfaces).
+    pub fn with_grid(contact: Contact, grid: Grid, u: f64, flow: Option<FlowFactors>) -> Self {
         let ring = (0..=grid.n1)
             .map(|i| contact.under_ring(grid.x(i)))
             .collect();
@@ -39,6 +42,7 @@ impl Scene {
             gap: Gap {
                 base: vec![0.0; n],
                 ring,
+                flow,
             },
             hl: vec![0.0; n],
             u,

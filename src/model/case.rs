@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use super::asperity::{Asperity, ContactLaw};
 use super::film::Boundary;
+use super::flow_factors::FlowFactors;
 use super::geometry::{CircularArc, Contact, HalfEllipsoid, Liner};
 pub use super::input::{bad, one_line, short, InputError, Waiver};
 use super::scales::Scales;
@@ -118,6 +119,11 @@ pub struct CaseSpec {
     /// different μU are one scaled film but not one contact (docs/model.md §11).
     #[serde(default = "paper_scales", skip_serializing_if = "is_paper_scales")]
     pub scales: Scales,
+    /// The rough film's flow factors (docs/model.md §11, "Flow factors"); None: the film of
+    /// smooth surfaces, the paper's. Left out of the serialised case (and so of cache keys)
+    /// when None.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flow: Option<FlowFactors>,
 }
 
 fn default_contact() -> Option<Asperity> {
@@ -153,6 +159,7 @@ impl CaseSpec {
     pub fn film_boundary(&self) -> Boundary {
         Boundary {
             u: self.u,
+            u_rough: self.u,
             p_left: 0.0,
             p_right: 0.0,
             phi_inlet: self.d_oil,
@@ -177,6 +184,7 @@ impl CaseSpec {
             ring_width: PAPER_RING_WIDTH,
             contact: default_contact(),
             scales: Scales::PAPER,
+            flow: None,
         }
     }
 

@@ -7,6 +7,7 @@ use serde::Deserialize;
 
 use super::asperity::Asperity;
 use super::case::{face_spans_ring, short};
+use super::flow_factors::{FlowFactors, LINER_ROUGHNESS_SHARE};
 use super::operating::Operating;
 
 /// An engine as its file gives it (`study::engine_file` reads it): the crank train, the
@@ -37,6 +38,14 @@ pub struct ContactFile {
     /// No asperity contact: the film alone carries the ring.
     #[serde(default)]
     pub off: bool,
+    /// The film of smooth surfaces, without the roughness's flow factors (docs/model.md §11,
+    /// "Flow factors"), which the cycle's film carries by default.
+    #[serde(default)]
+    pub smooth_film: bool,
+    /// The liner's share of the composite roughness σ², σ_liner²/σ² (0 to 1), which sets
+    /// the shear flow's weight; default a plateau-honed liner's 0.25 µm against a lapped
+    /// ring's 0.15 µm (0.735).
+    pub liner_roughness_share: Option<f64>,
 }
 
 impl ContactFile {
@@ -56,9 +65,27 @@ impl ContactFile {
         })
     }
 
+    /// The film's flow factors with composite roughness `sigma_um` (µm), None for a smooth
+    /// film (docs/model.md §11, "Flow factors").
+    pub fn flow_factors(&self, sigma_um: f64) -> Option<FlowFactors> {
+        (!self.smooth_film).then(|| {
+            let share = self.liner_roughness_share.unwrap_or(LINER_ROUGHNESS_SHARE);
+            FlowFactors::new(sigma_um, share)
+        })
+    }
+
     /// Each given constant within its plausible range (docs/model.md §11), else an error
     /// naming the key.
     fn check(&self) -> Result<(), EngineError> {
+        if let Some(s) = self.liner_roughness_share {
+            if !(0.0..=1.0).contains(&s) {
+                return Err(err(
+                    "[contact] liner_roughness_share",
+                    short(s),
+                    "must lie in [0, 1]: the liner's share of σ² = σ_ring² + σ_liner²",
+                ));
+            }
+        }
         let Some(a) = self.asperity(0.3) else {
             return Ok(());
         };
@@ -664,6 +691,21 @@ impl Engine {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_film_is_rough_unless_the_file_says_smooth() {
+        let mut c = ContactFile::default();
+        let f = c.flow_factors(0.4).unwrap();
+        assert_eq!(f.sigma_um, 0.4);
+        // w = 2·share − 1 with the default share 0.25²/(0.25² + 0.15²).
+        assert!((f.sliding_rougher - 0.04 / 0.085).abs() < 1e-15);
+        c.liner_roughness_share = Some(0.5);
+        assert_eq!(c.flow_factors(0.4).unwrap().sliding_rougher, 0.0);
+        c.liner_roughness_share = Some(f64::NAN);
+        assert!(c.check().is_err());
+        c.smooth_film = true;
+        assert_eq!(c.flow_factors(0.4), None);
+    }
 
     /// The example engine of `study::engine_file`'s tests, with these zones.
     fn example(zones: Zones) -> EngineFile {

@@ -21,8 +21,13 @@
 /// Boundary data along x1 (docs/model.md §3).
 #[derive(Clone, Copy, Debug)]
 pub struct Boundary {
-    /// Liner speed u (≥ 0; u = 1 in the paper).
+    /// Liner speed u (≥ 0; u = 1 in the paper) of the Couette flux (u/2)·φ the stencil
+    /// carries: 0 where the old level carries it (the characteristic scheme).
     pub u: f64,
+    /// Liner speed of a rough film's share of the Couette flux, (u/2)·(κ − 1)·φ
+    /// (docs/model.md §11, "Flow factors"): the liner's speed in every time scheme, as no old
+    /// level carries it. Unused on a smooth film.
+    pub u_rough: f64,
     /// Pressure at x1 = 0 and at x1 = length (0 in the paper).
     pub p_left: f64,
     pub p_right: f64,
@@ -69,35 +74,33 @@ impl Boundary {
 #[inline(always)]
 pub fn face_conductance(a: f64, b: f64, s: f64) -> f64 {
     let hf = 0.5 * (a + b);
-    #[cfg(feature = "flow-factors")]
-    let s = s * super::flow_factors::pressure_flow(hf).0;
     hf * hf * hf * s
 }
 
 /// Mass flux of φ through an x1 face per unit width (docs/model.md §3): the upwind Couette
-/// part (u/2)·φ_upstream and the centred Poiseuille part −(h_f³/2)·∂p/∂x1.
+/// part (u/2)·φ_upstream and the centred Poiseuille part −(h_f³/2)·∂p/∂x1 (a rough film's
+/// pressure flow factor φx is in `dp`, its shear flow in the caller's content: §11).
 #[inline]
 pub fn x1_flux(u: f64, phi_upstream: f64, h_face: f64, dp: f64, dx: f64) -> f64 {
-    #[cfg(feature = "flow-factors")]
-    let dp = dp * super::flow_factors::pressure_flow(h_face).0;
     0.5 * u * phi_upstream - 0.5 * h_face * h_face * h_face * dp / dx
 }
 
 /// Face conductances of a mesh: `cx[i·n2 + j]` of the x1 face east of node (i, j),
-/// `cy[i·(n2 − 1) + j]` of the x2 face north of node (i, j); and `kappa`, per node, the
-/// factor κ of the film content in the Couette flux (u/2)·κ·φ, empty where it is 1 (always,
-/// but with the experimental flow factors: `model::flow_factors::couette_content_factor`).
+/// `cy[i·(n2 − 1) + j]` of the x2 face north of node (i, j); and `rough`, per node, the
+/// coefficient u·dy·(κ − 1) of the rough film's share of the Couette flux (u/2)·κ·φ, which
+/// the stencil carries in every time scheme (docs/model.md §11, "Flow factors"); empty for a
+/// smooth film (κ = 1).
 #[derive(Clone, Copy)]
 pub struct Faces<'a> {
     pub cx: &'a [f64],
     pub cy: &'a [f64],
-    pub kappa: &'a [f64],
+    pub rough: &'a [f64],
 }
 
 impl<'a> Faces<'a> {
-    /// Conductances with κ = 1.
+    /// Conductances of a smooth film.
     pub fn new(cx: &'a [f64], cy: &'a [f64]) -> Self {
-        Faces { cx, cy, kappa: &[] }
+        Faces { cx, cy, rough: &[] }
     }
 }
 
@@ -117,9 +120,10 @@ pub struct Column<'a> {
     pub cx_w: &'a [f64],
     pub cx_e: &'a [f64],
     pub cy: &'a [f64],
-    /// κ of columns i − 1 and i ([`Faces::kappa`]); empty where it is 1.
-    pub kappa_w: &'a [f64],
-    pub kappa: &'a [f64],
+    /// The rough film's Couette coefficients of columns i − 1 and i ([`Faces::rough`]);
+    /// empty for a smooth film.
+    pub rough_w: &'a [f64],
+    pub rough: &'a [f64],
 }
 
 impl<'a> Column<'a> {
@@ -145,14 +149,15 @@ impl<'a> Column<'a> {
             cx_w: &f.cx[w..c],
             cx_e: &f.cx[c..e],
             cy: &f.cy[i * (n2 - 1)..(i + 1) * (n2 - 1)],
-            kappa_w: f.kappa.get(w..c).unwrap_or(&[]),
-            kappa: f.kappa.get(c..e).unwrap_or(&[]),
+            rough_w: f.rough.get(w..c).unwrap_or(&[]),
+            rough: f.rough.get(c..e).unwrap_or(&[]),
         }
     }
 
     /// The stencil at node (i, j): −(discrete film equation), i.e. the mass balance
     /// Σ_faces c·(p_ij − p_nb) + adv·(φ_ij − φ_{i−1,j}) + at·(φ_ij − φ_old,ij) with
-    /// adv = u·dy and at = 2·dx·dy/dt (0 when steady). It is (−2)× [net outflow + cell area ·
+    /// adv = u·dy and at = 2·dx·dy/dt (0 when steady), and on a rough film
+    /// r_ij·φ_ij − r_{i−1,j}·φ_{i−1,j} with r = u·dy·(κ − 1) ([`Faces::rough`]). It is (−2)× [net outflow + cell area ·
     /// ∂φ/∂t] of the control volume (docs/model.md §3).
     #[inline(always)]
     pub fn balance(&self, adv: f64, at: f64, j: usize) -> f64 {
@@ -171,11 +176,10 @@ impl<'a> Column<'a> {
         if j + 1 < n2 {
             r += self.cy[j] * (pk - self.p[j + 1]);
         }
-        r += if self.kappa.is_empty() {
-            adv * (phi_j - self.phi_w[j])
-        } else {
-            adv * (self.kappa[j] * phi_j - self.kappa_w[j] * self.phi_w[j])
-        };
+        r += adv * (phi_j - self.phi_w[j]);
+        if !self.rough.is_empty() {
+            r += self.rough[j] * phi_j - self.rough_w[j] * self.phi_w[j];
+        }
         r += at * phi_j;
         if let Some(old) = self.old {
             r -= at * old[j];
@@ -183,14 +187,14 @@ impl<'a> Column<'a> {
         r
     }
 
-    /// κ of node (i, j) and of the node upstream: the factors of ∂(balance)/∂φ through the
-    /// Couette flux, adv·κ.
+    /// ∂(balance)/∂φ through the Couette flux of node (i, j) and (negated) of the node
+    /// upstream: adv, plus r on a rough film.
     #[inline(always)]
-    pub fn content_factors(&self, j: usize) -> (f64, f64) {
-        if self.kappa.is_empty() {
-            (1.0, 1.0)
+    pub fn couette_slopes(&self, adv: f64, j: usize) -> (f64, f64) {
+        if self.rough.is_empty() {
+            (adv, adv)
         } else {
-            (self.kappa[j], self.kappa_w[j])
+            (adv + self.rough[j], adv + self.rough_w[j])
         }
     }
 
@@ -234,6 +238,7 @@ mod tests {
     fn the_cavity_pressure_split_mirrors_with_the_sides() {
         let bc = Boundary {
             u: 1.0,
+            u_rough: 1.0,
             p_left: 3.0,
             p_right: 1.0,
             phi_inlet: 1.0,

@@ -6,7 +6,6 @@ pub mod asperity;
 pub mod case;
 pub mod engine;
 pub mod film;
-#[cfg(feature = "flow-factors")]
 pub mod flow_factors;
 pub mod friction;
 pub mod geometry;

@@ -138,6 +138,8 @@ pub fn points(s: &CycleSettings, step: f64) -> Vec<Point> {
             if excluded.is_none() {
                 op.apply(&mut base);
                 s.search.validity.apply(&mut base);
+                // The transient cycle's film, rough unless the engine file says smooth.
+                base.flow = e.file.contact.flow_factors(s.search.validity.roughness_um);
             }
             Point {
                 sample,

@@ -2,6 +2,7 @@
 //! work over the cycle, the mean friction power and the least clearance; every crank angle
 //! with its operating point, its exclusion or its forces; the tables, JSON, CSV and figures.
 
+use crate::model::flow_factors::{film_label, FlowFactors};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -84,6 +85,8 @@ pub struct CycleReport {
     /// Share of the cycle's time, and of its sliding distance, outside the model.
     pub excluded_cycle_fraction: f64,
     pub excluded_sliding_fraction: f64,
+    /// The evaluated angles' film (docs/model.md §11, "Flow factors"), None when smooth.
+    pub flow_factors: Option<FlowFactors>,
     pub samples: Vec<SampleRow>,
     pub wall_time_s: f64,
 }
@@ -195,6 +198,7 @@ pub fn assemble(s: &CycleSettings, d: &Designs, ev: &LinerRuns, wall: f64) -> Cy
         liners,
         excluded_cycle_fraction: out.clone().count() as f64 / pts.len() as f64,
         excluded_sliding_fraction: out.map(|p| p.distance_m).sum::<f64>() / total,
+        flow_factors: pts.iter().find_map(|p| p.base.flow),
         samples,
         wall_time_s: wall,
     }
@@ -330,8 +334,9 @@ pub fn table(r: &CycleReport) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "texopt cycle {}: {} rpm, stroke {} mm; designed at {} every {}°, reported at {} every {}°\n",
-        r.name, r.rpm, r.stroke_mm, r.search_fidelity, r.design_step_deg, r.report_fidelity, r.step_deg
+        "texopt cycle {}: {} rpm, stroke {} mm; designed at {} every {}°, reported at {} every {}°, on {}\n",
+        r.name, r.rpm, r.stroke_mm, r.search_fidelity, r.design_step_deg, r.report_fidelity, r.step_deg,
+        film_label(r.flow_factors.as_ref())
     );
     let _ = writeln!(
         s,
@@ -606,6 +611,7 @@ mod tests {
             liners: vec![],
             excluded_cycle_fraction: 1.0,
             excluded_sliding_fraction: 1.0,
+            flow_factors: None,
             samples: vec![],
             wall_time_s: 1.0,
         };

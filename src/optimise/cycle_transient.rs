@@ -38,14 +38,7 @@ pub struct TransientLiners {
 /// The engine's ring with the engine file's contact and the settings' roughness
 /// (docs/model.md §11).
 pub fn ring_case(s: &CycleSettings, drive: &Drive) -> CaseSpec {
-    CaseSpec {
-        contact: s
-            .engine
-            .file
-            .contact
-            .asperity(s.search.validity.roughness_um),
-        ..drive.ring_case()
-    }
+    drive.ring_case_at(s.search.validity.roughness_um)
 }
 
 /// Runs the liner of zone `textures` through the cycle at `fidelity` until it repeats

@@ -13,8 +13,9 @@ use super::design_report::{csv_bytes, Column};
 use super::error::OptimiseError;
 use crate::model::case::Texture;
 use crate::model::engine::zone_label;
+use crate::model::flow_factors::{film_label, FlowFactors};
 use crate::plot::{self, Chart, Scale, Series, Style};
-use crate::time::cycle::{CycleMetrics, CycleRow, CycleSummary, Regime, SETTLE_CYCLES};
+use crate::time::cycle::{CycleMetrics, CycleRow, CycleSummary, Drive, Regime, SETTLE_CYCLES};
 
 const LINERS: [&str; 3] = ["plain liner", "uniform best", "zoned"];
 const KEPT: [&str; 3] = ["plain", "uniform", "zone design"];
@@ -69,6 +70,8 @@ pub struct TransientReport {
     pub iterations: u64,
     /// Share of the cycle outside the model: none, the dead centres included.
     pub excluded_cycle_fraction: f64,
+    /// The film's flow factors (docs/model.md §11), None for the film of smooth surfaces.
+    pub flow_factors: Option<FlowFactors>,
     /// The uniform texture kept (None: it does not beat the plain liner) and the one judged.
     pub uniform: Option<Texture>,
     pub uniform_searched: Option<Texture>,
@@ -142,6 +145,7 @@ pub fn assemble(s: &CycleSettings, d: &Designs, t: &TransientLiners, wall: f64) 
         particles: s.search.swarm.particles,
         iterations: s.search.swarm.iterations,
         excluded_cycle_fraction: 0.0,
+        flow_factors: super::cycle_transient::ring_case(s, &Drive::new(&s.engine)).flow,
         uniform: d.uniform.clone(),
         uniform_searched: d.uniform_candidate.clone(),
         zones,
@@ -164,13 +168,14 @@ pub fn table(r: &TransientReport) -> String {
     let mut o = String::new();
     let _ = writeln!(
         o,
-        "Engine `{}` at {} rpm, the cycle as one transient at {}{} (no crank angle excluded). Each zone's texture searched over the whole cycle at {} ({} particles × {} iterations, each candidate {} cycles from the plain liner's cyclic state).\n",
+        "Engine `{}` at {} rpm, the cycle as one transient at {}{} (no crank angle excluded), on {}. Each zone's texture searched over the whole cycle at {} ({} particles × {} iterations, each candidate {} cycles from the plain liner's cyclic state).\n",
         r.name,
         r.rpm,
         r.fidelity,
         r.mesh
             .as_ref()
             .map_or(String::new(), |m| format!(" on the mesh given, {m} (the tiers' errors do not hold)")),
+        film_label(r.flow_factors.as_ref()),
         r.search_fidelity,
         r.particles,
         r.iterations,

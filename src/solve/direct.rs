@@ -183,14 +183,21 @@ impl FilmSolver {
         );
         if let Some(zf) = plan.frozen {
             step.gap.fill(step.grid, zf, &mut self.jh);
-            face_conductances(step.grid, &self.jh, None, &mut self.jcx, &mut self.jcy);
+            face_conductances(
+                step.grid,
+                &self.jh,
+                None,
+                step.gap.flow.as_ref(),
+                &mut self.jcx,
+                &mut self.jcy,
+            );
         }
         let faces = self.gap.faces();
         let jfaces = match plan.frozen {
             Some(_) => Faces {
                 cx: &self.jcx,
                 cy: &self.jcy,
-                kappa: faces.kappa,
+                rough: faces.rough,
             },
             None => faces,
         };
@@ -215,7 +222,7 @@ impl FilmSolver {
                     step,
                     state,
                     self.gap.h(),
-                    self.gap.faces().kappa,
+                    self.gap.faces().rough,
                     range,
                     &mut self.ring,
                     &mut self.rhs2,
@@ -324,6 +331,7 @@ mod tests {
         let gap = Gap {
             base,
             ring: vec![false; 17],
+            flow: None,
         };
         let phi_old = vec![1.0; 17];
         let step = Step {
@@ -333,6 +341,7 @@ mod tests {
             inv_dt: 0.0,
             boundary: Boundary {
                 u: 1.0,
+                u_rough: 1.0,
                 p_left: 0.0,
                 p_right: 0.0,
                 phi_inlet: 1.0,

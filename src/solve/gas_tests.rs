@@ -13,6 +13,7 @@ use crate::model::ring::RingLink;
 fn gas(u: f64, phi_inlet: f64, left: f64, right: f64) -> Boundary {
     Boundary {
         u,
+        u_rough: u,
         p_left: left,
         p_right: right,
         phi_inlet,
@@ -132,8 +133,6 @@ fn a_common_gas_pressure_shifts_a_textured_transient_with_the_ring_free() {
     assert!(ephi <= 1e-9, "φ off by {ephi:e}");
 }
 
-// The smooth film's h³ conductance: the flow factors (docs/model.md §11) change it.
-#[cfg(not(feature = "flow-factors"))]
 #[test]
 fn a_gas_pressure_difference_drives_the_poiseuille_flow_through_a_flat_ring() {
     // A flat ring (uniform gap Z under it), flooded, no sliding, steady: the full film carries
@@ -238,7 +237,7 @@ fn a_starved_inlet_at_gas_pressure_stays_starved() {
     assert!(2 * first < g.n1 && 2 * last > g.n1);
     assert!(st.p[first] >= p_gas * (1.0 - 1e-12));
     assert!((last + 1..g.n1).all(|i| st.p[i] == 0.0 && !st.pressurised[i]));
-    let (inflow, outflow) = boundary_flows(g, &scene.gap, z, 1.0, &st);
+    let (inflow, outflow) = boundary_flows(g, &scene.gap, z, (1.0, 1.0), &st);
     assert!((inflow - 0.5 * d_oil).abs() <= 1e-12 * d_oil);
     assert!(
         (inflow - outflow).abs() <= 1e-10 * inflow,

@@ -15,6 +15,7 @@ use super::{Stencil5, Step};
 use crate::mesh::integrals::{contact_load, load};
 use crate::mesh::{FilmState, Grid};
 use crate::model::film::{Column, Faces};
+use crate::model::flow_factors::FlowFactors;
 use crate::model::ring::RingLink;
 
 /// Switching threshold of the active set, relative to the largest pressure: round-off.
@@ -65,7 +66,7 @@ pub fn upwind_sweep(
         let col = Column::new(n2, faces, &state.p, done, phi_old, i);
         for (j, phi) in rest[..n2].iter_mut().enumerate() {
             let r = col.balance_with(adv, at, j, *phi);
-            *phi -= r / (adv * col.content_factors(j).0 + at);
+            *phi -= r / (col.couette_slopes(adv, j).0 + at);
         }
     }
 }
@@ -110,14 +111,10 @@ pub fn assemble(
             let ce = cx_e[j];
             let cs = if j > 0 { cy[j - 1] } else { 0.0 };
             let cn = if j + 1 < n2 { cy[j] } else { 0.0 };
-            // Diagonal: ∂F/∂p_ij = Σc on the pressurised set, ∂F/∂φ_ij = adv + at on the
-            // cavitated set.
-            let (kappa, kappa_w) = col.content_factors(j);
-            ac[j] = if pr[j] {
-                cw + ce + cs + cn
-            } else {
-                adv * kappa + at
-            };
+            // Diagonal: ∂F/∂p_ij = Σc on the pressurised set, ∂F/∂φ_ij = adv (+ r) + at on
+            // the cavitated set.
+            let (slope, slope_w) = col.couette_slopes(adv, j);
+            ac[j] = if pr[j] { cw + ce + cs + cn } else { slope + at };
             // Off-diagonals depend on the neighbour's unknown only: its pressure enters
             // through −c, the upstream φ through −adv, downstream φ not at all.
             aw[j] = if i == lo {
@@ -125,7 +122,7 @@ pub fn assemble(
             } else if pr_w[j] {
                 -cw
             } else {
-                -(adv * kappa_w)
+                -slope_w
             };
             let coupled = |on: bool, c: f64| if on { -c } else { 0.0 };
             ae[j] = coupled(i < hi && pr_e[j], ce);
@@ -143,27 +140,26 @@ pub struct RingWork {
     dphi: Vec<f64>,
 }
 
-/// d(h_f³)/dh_f = 3·h_f², with the pressure flow factor d(φx·h_f³)/dh_f (docs/model.md §11,
-/// "Flow factors").
+/// d(h_f³)/dh_f = 3·h_f², on a rough film d(φx·h_f³)/dh_f (docs/model.md §11, "Flow
+/// factors").
 #[inline(always)]
-fn conductance_slope(hf: f64) -> f64 {
-    #[cfg(feature = "flow-factors")]
-    {
-        let (phi, slope) = crate::model::flow_factors::pressure_flow(hf);
-        3.0 * hf * hf * phi + hf * hf * hf * slope
-    }
-    #[cfg(not(feature = "flow-factors"))]
-    {
-        3.0 * hf * hf
+fn conductance_slope(hf: f64, flow: Option<&FlowFactors>) -> f64 {
+    match flow {
+        None => 3.0 * hf * hf,
+        Some(f) => {
+            let (phi, slope) = f.pressure_flow(hf);
+            3.0 * hf * hf * phi + hf * hf * hf * slope
+        }
     }
 }
 
 /// ∂(face conductance)/∂Z = 3·h_f²·∂h_f/∂Z·(geometry factor), ∂h_f/∂Z the mean of the nodal
-/// ∂h/∂Z (1 under the ring, 0 elsewhere).
+/// ∂h/∂Z (1 under the ring, 0 elsewhere); `flow`: a rough film's flow factors.
 pub fn face_conductance_derivatives(
     g: &Grid,
     h: &[f64],
     ring: &[bool],
+    flow: Option<&FlowFactors>,
     dcx: &mut Vec<f64>,
     dcy: &mut Vec<f64>,
 ) {
@@ -182,14 +178,14 @@ pub fn face_conductance_derivatives(
         if i < n1 && (ring[i] || ring[i + 1]) {
             for k in i * n2..(i + 1) * n2 {
                 let hf = 0.5 * (h[k] + h[k + n2]);
-                dcx[k] = conductance_slope(hf) * 0.5 * (dz(i) + dz(i + 1)) * sx;
+                dcx[k] = conductance_slope(hf, flow) * 0.5 * (dz(i) + dz(i + 1)) * sx;
             }
         }
         if ring[i] {
             for j in 0..n2.saturating_sub(1) {
                 let k = i * n2 + j;
                 let hf = 0.5 * (h[k] + h[k + 1]);
-                dcy[i * (n2 - 1) + j] = conductance_slope(hf) * dz(i) * sy;
+                dcy[i * (n2 - 1) + j] = conductance_slope(hf, flow) * dz(i) * sy;
             }
         }
     }
@@ -202,7 +198,7 @@ pub fn ring_sensitivity(
     step: &Step,
     state: &FilmState,
     h: &[f64],
-    kappa: &[f64],
+    rough: &[f64],
     (lo, hi): (usize, usize),
     work: &mut RingWork,
     rhs: &mut Vec<f64>,
@@ -211,7 +207,8 @@ pub fn ring_sensitivity(
     let n2 = g.n2;
     let (adv, at) = step.coefficients();
     let cols = ring_columns(step);
-    face_conductance_derivatives(g, h, ring, &mut work.dcx, &mut work.dcy);
+    let flow = step.gap.flow.as_ref();
+    face_conductance_derivatives(g, h, ring, flow, &mut work.dcx, &mut work.dcy);
     // φ' is read only in the columns that see Z and the one upstream of them.
     work.dphi.resize(ring.len() * n2, 0.0);
     let read = cols.start.saturating_sub(1)..cols.end.min(ring.len());
@@ -222,12 +219,12 @@ pub fn ring_sensitivity(
             *d = if pr && ring[i] { 1.0 } else { 0.0 };
         }
     }
-    // With the flow factors' κ, d(κφ)/dZ is taken as κ·φ': its κ'(h)·φ is left out of this
-    // Jacobian column (the iteration still converges to the same balance, only slower).
+    // On a rough film d(κφ)/dZ is taken as κ·φ': its κ'(h)·φ is left out of this Jacobian
+    // column (the iteration still converges to the same balance, only slower).
     let dfaces = Faces {
         cx: &work.dcx,
         cy: &work.dcy,
-        kappa,
+        rough,
     };
     rhs.clear();
     rhs.resize((hi - lo + 1) * n2, 0.0);

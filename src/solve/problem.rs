@@ -5,6 +5,7 @@ use super::{FilmError, SolveStats, Step};
 use crate::mesh::integrals::{contact_load, load};
 use crate::mesh::{face_conductances, FilmState, Grid};
 use crate::model::film::{Column, Faces};
+use crate::model::flow_factors::FlowFactors;
 
 /// Largest excursion of θ outside [0, 1] taken for round-off.
 const THETA_ROUND_OFF: f64 = 1e-9;
@@ -22,8 +23,9 @@ pub struct GapCache {
     faces_fresh: bool,
     cx: Vec<f64>,
     cy: Vec<f64>,
-    /// κ per node, empty where it is 1 ([`Faces::kappa`]).
-    kappa: Vec<f64>,
+    /// A rough film's Couette coefficients per node, empty for a smooth one
+    /// ([`Faces::rough`]).
+    rough: Vec<f64>,
 }
 
 impl GapCache {
@@ -44,7 +46,7 @@ impl GapCache {
         Faces {
             cx: &self.cx,
             cy: &self.cy,
-            kappa: &self.kappa,
+            rough: &self.rough,
         }
     }
 
@@ -67,21 +69,42 @@ impl GapCache {
         self.h_at = Some(z);
     }
 
-    /// The face conductances of the gap held: all of them at a problem's first call,
-    /// afterwards only those under the ring (elsewhere h does not depend on Z).
+    /// The face conductances of the gap held (and a rough film's Couette coefficients): all
+    /// of them at a problem's first call, afterwards only those under the ring (elsewhere h
+    /// does not depend on Z).
     pub fn refresh_faces(&mut self, step: &Step) {
         let only_ring = self.faces_fresh.then_some(&step.gap.ring[..]);
-        face_conductances(step.grid, &self.h, only_ring, &mut self.cx, &mut self.cy);
-        #[cfg(feature = "flow-factors")]
-        {
-            self.kappa.clear();
-            self.kappa.extend(
-                self.h
-                    .iter()
-                    .map(|&h| crate::model::flow_factors::couette_content_factor(h)),
-            );
+        let flow = step.gap.flow.as_ref();
+        face_conductances(
+            step.grid,
+            &self.h,
+            only_ring,
+            flow,
+            &mut self.cx,
+            &mut self.cy,
+        );
+        match flow {
+            None => self.rough.clear(),
+            Some(f) => self.refresh_rough(step, f),
         }
         self.faces_fresh = true;
+    }
+
+    /// r = u·dy·(κ − 1) per node (docs/model.md §11, "Flow factors"), at the liner's own
+    /// speed whatever the scheme carries; only under the ring once the problem's are set.
+    fn refresh_rough(&mut self, step: &Step, f: &FlowFactors) {
+        let (g, ring) = (step.grid, &step.gap.ring);
+        let adv = step.boundary.u_rough * g.dy;
+        let fresh = self.faces_fresh && self.rough.len() == self.h.len();
+        self.rough.resize(self.h.len(), 0.0);
+        for (i, &under) in ring.iter().enumerate() {
+            if under || !fresh {
+                let span = i * g.n2..(i + 1) * g.n2;
+                for (r, &h) in self.rough[span.clone()].iter_mut().zip(&self.h[span]) {
+                    *r = adv * f.couette_excess(h);
+                }
+            }
+        }
     }
 
     /// The gap at Z and its face conductances; a closed gap is an error.

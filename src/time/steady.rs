@@ -41,7 +41,7 @@ pub fn solve_untextured(case: &CaseSpec, n1: usize) -> Result<Steady, SteadyErro
     c.texture = None;
     let contact = c.contact();
     let length = contact.length_cm;
-    let scene = Scene::with_grid(contact, Grid::new(n1, 1, length, 1.0), case.u);
+    let scene = Scene::with_grid(contact, Grid::new(n1, 1, length, 1.0), case.u, case.flow);
     let g = &scene.grid;
     let phi_old = vec![0.0; g.nodes()];
     let step = Step {

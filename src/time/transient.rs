@@ -313,6 +313,7 @@ impl Transient {
     fn film_boundary(&self, op: &OperatingPoint) -> Boundary {
         let mut b = Boundary {
             u: op.u,
+            u_rough: op.u,
             phi_inlet: op.d_oil,
             ..self.case.film_boundary()
         };
@@ -545,7 +546,7 @@ impl Transient {
             g,
             &self.scene.gap,
             self.ring_state.z,
-            self.operating_point().u,
+            (self.operating_point().u, self.operating_point().u),
             &self.state,
         );
         (content, inflow.abs().max(outflow.abs()))
@@ -570,7 +571,15 @@ impl Transient {
             * g.dy;
         // BDF2: 1.5·Σ(φⁿ⁺¹ − (4φⁿ − φⁿ⁻¹)/3)·area is what a step holds to the flows.
         let change = self.levels.scale(dt).map_or(change, |s| change * s);
-        let flows = |u: f64| boundary_flows(g, &self.scene.gap, self.ring_state.z, u, &self.state);
+        let flows = |u: f64| {
+            boundary_flows(
+                g,
+                &self.scene.gap,
+                self.ring_state.z,
+                (u, op.u),
+                &self.state,
+            )
+        };
         // The stencil's flows (without the Couette flux when the old level carries it)
         // balance the change; the film's own flows give the scale.
         let (inflow, outflow) = flows(self.film_boundary(op).u);

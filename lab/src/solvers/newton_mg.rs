@@ -144,7 +144,7 @@ impl NewtonMultigrid {
                             step,
                             state,
                             self.gap.h(),
-                            self.gap.faces().kappa,
+                            self.gap.faces().rough,
                             r,
                             &mut self.ring,
                             &mut self.rhs2,

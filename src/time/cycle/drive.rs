@@ -6,7 +6,7 @@
 use super::oil::Ahead;
 use crate::model::case::CaseSpec;
 use crate::model::engine::Engine;
-use crate::model::operating::Scales;
+use crate::model::operating::{Scales, COMPOSITE_ROUGHNESS_UM};
 
 /// The engine's cycle as the ring's film sees it. Scales: the mean piston speed
 /// U = 2·stroke·rpm/60 and the oil's viscosity (docs/model.md §12): the speed scale stays
@@ -81,17 +81,25 @@ impl Drive {
     }
 
     /// The engine's ring as a case in the drive's scales (docs/model.md §1, §12): its face
-    /// radius, width and mass, the default asperity contact; the operating point is the
-    /// drive's at each step.
-    pub fn ring_case(&self) -> CaseSpec {
+    /// radius, width and mass, the engine file's asperity contact and film (flow factors) at
+    /// composite roughness `sigma_um` (µm); the operating point is the drive's at each step.
+    pub fn ring_case_at(&self, sigma_um: f64) -> CaseSpec {
         let ring = &self.engine.file.ring;
+        let contact = &self.engine.file.contact;
         let s = self.scales;
         CaseSpec {
             ring_width: ring.width_mm / 10.0,
             mass: ring.mass_kg_per_m / s.mass_kg_per_m(),
             scales: s,
+            contact: contact.asperity(sigma_um),
+            flow: contact.flow_factors(sigma_um),
             ..CaseSpec::paper(ring.r_cm)
         }
+    }
+
+    /// [`Drive::ring_case_at`] the default composite roughness (docs/model.md §9).
+    pub fn ring_case(&self) -> CaseSpec {
+        self.ring_case_at(COMPOSITE_ROUGHNESS_UM)
     }
 
     pub fn engine(&self) -> &Engine {

@@ -425,7 +425,8 @@ fn film_scene(case: &CaseSpec, numerics: &CycleNumerics, width: Option<f64>) -> 
     let contact = case.contact();
     let length = contact.length_cm;
     let (n2, half) = width.map_or((1, 1.0), |w| (numerics.n2, 0.5 * w));
-    Scene::with_grid(contact, Grid::new(numerics.n1, n2, length, half), 1.0)
+    let grid = Grid::new(numerics.n1, n2, length, half);
+    Scene::with_grid(contact, grid, 1.0, case.flow)
 }
 
 /// Film content `phi` on scene `from` carried onto scene `to` (the same node columns) with
@@ -603,7 +604,7 @@ impl CycleRun<'_> {
         self.st.film.last_share = share;
         self.st.film.ring = ring.advance(&s, dt, z, stats.w_h + stats.w_a);
         // Oil in and out over the step: the stencil's flows, and the shifted Couette content.
-        let (inflow, outflow) = self.flows(old.stencil_u, z);
+        let (inflow, outflow) = self.flows((old.stencil_u, u.abs()), z);
         let (inflow, outflow) = (dt * inflow + old.carried.0, dt * outflow + old.carried.1);
         self.check_mass(
             film_before,
@@ -714,6 +715,7 @@ impl CycleRun<'_> {
         };
         Boundary {
             u,
+            u_rough: u,
             p_left,
             p_right,
             phi_inlet,
@@ -723,8 +725,9 @@ impl CycleRun<'_> {
     }
 
     /// Oil flow rates into and out of the film (per unit circumferential length, through the
-    /// faces next to the domain's ends).
-    fn flows(&self, u: f64, z: f64) -> (f64, f64) {
+    /// faces next to the domain's ends): the stencil's, at liner speeds `u`
+    /// ([`boundary_flows`]).
+    fn flows(&self, u: (f64, f64), z: f64) -> (f64, f64) {
         let g = &self.st.film.scene.grid;
         let (i, o) = boundary_flows(g, &self.st.film.scene.gap, z, u, &self.st.film.state);
         (i / g.width, o / g.width)
