@@ -303,6 +303,37 @@ mod tests {
     }
 
     #[test]
+    fn a_rough_film_carries_kappa_phi_whichever_part_the_old_level_carries() {
+        // Column 1 of a rough film, κ per node: the stencil at liner speed u (adv = u·dy,
+        // r = u·dy·(κ − 1)) carries (u/2)·κ·φ; with adv = 0 (the old level carrying (u/2)·φ)
+        // it keeps the roughness's part (u/2)·(κ − 1)·φ alone.
+        let n2 = 3;
+        let (p, phi) = block(n2, |_, _| 0.0, |i, j| 1.0 + 0.2 * i as f64 + 0.1 * j as f64);
+        let kappa = |i: usize, j: usize| 1.05 + 0.01 * (i + j) as f64;
+        let (u, dy) = (1.3, 0.25);
+        let rough: Vec<f64> = (0..3 * n2)
+            .map(|k| u * dy * (kappa(k / n2, k % n2) - 1.0))
+            .collect();
+        let (cx, cy) = (vec![0.0; 3 * n2], vec![0.0; 3 * (n2 - 1)]);
+        let faces = Faces {
+            cx: &cx,
+            cy: &cy,
+            rough: &rough,
+        };
+        let col = Column::new(n2, &faces, &p, &phi, None, 1);
+        for j in 0..n2 {
+            let (kp, kw) = (kappa(1, j), kappa(0, j));
+            let (fp, fw) = (phi[n2 + j], phi[j]);
+            let full = u * dy * (kp * fp - kw * fw);
+            assert!((col.balance(u * dy, 0.0, j) - full).abs() < 1e-14, "{j}");
+            let part = u * dy * ((kp - 1.0) * fp - (kw - 1.0) * fw);
+            assert!((col.balance(0.0, 0.0, j) - part).abs() < 1e-14, "{j}");
+            let (s, sw) = col.couette_slopes(u * dy, j);
+            assert!((s - u * dy * kp).abs() < 1e-14 && (sw - u * dy * kw).abs() < 1e-14);
+        }
+    }
+
+    #[test]
     fn the_stencil_is_symmetric_across_x2() {
         // Fields mirrored about the middle row give mirrored balances.
         let n2 = 5;
