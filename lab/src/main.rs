@@ -9,6 +9,7 @@
 //!     texopt-lab shear-threshold
 //!     texopt-lab cycle-steps
 //!     texopt-lab cycle-contact
+//!     texopt-lab rim-1d
 
 use texopt_lab::studies;
 
@@ -25,8 +26,9 @@ fn main() {
         Some("shear-threshold") => studies::shear_threshold::main(rest),
         Some("cycle-steps") => studies::cycle_steps::main(rest),
         Some("cycle-contact") => studies::cycle_contact::main(rest),
+        Some("rim-1d") => studies::rim_1d::main(rest),
         _ => Err(
-            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | cycle-steps | cycle-contact | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
+            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | cycle-steps | cycle-contact | rim-1d | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
                 .into(),
         ),
     };
