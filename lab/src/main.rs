@@ -10,6 +10,7 @@
 //!     texopt-lab cycle-steps
 //!     texopt-lab cycle-contact
 //!     texopt-lab rim-1d
+//!     texopt-lab rim-2d
 
 use texopt_lab::studies;
 
@@ -27,8 +28,9 @@ fn main() {
         Some("cycle-steps") => studies::cycle_steps::main(rest),
         Some("cycle-contact") => studies::cycle_contact::main(rest),
         Some("rim-1d") => studies::rim_1d::main(rest),
+        Some("rim-2d") => studies::rim_2d::main(rest),
         _ => Err(
-            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | cycle-steps | cycle-contact | rim-1d | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
+            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | cycle-steps | cycle-contact | rim-1d | rim-2d | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
                 .into(),
         ),
     };

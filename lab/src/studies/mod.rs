@@ -6,6 +6,7 @@ pub mod cycle_steps;
 pub mod deep_pockets;
 pub mod references;
 pub mod rim_1d;
+pub mod rim_2d;
 pub mod shear_threshold;
 pub mod speed;
 pub mod stability;
