@@ -11,6 +11,7 @@
 //!     texopt-lab cycle-contact
 //!     texopt-lab rim-1d
 //!     texopt-lab rim-2d
+//!     texopt-lab rim-moving
 
 use texopt_lab::studies;
 
@@ -29,8 +30,9 @@ fn main() {
         Some("cycle-contact") => studies::cycle_contact::main(rest),
         Some("rim-1d") => studies::rim_1d::main(rest),
         Some("rim-2d") => studies::rim_2d::main(rest),
+        Some("rim-moving") => studies::rim_moving::main(rest),
         _ => Err(
-            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | cycle-steps | cycle-contact | rim-1d | rim-2d | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
+            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | cycle-steps | cycle-contact | rim-1d | rim-2d | rim-moving | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
                 .into(),
         ),
     };

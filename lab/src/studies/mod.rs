@@ -7,6 +7,7 @@ pub mod deep_pockets;
 pub mod references;
 pub mod rim_1d;
 pub mod rim_2d;
+pub mod rim_moving;
 pub mod shear_threshold;
 pub mod speed;
 pub mod stability;

@@ -279,7 +279,12 @@ fn solve_cavitating(groove: Groove, flux: Flux, n: usize) -> Result<(Vec<f64>, f
 }
 
 /// Solves the tridiagonal system (lower, diag, upper)·x = rhs (Thomas algorithm).
-fn thomas(lower: Vec<f64>, mut diag: Vec<f64>, upper: Vec<f64>, mut rhs: Vec<f64>) -> Vec<f64> {
+pub(crate) fn thomas(
+    lower: Vec<f64>,
+    mut diag: Vec<f64>,
+    upper: Vec<f64>,
+    mut rhs: Vec<f64>,
+) -> Vec<f64> {
     let m = diag.len();
     for k in 1..m {
         let w = lower[k] / diag[k - 1];
