@@ -213,43 +213,82 @@ fn exact(groove: Groove, n: usize) -> (Vec<f64>, f64) {
 /// equal to the full film's; in the cavitated film the content carried is then θ·K. Solved by
 /// active sets: each a tridiagonal system in p (full nodes) and θ (cavitated ones).
 fn solve_cavitating(groove: Groove, flux: Flux, n: usize) -> Result<(Vec<f64>, f64, f64), String> {
-    let faces: Vec<(f64, f64)> = (0..n).map(|i| flux.face(groove, n, i)).collect();
-    // K_i = 2a_i/u: the face's full-film content.
-    let k: Vec<f64> = faces.iter().map(|f| 2.0 * f.0 / U).collect();
-    let g: Vec<f64> = faces.iter().map(|f| f.1).collect();
-    let m = n - 1;
+    // (K_i, g_i) with K_i = 2a_i/u: the face's full-film content.
+    let faces: Vec<(f64, f64)> = (0..n)
+        .map(|i| flux.face(groove, n, i))
+        .map(|(a, g)| (2.0 * a / U, g))
+        .collect();
     let mut full = vec![true; n + 1];
-    let mut p = vec![0.0; n + 1];
-    for _ in 0..10 * n {
-        // Node i's balance: (u/2)(θ_i K_i − θ_{i−1} K_{i−1}) − g_i (p_{i+1} − p_i)
-        // + g_{i−1} (p_i − p_{i−1}) = 0, unknown p_i where full, θ_i where cavitated.
+    let (p, _) = active_set(&faces, None, &mut full, 10 * n).ok_or_else(|| {
+        format!(
+            "{}: the active set did not settle on {n} cells",
+            flux.name()
+        )
+    })?;
+    let q = 0.5 * U * faces[0].0 - faces[0].1 * p[1];
+    let cavitated = full[1..n].iter().filter(|&&f| !f).count() as f64 / (n - 1) as f64;
+    Ok((p, q, cavitated))
+}
+
+/// The storage of a time step: per node its storage gap s_i and old content, and dx/dt.
+pub(crate) struct Storage<'a> {
+    pub s: &'a [f64],
+    pub old: &'a [f64],
+    pub per_dt: f64,
+}
+
+/// The Elrod–Adams film of one problem on the faces (K_i, g_i) east of each node (n faces,
+/// p = 0 at both ends, θ_0 = 1), steady or with `storage`, from the active set `full`
+/// (updated): node i's balance (u/2)(θ_i K_i − θ_{i−1} K_{i−1}) − g_i (p_{i+1} − p_i) +
+/// g_{i−1} (p_i − p_{i−1}) (+ (θ_i s_i − old_i)·dx/dt) = 0, unknown p_i where full, θ_i
+/// where cavitated, one tridiagonal system per active set, at most `tries` of them. Returns
+/// the nodal pressures and the interior unknowns, None if the active set did not settle.
+pub(crate) fn active_set(
+    faces: &[(f64, f64)],
+    storage: Option<Storage>,
+    full: &mut [bool],
+    tries: usize,
+) -> Option<(Vec<f64>, Vec<f64>)> {
+    let n = faces.len();
+    let m = n - 1;
+    let store = storage.as_ref().map_or(0.0, |st| st.per_dt);
+    let stored = |i: usize| {
+        storage
+            .as_ref()
+            .map_or((0.0, 0.0), |st| (st.s[i], st.old[i]))
+    };
+    for _ in 0..tries {
         let (mut lower, mut diag, mut upper, mut rhs) =
             (vec![0.0; m], vec![0.0; m], vec![0.0; m], vec![0.0; m]);
         for r in 0..m {
             let i = r + 1;
+            let ((k, g), (kw, gw)) = (faces[i], faces[i - 1]);
+            let (si, old) = stored(i);
+            rhs[r] += old * store;
             // Own unknown: p_i (its constant θ_i K_i = K_i moved right) or θ_i.
             if full[i] {
-                diag[r] = g[i] + g[i - 1];
-                rhs[r] -= 0.5 * U * k[i];
+                diag[r] = g + gw;
+                rhs[r] -= 0.5 * U * k + si * store;
             } else {
-                diag[r] = 0.5 * U * k[i];
+                diag[r] = 0.5 * U * k + si * store;
             }
             // Upstream: the inlet (θ_0 = 1, p_0 = 0), a full node (θ = 1, its p) or a
             // cavitated one (its θ, p = 0).
             if i == 1 || full[i - 1] {
-                rhs[r] += 0.5 * U * k[i - 1];
+                rhs[r] += 0.5 * U * kw;
                 if i > 1 {
-                    lower[r] = -g[i - 1];
+                    lower[r] = -gw;
                 }
             } else {
-                lower[r] = -0.5 * U * k[i - 1];
+                lower[r] = -0.5 * U * kw;
             }
             // Downstream: only a full node's pressure enters (p_n = 0).
             if i < m && full[i + 1] {
-                upper[r] = -g[i];
+                upper[r] = -g;
             }
         }
         let x = thomas(lower, diag, upper, rhs);
+        let mut p = vec![0.0; n + 1];
         let mut changes = 0;
         for (r, &xr) in x.iter().enumerate() {
             let i = r + 1;
@@ -267,15 +306,19 @@ fn solve_cavitating(groove: Groove, flux: Flux, n: usize) -> Result<(Vec<f64>, f
             }
         }
         if changes == 0 {
-            let q = 0.5 * U * k[0] - g[0] * p[1];
-            let cavitated = full[1..n].iter().filter(|&&f| !f).count() as f64 / m as f64;
-            return Ok((p, q, cavitated));
+            return Some((p, x));
         }
     }
-    Err(format!(
-        "{}: the active set did not settle on {n} cells",
-        flux.name()
-    ))
+    None
+}
+
+/// " (order)" observed from the error `prev` on the previous mesh to `e` on this one, halved
+/// cells, or nothing where either is round-off or absent.
+pub(crate) fn observed_order(e: f64, prev: Option<f64>) -> String {
+    match prev {
+        Some(pr) if e > 1e-12 && pr > 1e-12 => format!(" ({:.2})", (pr / e).log2()),
+        _ => String::new(),
+    }
 }
 
 /// Solves the tridiagonal system (lower, diag, upper)·x = rhs (Thomas algorithm).
@@ -326,17 +369,13 @@ fn cavitating() -> Result<String, String> {
         for (k, f) in [Flux::Nodal, Flux::ExactTwoPoint].into_iter().enumerate() {
             let (p, q, _) = solve_cavitating(groove, f, n)?;
             let (eq, ew) = ((q / qr - 1.0).abs(), (load(&p) / wr - 1.0).abs());
-            let order = |e: f64, prev: Option<f64>| match prev {
-                Some(pr) if e > 1e-12 && pr > 1e-12 => format!(" ({:.2})", (pr / e).log2()),
-                _ => String::new(),
-            };
             let [lq, lw]: [Option<f64>; 2] =
                 last[k].map_or([None, None], |(a, b)| [Some(a), Some(b)]);
             let _ = write!(
                 md,
                 " {eq:.2e}{} | {ew:.2e}{} |",
-                order(eq, lq),
-                order(ew, lw)
+                observed_order(eq, lq),
+                observed_order(ew, lw)
             );
             last[k] = Some((eq, ew));
         }
@@ -374,15 +413,11 @@ pub fn main(_args: &[String]) -> Result<(), String> {
                     .zip(&pe)
                     .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
                     / pmax;
-                let order = |e: f64, prev: Option<f64>| match prev {
-                    Some(pr) if e > 1e-12 && pr > 1e-12 => format!(" ({:.2})", (pr / e).log2()),
-                    _ => String::new(),
-                };
                 let _ = write!(
                     md,
                     " {eq:.2e}{} | {ep:.2e}{} |",
-                    order(eq, last[k].map(|l| l.0)),
-                    order(ep, last[k].map(|l| l.1))
+                    observed_order(eq, last[k].map(|l| l.0)),
+                    observed_order(ep, last[k].map(|l| l.1))
                 );
                 last[k] = Some((eq, ep));
             }

@@ -20,6 +20,7 @@
 use std::fmt::Write as _;
 use std::fs;
 
+use super::rim_1d::observed_order;
 use texopt::solve::band::BandLu;
 use texopt::solve::Stencil5;
 
@@ -166,16 +167,12 @@ pub fn main(_args: &[String]) -> Result<(), String> {
         for (k, f) in [Faces::Nodal, Faces::Strips].into_iter().enumerate() {
             let (w, q) = solve(f, n1, n2)?;
             let (ew, eq) = ((w / wr - 1.0).abs(), (q / qr - 1.0).abs());
-            let order = |e: f64, prev: Option<f64>| match prev {
-                Some(pr) if e > 1e-12 && pr > 1e-12 => format!(" ({:.2})", (pr / e).log2()),
-                _ => String::new(),
-            };
             let (lw, lq) = last[k].map_or((None, None), |(a, b)| (Some(a), Some(b)));
             let _ = write!(
                 md,
                 " {ew:.2e}{} | {eq:.2e}{} |",
-                order(ew, lw),
-                order(eq, lq)
+                observed_order(ew, lw),
+                observed_order(eq, lq)
             );
             last[k] = Some((ew, eq));
             eprintln!("{} {n1}×{n2}: ∫∫|p| {w:.8} inflow {q:.8}", f.name());

@@ -20,7 +20,7 @@
 use std::fmt::Write as _;
 use std::fs;
 
-use super::rim_1d::thomas;
+use super::rim_1d::{active_set, observed_order, Storage};
 
 const U: f64 = 1.0;
 const LAND: f64 = 1.0;
@@ -156,66 +156,25 @@ fn step(
     full: &mut [bool],
 ) -> Result<(Vec<f64>, f64), String> {
     let (faces, s) = scheme.discretise(gap, n);
-    let dx = 1.0 / n as f64;
-    let m = n - 1;
-    let store = dx / dt;
-    for _ in 0..4 * n {
-        let (mut lower, mut diag, mut upper, mut rhs) =
-            (vec![0.0; m], vec![0.0; m], vec![0.0; m], vec![0.0; m]);
-        for r in 0..m {
-            let i = r + 1;
-            let (k, g) = faces[i];
-            let (kw, gw) = faces[i - 1];
-            rhs[r] += content[i] * store;
-            if full[i] {
-                diag[r] = g + gw;
-                rhs[r] -= 0.5 * U * k + s[i] * store;
-            } else {
-                diag[r] = 0.5 * U * k + s[i] * store;
-            }
-            if i == 1 || full[i - 1] {
-                rhs[r] += 0.5 * U * kw;
-                if i > 1 {
-                    lower[r] = -gw;
-                }
-            } else {
-                lower[r] = -0.5 * U * kw;
-            }
-            if i < m && full[i + 1] {
-                upper[r] = -g;
-            }
-        }
-        let x = thomas(lower, diag, upper, rhs);
-        let mut p = vec![0.0; n + 1];
-        let mut changes = 0;
-        for (r, &xr) in x.iter().enumerate() {
-            let i = r + 1;
-            let (value, leaves) = if full[i] {
-                (xr, xr < 0.0)
-            } else {
-                (0.0, xr > 1.0)
-            };
-            p[i] = value;
-            if leaves {
-                full[i] = !full[i];
-                changes += 1;
-            }
-        }
-        if changes == 0 {
-            for (r, &xr) in x.iter().enumerate() {
-                let i = r + 1;
-                content[i] = if full[i] { s[i] } else { xr * s[i] };
-            }
-            content[0] = s[0];
-            content[n] = content[n - 1].min(s[n]);
-            let inflow = 0.5 * U * faces[0].0 - faces[0].1 * p[1];
-            return Ok((p, inflow));
-        }
+    let storage = Storage {
+        s: &s,
+        old: content,
+        per_dt: (1.0 / n as f64) / dt,
+    };
+    let (p, x) = active_set(&faces, Some(storage), full, 4 * n).ok_or_else(|| {
+        format!(
+            "{}: the active set did not settle on {n} cells",
+            scheme.name()
+        )
+    })?;
+    for (r, &xr) in x.iter().enumerate() {
+        let i = r + 1;
+        content[i] = if full[i] { s[i] } else { xr * s[i] };
     }
-    Err(format!(
-        "{}: the active set did not settle on {n} cells",
-        scheme.name()
-    ))
+    content[0] = s[0];
+    content[n] = content[n - 1].min(s[n]);
+    let inflow = 0.5 * U * faces[0].0 - faces[0].1 * p[1];
+    Ok((p, inflow))
 }
 
 /// The last period's mean inflow and load, and the load's change from the period before.
@@ -275,16 +234,12 @@ pub fn main(_args: &[String]) -> Result<(), String> {
         {
             let (q, w, _) = run(s, n)?;
             let (eq, ew) = ((q / qr - 1.0).abs(), (w / wr - 1.0).abs());
-            let order = |e: f64, prev: Option<f64>| match prev {
-                Some(pr) if e > 1e-12 && pr > 1e-12 => format!(" ({:.2})", (pr / e).log2()),
-                _ => String::new(),
-            };
             let (lq, lw) = last[k].map_or((None, None), |(a, b)| (Some(a), Some(b)));
             let _ = write!(
                 md,
                 " {eq:.2e}{} | {ew:.2e}{} |",
-                order(eq, lq),
-                order(ew, lw)
+                observed_order(eq, lq),
+                observed_order(ew, lw)
             );
             last[k] = Some((eq, ew));
         }
