@@ -378,6 +378,7 @@ fn simulate(n: usize, dt: f64) -> Run {
         base: vec![h(0.0); n + 1],
         ring: vec![false; n + 1],
         flow: None,
+        rows: Default::default(),
     };
     let mut state = FilmState::flooded(&g, &gap, 0.0);
     state.p.fill(P0);

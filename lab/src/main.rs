@@ -12,6 +12,7 @@
 //!     texopt-lab rim-1d
 //!     texopt-lab rim-2d
 //!     texopt-lab rim-moving
+//!     texopt-lab rim-rows
 
 use texopt_lab::studies;
 
@@ -31,8 +32,9 @@ fn main() {
         Some("rim-1d") => studies::rim_1d::main(rest),
         Some("rim-2d") => studies::rim_2d::main(rest),
         Some("rim-moving") => studies::rim_moving::main(rest),
+        Some("rim-rows") => studies::rim_rows::main(rest),
         _ => Err(
-            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | cycle-steps | cycle-contact | rim-1d | rim-2d | rim-moving | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
+            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | cycle-steps | cycle-contact | rim-1d | rim-2d | rim-moving | rim-rows | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
                 .into(),
         ),
     };

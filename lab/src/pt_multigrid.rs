@@ -429,7 +429,7 @@ impl PtMultigrid {
         self.z = z;
         let f = &mut self.fine;
         self.gap.fill(&f.g, z, &mut f.h);
-        face_conductances(&f.g, &f.h, None, None, &mut f.cx, &mut f.cy);
+        face_conductances(&f.g, &f.h, None, &self.gap, &mut f.cx, &mut f.cy);
         let (n1, n2) = (f.g.n1, f.g.n2);
         for i in 1..n1 {
             for j in 0..n2 {

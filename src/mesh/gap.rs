@@ -1,7 +1,7 @@
 //! The gap h over the mesh as an affine function of the ring position Z (eq. 15,
 //! docs/model.md §2): only the node columns under the ring depend on Z.
 
-use super::Grid;
+use super::{Grid, Rows};
 use crate::model::flow_factors::FlowFactors;
 
 /// The gap at the new time level as an affine function of the ring position:
@@ -15,6 +15,9 @@ pub struct Gap {
     /// The surfaces' roughness as the film's flow sees it (docs/model.md §11, "Flow
     /// factors"); None: smooth surfaces.
     pub flow: Option<FlowFactors>,
+    /// The gap across each node's cell where it varies there (a pocket's rim); `base` holds
+    /// the cells' means.
+    pub rows: Rows,
 }
 
 impl Gap {
@@ -63,15 +66,30 @@ impl Gap {
         }
     }
 
-    /// The smallest gap without Z under the ring (∞ when no column lies under it).
+    /// The smallest gap without Z under the ring, over the samples across each cell (∞
+    /// when no column lies under it).
     pub fn ring_min_base(&self, grid: &Grid) -> f64 {
         let n2 = grid.n2;
-        self.ring
-            .iter()
-            .enumerate()
-            .filter(|(_, &under)| under)
-            .flat_map(|(i, _)| self.base[i * n2..(i + 1) * n2].iter().copied())
+        let ring = self.ring.iter().enumerate().filter(|(_, &under)| under);
+        if !self.rows.any() {
+            return ring
+                .flat_map(|(i, _)| self.base[i * n2..(i + 1) * n2].iter().copied())
+                .fold(f64::INFINITY, f64::min);
+        }
+        ring.flat_map(|(i, _)| i * n2..(i + 1) * n2)
+            .map(|k| self.base[k] + self.rows.min_dev(k))
             .fold(f64::INFINITY, f64::min)
+    }
+
+    /// A rough film's κ − 1 at node k of gap h̄ = `h` (docs/model.md §11): σφs(h)/h, over a
+    /// row that varies across its cell the samples' mean of σφs(h) over h̄ (the shear flow
+    /// each sample's film carries).
+    #[inline]
+    pub fn couette_excess(&self, f: &FlowFactors, k: usize, h: f64) -> f64 {
+        match self.rows.of(k) {
+            None => f.couette_excess(h),
+            Some(_) => self.rows.mean_of(k, h, |x| f.couette_excess(x) * x) / h,
+        }
     }
 
     #[inline]

@@ -5,7 +5,8 @@
 
 use super::{FilmState, Gap, Grid};
 use crate::model::asperity::ContactLaw;
-use crate::model::film::x1_flux;
+use crate::model::film::{strip_conductance, x1_flux};
+use crate::model::flow_factors::FlowFactors;
 use crate::model::friction::{
     boundary_term, couette_shear, poiseuille_term, pressure_term, Friction, FrictionModel,
 };
@@ -32,12 +33,24 @@ pub fn contact_load(g: &Grid, gap: &Gap, z: f64, law: &ContactLaw) -> (f64, f64)
     let n2 = g.n2;
     for (i, &r) in gap.ring.iter().enumerate() {
         if r {
-            for &b in &gap.base[i * n2..(i + 1) * n2] {
-                let h = b + z;
-                if law.touches(h) {
-                    let (p, dp) = law.pressure_and_dh(h);
-                    w += p;
-                    dw += dp;
+            for k in i * n2..(i + 1) * n2 {
+                let h = gap.base[k] + z;
+                match gap.rows.of(k) {
+                    None if law.touches(h) => {
+                        let (p, dp) = law.pressure_and_dh(h);
+                        w += p;
+                        dw += dp;
+                    }
+                    None => {}
+                    // A row that varies across its cell: its samples' mean.
+                    Some(_) => {
+                        let part = |f: fn(&ContactLaw, f64) -> f64| {
+                            gap.rows
+                                .mean_of(k, h, |x| if law.touches(x) { f(law, x) } else { 0.0 })
+                        };
+                        w += part(|l, x| l.pressure_and_dh(x).0);
+                        dw += part(|l, x| l.pressure_and_dh(x).1);
+                    }
                 }
             }
         }
@@ -62,14 +75,21 @@ pub fn boundary_flows(
     let n1 = g.n1;
     let flux = |i: usize, j: usize| {
         let (k, kn) = (g.idx(i, j), g.idx(i + 1, j));
-        let hf = 0.5 * (gap.h(g, k, z) + gap.h(g, kn, z));
+        let (a, b) = (gap.h(g, k, z), gap.h(g, kn, z));
+        let hf = 0.5 * (a + b);
         let dp = state.p[kn] - state.p[k];
+        let rough = |f: &FlowFactors| 0.5 * u_rough * gap.couette_excess(f, k, a) * state.phi[k];
+        if gap.rows.of(k).is_some() || gap.rows.of(kn).is_some() {
+            // The strips' conductance of `face_conductances`.
+            let flow = gap.flow.as_ref();
+            let c = gap
+                .rows
+                .across_x1_face((k, a), (kn, b), |h| strip_conductance(h, flow));
+            return 0.5 * u * state.phi[k] - 0.5 * c * dp / g.dx + flow.map_or(0.0, rough);
+        }
         match &gap.flow {
             None => x1_flux(u, state.phi[k], hf, dp, g.dx),
-            Some(f) => {
-                let rough = 0.5 * u_rough * f.couette_excess(gap.h(g, k, z)) * state.phi[k];
-                x1_flux(u, state.phi[k], hf, dp * f.pressure_flow(hf).0, g.dx) + rough
-            }
+            Some(f) => x1_flux(u, state.phi[k], hf, dp * f.pressure_flow(hf).0, g.dx) + rough(f),
         }
     };
     let inflow = (0..g.n2).map(|j| flux(0, j) * g.dy).sum();
@@ -89,6 +109,23 @@ pub fn friction(
     model: &FrictionModel,
 ) -> Friction {
     friction_thresholds(g, gap, z, hl, state, model, &[]).0
+}
+
+/// The Couette shear and the Poiseuille term of node k, whose row's gap (mean `h`, film
+/// content θ) varies across its cell: the means over its samples (eq. 17; a rough film's
+/// shear factors, docs/model.md §11).
+fn row_shear(gap: &Gap, k: usize, h: f64, theta: f64, dpdx: f64, u: f64) -> (f64, f64) {
+    let rows = &gap.rows;
+    match &gap.flow {
+        None => (
+            rows.mean_of(k, h, |x| couette_shear(u, theta, x)),
+            poiseuille_term(h, dpdx),
+        ),
+        Some(f) => (
+            rows.mean_of(k, h, |x| couette_shear(u, theta, x) * f.couette_shear(x)),
+            rows.mean_of(k, h, |x| poiseuille_term(x, dpdx * f.poiseuille_shear(x))),
+        ),
+    }
 }
 
 /// As [`friction`], also for the further shear thresholds `extra_theta_s`, in one pass over
@@ -115,12 +152,21 @@ pub fn friction_thresholds(
             let k = i * n2 + j;
             let h = gap.h(g, k, z);
             let theta = state.phi[k] / h;
-            let mut shear = couette_shear(model.u, theta, h);
-            let mut dpdx = (state.p[k + n2] - state.p[k - n2]) / (2.0 * g.dx);
-            if let Some(f) = &gap.flow {
-                shear *= f.couette_shear(h);
-                dpdx *= f.poiseuille_shear(h);
-            }
+            let dpdx = (state.p[k + n2] - state.p[k - n2]) / (2.0 * g.dx);
+            let (shear, poiseuille) = match gap.rows.of(k) {
+                None => {
+                    let mut shear = couette_shear(model.u, theta, h);
+                    let mut dpdx = dpdx;
+                    if let Some(f) = &gap.flow {
+                        shear *= f.couette_shear(h);
+                        dpdx *= f.poiseuille_shear(h);
+                    }
+                    (shear, poiseuille_term(h, dpdx))
+                }
+                // A row that varies across its cell: each term's mean over its samples, θ
+                // the cell's.
+                Some(_) => row_shear(gap, k, h, theta, dpdx, model.u),
+            };
             if theta > model.theta_s {
                 fc += shear;
             }
@@ -129,11 +175,21 @@ pub fn friction_thresholds(
                     *sum += shear;
                 }
             }
-            fp += poiseuille_term(h, dpdx);
+            fp += poiseuille;
             let dhl = (hl[k + n2] - hl[k - n2]) / (2.0 * g.dx);
             fpr += pressure_term(state.p[k], dhl);
-            if let Some(law) = model.contact.as_ref().filter(|l| l.touches(h)) {
-                fb += boundary_term(model.u, law.shear(h));
+            if let Some(law) = model.contact.as_ref() {
+                fb += match gap.rows.of(k) {
+                    None if law.touches(h) => boundary_term(model.u, law.shear(h)),
+                    None => 0.0,
+                    Some(_) => gap.rows.mean_of(k, h, |x| {
+                        if law.touches(x) {
+                            boundary_term(model.u, law.shear(x))
+                        } else {
+                            0.0
+                        }
+                    }),
+                };
             }
         }
     }

@@ -6,10 +6,12 @@ mod fields;
 mod gap;
 mod grid;
 pub mod integrals;
+mod rows;
 mod scene;
 
 pub use faces::face_conductances;
 pub use fields::{cavity_pressures, FilmState};
 pub use gap::Gap;
 pub use grid::Grid;
+pub use rows::{sample_across, RimModel, Rows};
 pub use scene::Scene;

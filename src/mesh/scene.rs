@@ -1,6 +1,6 @@
 //! The discretised contact: mesh, gap and texture depth at a given time (docs/model.md §2–3).
 
-use super::{Gap, Grid};
+use super::{sample_across, Gap, Grid, RimModel, Rows};
 use crate::model::case::CaseSpec;
 use crate::model::flow_factors::FlowFactors;
 use crate::model::geometry::Contact;
@@ -16,6 +16,8 @@ pub struct Scene {
     pub hl: Vec<f64>,
     /// Liner speed u.
     pub u: f64,
+    /// How the film sees the gap across a cell ([`Rows`]).
+    pub rim: RimModel,
 }
 
 impl Scene {
@@ -43,24 +45,50 @@ impl Scene {
                 base: vec![0.0; n],
                 ring,
                 flow,
+                rows: Rows::nodal(),
             },
             hl: vec![0.0; n],
             u,
+            rim: RimModel::Nodal,
         };
         s.place(0.0);
         s
+    }
+
+    /// This scene with the gap across its cells seen as `rim` sees it, the texture placed
+    /// again at t = 0.
+    pub fn with_rim(mut self, rim: RimModel) -> Self {
+        if rim != self.rim {
+            self.rim = rim;
+            self.place(0.0);
+        }
+        self
     }
 
     /// Moves the texture to time t: h_L(x1 − u·t, x2) and the gap without Z, h_L plus the
     /// ring's part (`Contact::ring_part_um`, eq. 15).
     pub fn place(&mut self, t: f64) {
         let g = &self.grid;
+        let liner = &self.contact.liner;
+        let rim = match liner.pocket {
+            Some(_) => self.rim,
+            None => RimModel::Nodal,
+        };
+        self.gap.rows.reset(g.nodes(), rim);
+        let ns = rim.samples();
+        let mut depths = Vec::with_capacity(ns);
         for i in 0..=g.n1 {
             let x = g.x(i);
             let ring_part = self.contact.ring_part_um(x);
+            let xl = x - self.u * t;
             for j in 0..g.n2 {
                 let k = g.idx(i, j);
-                let hl = self.contact.liner.depth_um(x - self.u * t, g.y(j));
+                let hl = if ns > 1 {
+                    sample_across(g.y(j), g.dy, ns, |y| liner.depth_um(xl, y), &mut depths);
+                    self.gap.rows.set(k, &depths)
+                } else {
+                    liner.depth_um(xl, g.y(j))
+                };
                 self.hl[k] = hl;
                 self.gap.base[k] = hl + ring_part;
             }

@@ -18,6 +18,8 @@
 //! characteristic time scheme (time/characteristic.rs) uses it with u = 0 and the old level
 //! moved along the Couette characteristics, which then carry the Couette flux.
 
+use super::flow_factors::FlowFactors;
+
 /// Boundary data along x1 (docs/model.md §3).
 #[derive(Clone, Copy, Debug)]
 pub struct Boundary {
@@ -41,6 +43,21 @@ pub struct Boundary {
 }
 
 impl Boundary {
+    /// The film between end pressures `p_left` and `p_right`, its cavities at 0 (the paper's),
+    /// the liner at speed `u` (the stencil carrying the Couette flux), the inlet bringing
+    /// `phi_inlet`.
+    pub fn with_ends(u: f64, (p_left, p_right): (f64, f64), phi_inlet: f64) -> Self {
+        Boundary {
+            u,
+            u_rough: u,
+            p_left,
+            p_right,
+            phi_inlet,
+            cavity_left: 0.0,
+            cavity_right: 0.0,
+        }
+    }
+
     /// The cavity pressure p_c of node column i of n1 cells for a cavity open to both ends
     /// (docs/model.md §3): the left end's where 2i < n1, the right end's where 2i > n1, their
     /// mean at the centre column. The split is symmetric under the mirror i → n1 − i.
@@ -75,6 +92,17 @@ impl Boundary {
 pub fn face_conductance(a: f64, b: f64, s: f64) -> f64 {
     let hf = 0.5 * (a + b);
     hf * hf * hf * s
+}
+
+/// A strip's Poiseuille conductance before its geometry factor: h³, times the pressure flow
+/// factor φx(h) on a rough film (docs/model.md §3, §11), for the faces whose rows vary
+/// across their cells ([`crate::mesh::Rows`]).
+#[inline(always)]
+pub fn strip_conductance(h: f64, flow: Option<&FlowFactors>) -> f64 {
+    match flow {
+        None => h * h * h,
+        Some(f) => h * h * h * f.pressure_flow(h).0,
+    }
 }
 
 /// Mass flux of φ through an x1 face per unit width (docs/model.md §3): the upwind Couette

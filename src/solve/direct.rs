@@ -187,7 +187,7 @@ impl FilmSolver {
                 step.grid,
                 &self.jh,
                 None,
-                step.gap.flow.as_ref(),
+                step.gap,
                 &mut self.jcx,
                 &mut self.jcy,
             );
@@ -332,24 +332,15 @@ mod tests {
             base,
             ring: vec![false; 17],
             flow: None,
+            rows: Default::default(),
         };
         let phi_old = vec![1.0; 17];
-        let step = Step {
-            grid: &g,
-            gap: &gap,
-            phi_old: &phi_old,
-            inv_dt: 0.0,
-            boundary: Boundary {
-                u: 1.0,
-                u_rough: 1.0,
-                p_left: 0.0,
-                p_right: 0.0,
-                phi_inlet: 1.0,
-                cavity_left: 0.0,
-                cavity_right: 0.0,
-            },
-            ring: None,
-        };
+        let step = Step::steady(
+            &g,
+            &gap,
+            &phi_old,
+            Boundary::with_ends(1.0, (0.0, 0.0), 1.0),
+        );
         let mut st = FilmState::flooded(&g, &gap, 0.0);
         let err = FilmSolver::new(Method::Direct)
             .solve(&step, &mut st, &mut 0.0)

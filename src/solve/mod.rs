@@ -47,7 +47,19 @@ pub struct Step<'a> {
     pub ring: Option<RingLink>,
 }
 
-impl Step<'_> {
+impl<'a> Step<'a> {
+    /// A steady problem (no storage term, `phi_old` unread) with Z held fixed.
+    pub fn steady(grid: &'a Grid, gap: &'a Gap, phi_old: &'a [f64], boundary: Boundary) -> Self {
+        Step {
+            grid,
+            gap,
+            phi_old,
+            inv_dt: 0.0,
+            boundary,
+            ring: None,
+        }
+    }
+
     /// φ at the old time level, or None for a steady problem.
     pub fn phi_old(&self) -> Option<&[f64]> {
         (self.inv_dt > 0.0).then_some(self.phi_old)

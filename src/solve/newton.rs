@@ -13,7 +13,8 @@
 use super::problem::limit_closing;
 use super::{Stencil5, Step};
 use crate::mesh::integrals::{contact_load, load};
-use crate::mesh::{FilmState, Grid};
+use crate::mesh::{FilmState, Gap, Grid, Rows};
+use crate::model::film::strip_conductance;
 use crate::model::film::{Column, Faces};
 use crate::model::flow_factors::FlowFactors;
 use crate::model::ring::RingLink;
@@ -154,18 +155,21 @@ fn conductance_slope(hf: f64, flow: Option<&FlowFactors>) -> f64 {
 }
 
 /// ∂(face conductance)/∂Z = 3·h_f²·∂h_f/∂Z·(geometry factor), ∂h_f/∂Z the mean of the nodal
-/// ∂h/∂Z (1 under the ring, 0 elsewhere); `flow`: a rough film's flow factors.
+/// ∂h/∂Z (1 under the ring, 0 elsewhere), on a rough film with the flow factors; where a row's
+/// gap varies across its cell, the derivative of the strips' mean (x1 faces) or of their
+/// series (x2 faces) of [`crate::mesh::face_conductances`].
 pub fn face_conductance_derivatives(
     g: &Grid,
     h: &[f64],
-    ring: &[bool],
-    flow: Option<&FlowFactors>,
+    gap: &Gap,
     dcx: &mut Vec<f64>,
     dcy: &mut Vec<f64>,
 ) {
     let (n1, n2) = (g.n1, g.n2);
+    let (ring, flow, rows) = (&gap.ring, gap.flow.as_ref(), &gap.rows);
     let (sx, sy) = (g.dy / g.dx, g.dx / g.dy);
     let dz = |i: usize| if ring[i] { 1.0 } else { 0.0 };
+    let slope = |hf: f64| conductance_slope(hf, flow);
     // Zero away from the ring (the same +0.0 the product gives), computed under it only:
     // the ring columns are the same in every call, so the zeros stay once written.
     if dcx.len() != n1 * n2 || dcy.len() != (n1 + 1) * n2.saturating_sub(1) {
@@ -178,17 +182,70 @@ pub fn face_conductance_derivatives(
         if i < n1 && (ring[i] || ring[i + 1]) {
             for k in i * n2..(i + 1) * n2 {
                 let hf = 0.5 * (h[k] + h[k + n2]);
-                dcx[k] = conductance_slope(hf, flow) * 0.5 * (dz(i) + dz(i + 1)) * sx;
+                dcx[k] = slope(hf) * 0.5 * (dz(i) + dz(i + 1)) * sx;
             }
         }
         if ring[i] {
             for j in 0..n2.saturating_sub(1) {
                 let k = i * n2 + j;
                 let hf = 0.5 * (h[k] + h[k + 1]);
-                dcy[i * (n2 - 1) + j] = conductance_slope(hf, flow) * dz(i) * sy;
+                dcy[i * (n2 - 1) + j] = slope(hf) * dz(i) * sy;
             }
         }
     }
+    if rows.any() {
+        sampled_derivatives(g, h, gap, dcx, dcy);
+    }
+}
+
+/// The faces of [`face_conductance_derivatives`] whose rows are sampled across their cells,
+/// overwritten: an x1 face's strips' mean of the slope, an x2 face's [`series_slope`].
+fn sampled_derivatives(g: &Grid, h: &[f64], gap: &Gap, dcx: &mut [f64], dcy: &mut [f64]) {
+    let (n1, n2) = (g.n1, g.n2);
+    let (ring, flow, rows) = (&gap.ring, gap.flow.as_ref(), &gap.rows);
+    let (sx, sy) = (g.dy / g.dx, g.dx / g.dy);
+    let dz = |i: usize| if ring[i] { 1.0 } else { 0.0 };
+    let slope = |hf: f64| conductance_slope(hf, flow);
+    for i in 0..=n1 {
+        if i < n1 && (ring[i] || ring[i + 1]) {
+            for k in i * n2..(i + 1) * n2 {
+                if rows.of(k).is_some() || rows.of(k + n2).is_some() {
+                    let s = rows.across_x1_face((k, h[k]), (k + n2, h[k + n2]), slope);
+                    dcx[k] = s * 0.5 * (dz(i) + dz(i + 1)) * sx;
+                }
+            }
+        }
+        if ring[i] {
+            for j in 0..n2.saturating_sub(1) {
+                let k = i * n2 + j;
+                let (da, db) = (rows.of(k), rows.of(k + 1));
+                if da.is_some() || db.is_some() {
+                    let s = series_slope(rows, (da, h[k]), (db, h[k + 1]), flow);
+                    dcy[i * (n2 - 1) + j] = s * dz(i) * sy;
+                }
+            }
+        }
+    }
+}
+
+/// d/dh of an x2 face's conductance over sampled rows, 1/mean(1/c(h)) over the samples
+/// between them ([`crate::mesh::Rows::along_x2_face`]): mean(c′/c²)/mean(1/c)²; the nodal
+/// face's where the rows do not take the series.
+fn series_slope(
+    rows: &Rows,
+    (da, a): (Option<&[f64]>, f64),
+    (db, b): (Option<&[f64]>, f64),
+    flow: Option<&FlowFactors>,
+) -> f64 {
+    if !rows.series() {
+        return conductance_slope(0.5 * (a + b), flow);
+    }
+    let c = |h: f64| strip_conductance(h, flow);
+    let r = rows.between_rows((da, a), (db, b), |h| 1.0 / c(h));
+    let d = rows.between_rows((da, a), (db, b), |h| {
+        conductance_slope(h, flow) / (c(h) * c(h))
+    });
+    d / (r * r)
 }
 
 /// ∂F/∂Z over node columns lo..=hi into `rhs`: the same stencil with conductances ∂c/∂Z and
@@ -207,8 +264,7 @@ pub fn ring_sensitivity(
     let n2 = g.n2;
     let (adv, at) = step.coefficients();
     let cols = ring_columns(step);
-    let flow = step.gap.flow.as_ref();
-    face_conductance_derivatives(g, h, ring, flow, &mut work.dcx, &mut work.dcy);
+    face_conductance_derivatives(g, h, step.gap, &mut work.dcx, &mut work.dcy);
     // φ' is read only in the columns that see Z and the one upstream of them.
     work.dphi.resize(ring.len() * n2, 0.0);
     let read = cols.start.saturating_sub(1)..cols.end.min(ring.len());

@@ -79,7 +79,7 @@ impl GapCache {
             step.grid,
             &self.h,
             only_ring,
-            flow,
+            step.gap,
             &mut self.cx,
             &mut self.cy,
         );
@@ -99,9 +99,14 @@ impl GapCache {
         self.rough.resize(self.h.len(), 0.0);
         for (i, &under) in ring.iter().enumerate() {
             if under || !fresh {
-                let span = i * g.n2..(i + 1) * g.n2;
-                for (r, &h) in self.rough[span.clone()].iter_mut().zip(&self.h[span]) {
-                    *r = adv * f.couette_excess(h);
+                let first = i * g.n2;
+                let span = first..first + g.n2;
+                for (m, (r, &h)) in self.rough[span.clone()]
+                    .iter_mut()
+                    .zip(&self.h[span])
+                    .enumerate()
+                {
+                    *r = adv * step.gap.couette_excess(f, first + m, h);
                 }
             }
         }
@@ -118,11 +123,16 @@ impl GapCache {
         };
         self.fill_h(step, z);
         let closed = |h: &f64| *h <= 0.0 || h.is_nan();
-        if let Some(k) = self.h[span.clone()]
-            .iter()
-            .position(closed)
-            .map(|k| k + span.start)
-        {
+        let rows = &step.gap.rows;
+        let first = self.h[span.clone()].iter().position(closed);
+        // A sampled row's least gap is its mean's plus its deepest deviation below it.
+        let first = match rows.any() {
+            false => first,
+            true => span
+                .clone()
+                .position(|k| closed(&(self.h[k] + rows.min_dev(k)))),
+        };
+        if let Some(k) = first.map(|k| k + span.start) {
             return Err(FilmError::GapClosed {
                 h: self.h[k],
                 x1: g.x(k / g.n2),

@@ -13,6 +13,7 @@ use serde::Serialize;
 use std::path::{Path, PathBuf};
 
 use super::entry::{self, checksum, Checked, Covered, Raw};
+use crate::mesh::RimModel;
 use crate::model::case::CaseSpec;
 use crate::solve::Method;
 use crate::time::{Approach, Numerics, Outcome, Start, TimeScheme};
@@ -156,6 +157,8 @@ struct KeyNumerics {
     scheme: TimeScheme,
     #[serde(skip_serializing_if = "Option::is_none")]
     deep: Option<Approach>,
+    #[serde(skip_serializing_if = "RimModel::is_nodal")]
+    rim: RimModel,
 }
 
 impl KeyNumerics {
@@ -173,6 +176,7 @@ impl KeyNumerics {
             approach,
             scheme,
             deep,
+            rim,
         } = n.clone();
         KeyNumerics {
             n1,
@@ -189,6 +193,7 @@ impl KeyNumerics {
             approach,
             scheme,
             deep,
+            rim,
         }
     }
 }

@@ -2,19 +2,20 @@
 //! phase, the solved states and factors of the period (the next period's initial guesses),
 //! and how a step's guess from the previous state follows the texture.
 
-use crate::mesh::{FilmState, Grid, Scene};
+use crate::mesh::{FilmState, Grid, Rows, Scene};
 use crate::model::case::CaseSpec;
 use crate::solve::{FilmMethod, KeptFactors};
 
-/// The texture depth and the gap without Z at each phase of the texture period, as
+/// The texture depth, the gap without Z and its rows ([`Rows`]) at each phase of the texture
+/// period, as
 /// [`Scene::place`] set them at that phase the first time (the same bits every period, since
 /// the texture is placed by its phase). Why: placing evaluates the pocket shape at every
 /// node, ≈ 3.5 % of a `fast` run, for fields that repeat every period.
 #[derive(Clone, Default)]
 pub(super) struct PlacedTexture {
-    /// Slot k: h_L and the gap base at phase k·dt; empty when disabled. The slot lent to
-    /// the scene holds the scene's spare arrays meanwhile.
-    pub(super) slots: Vec<Option<(Vec<f64>, Vec<f64>)>>,
+    /// Slot k: h_L, the gap base and its rows at phase k·dt; empty when disabled. The slot
+    /// lent to the scene holds the scene's spare arrays meanwhile.
+    pub(super) slots: Vec<Option<Placed>>,
     /// The slot whose arrays the scene holds (exchanged, not copied: at 512×32 a copy is
     /// 260 kB a step).
     lent: Option<usize>,
@@ -24,9 +25,20 @@ pub(super) struct PlacedTexture {
 /// period needs ≈ 40 MB; longer periods or finer meshes place the texture every step.
 pub(crate) const PLACED_TEXTURE_MEMORY: usize = 128 << 20;
 
+/// One phase's placed texture: h_L, the gap base and its rows.
+pub(super) type Placed = (Vec<f64>, Vec<f64>, Rows);
+
 impl PlacedTexture {
-    pub(super) fn new(textured: bool, steps_per_period: usize, nodes: usize) -> Self {
-        let bytes = steps_per_period * nodes * 2 * std::mem::size_of::<f64>();
+    /// `row_samples`: the scene's samples across a cell ([`Scene::rim`]), which may
+    /// each be kept.
+    pub(super) fn new(
+        textured: bool,
+        steps_per_period: usize,
+        nodes: usize,
+        row_samples: usize,
+    ) -> Self {
+        let per_node = 2 + if row_samples > 1 { row_samples + 1 } else { 0 };
+        let bytes = steps_per_period * nodes * per_node * std::mem::size_of::<f64>();
         let on = textured && steps_per_period > 1 && bytes <= PLACED_TEXTURE_MEMORY;
         PlacedTexture {
             slots: if on {
@@ -40,9 +52,10 @@ impl PlacedTexture {
 
     /// Places the texture of `scene` at phase `phase` (slot `slot` of the period).
     pub(super) fn place(&mut self, scene: &mut Scene, slot: usize, phase: f64) {
-        let exchange = |(hl, base): &mut (Vec<f64>, Vec<f64>), scene: &mut Scene| {
+        let exchange = |(hl, base, rows): &mut Placed, scene: &mut Scene| {
             std::mem::swap(hl, &mut scene.hl);
             std::mem::swap(base, &mut scene.gap.base);
+            std::mem::swap(rows, &mut scene.gap.rows);
         };
         // The arrays the scene holds go back to their slot, the scene's own come back.
         if let Some(Some(pair)) = self.lent.take().and_then(|j| self.slots.get_mut(j)) {
@@ -55,7 +68,11 @@ impl PlacedTexture {
             }
             Some(empty) => {
                 scene.place(phase);
-                *empty = Some((scene.hl.clone(), scene.gap.base.clone()));
+                *empty = Some((
+                    scene.hl.clone(),
+                    scene.gap.base.clone(),
+                    scene.gap.rows.clone(),
+                ));
             }
             None => scene.place(phase),
         }

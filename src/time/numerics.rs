@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::characteristic::MAX_COURANT;
+use crate::mesh::RimModel;
 use crate::model::case::{bad, positive, CaseSpec, InputError, PAPER_RING_WIDTH};
 use crate::solve::Method;
 
@@ -54,6 +55,10 @@ pub struct Numerics {
     /// runs without it do not carry it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub deep: Option<Approach>,
+    /// How the film sees the gap across a cell (docs/solver.md, "Deep pockets"). Not
+    /// serialised when nodal, so cache keys of runs with it do not carry it.
+    #[serde(default, skip_serializing_if = "RimModel::is_nodal")]
+    pub rim: RimModel,
 }
 
 /// The mesh and time step of a coarse approach (see [`Numerics::approach`]).
@@ -151,6 +156,7 @@ impl Default for Numerics {
             approach: None,
             scheme: TimeScheme::BackwardEuler,
             deep: None,
+            rim: RimModel::Nodal,
         }
     }
 }
@@ -336,6 +342,15 @@ impl Numerics {
                 ));
             }
         }
+        // An x2 face takes half of each row's samples (docs/model.md §3).
+        let samples = self.rim.samples();
+        if !self.rim.is_nodal() && (samples % 2 == 1 || !(2..=64).contains(&samples)) {
+            return Err(bad(
+                "rim samples",
+                samples,
+                "must be an even number from 2 to 64 (the samples across a cell)",
+            ));
+        }
         positive("dt", self.dt)?;
         positive("periodic_tol", self.periodic_tol)?;
         // A relative distance from the periodic regime; beyond 10 % a run would stop in its
@@ -413,6 +428,25 @@ mod tests {
     use super::*;
     use crate::model::case::Texture;
     use crate::time::Fidelity;
+
+    #[test]
+    fn a_rim_model_takes_an_even_number_of_samples() {
+        let case = CaseSpec::paper(3.2).with_texture(Texture::circular(0.03, 0.06, 20.0));
+        let with = |rim| Numerics {
+            rim,
+            ..Numerics::default()
+        };
+        assert!(with(RimModel::Nodal).validate(&case).is_ok());
+        assert!(with(RimModel::Strips { samples: 8 })
+            .validate(&case)
+            .is_ok());
+        for samples in [0, 1, 3, 66] {
+            let e = with(RimModel::Strips { samples })
+                .validate(&case)
+                .unwrap_err();
+            assert!(e.to_string().contains("rim samples"), "{e}");
+        }
+    }
 
     #[test]
     fn a_wider_ring_keeps_the_tiers_cell_size() {

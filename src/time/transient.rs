@@ -106,7 +106,7 @@ impl Transient {
     /// the same (tests/solvers.rs). A contact that has no untextured balance starts from the
     /// paper's state.
     pub fn with_solver(case: &CaseSpec, num: &Numerics, solver: Box<dyn FilmMethod>) -> Self {
-        let scene = Scene::new(case, num.n1, num.n2);
+        let scene = Scene::new(case, num.n1, num.n2).with_rim(num.rim);
         let period = texture_period(case);
         let steps_per_period = super::numerics::steps_per_period(period, num.dt) as usize;
         let dt = period / steps_per_period as f64;
@@ -139,7 +139,7 @@ impl Transient {
             solver,
             memory: PeriodMemory {
                 period_ago: PeriodGuess::new(textured, steps_per_period, nodes),
-                placed: PlacedTexture::new(textured, steps_per_period, nodes),
+                placed: PlacedTexture::new(textured, steps_per_period, nodes, scene.rim.samples()),
                 shift,
             },
             scene,

@@ -77,8 +77,7 @@ impl Cutoff {
         let (g, ring) = (step.grid, &step.gap.ring);
         let n2 = g.n2;
         let (adv, at) = step.coefficients();
-        let flow = step.gap.flow.as_ref();
-        face_conductance_derivatives(g, self.gap.h(), ring, flow, &mut self.dcx, &mut self.dcy);
+        face_conductance_derivatives(g, self.gap.h(), step.gap, &mut self.dcx, &mut self.dcy);
         self.dphi.clear();
         self.dphi
             .extend((0..g.nodes()).map(|k| if ring[k / n2] { 1.0 } else { 0.0 }));
