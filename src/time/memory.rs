@@ -7,9 +7,8 @@ use crate::model::case::CaseSpec;
 use crate::solve::{FilmMethod, KeptFactors};
 
 /// The texture depth, the gap without Z and its rows ([`Rows`]) at each phase of the texture
-/// period, as
-/// [`Scene::place`] set them at that phase the first time (the same bits every period, since
-/// the texture is placed by its phase). Why: placing evaluates the pocket shape at every
+/// period, as [`Scene::place`] set them at that phase the first time (the same bits every
+/// period, since the texture is placed by its phase). Why: placing evaluates the pocket shape at every
 /// node, ≈ 3.5 % of a `fast` run, for fields that repeat every period.
 #[derive(Clone, Default)]
 pub(super) struct PlacedTexture {
