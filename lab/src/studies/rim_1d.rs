@@ -321,6 +321,29 @@ pub(crate) fn observed_order(e: f64, prev: Option<f64>) -> String {
     }
 }
 
+/// Two relative errors as a table's cells, each with the order observed from the previous
+/// mesh's (`last`, then set to these).
+pub(crate) fn error_cells(md: &mut String, (a, b): (f64, f64), last: &mut Option<(f64, f64)>) {
+    let (la, lb) = last.map_or((None, None), |(x, y)| (Some(x), Some(y)));
+    let _ = write!(
+        md,
+        " {a:.2e}{} | {b:.2e}{} |",
+        observed_order(a, la),
+        observed_order(b, lb)
+    );
+    *last = Some((a, b));
+}
+
+/// Writes a study's report to results/`study`/README.md and prints it.
+pub(crate) fn write_report(study: &str, md: &str) -> Result<(), String> {
+    let dir = format!("results/{study}");
+    fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+    fs::write(format!("{dir}/README.md"), md).map_err(|e| e.to_string())?;
+    print!("{md}");
+    eprintln!("wrote {dir}/README.md");
+    Ok(())
+}
+
 /// Solves the tridiagonal system (lower, diag, upper)·x = rhs (Thomas algorithm).
 pub(crate) fn thomas(
     lower: Vec<f64>,
@@ -368,16 +391,8 @@ fn cavitating() -> Result<String, String> {
         let _ = write!(md, "| {n} |");
         for (k, f) in [Flux::Nodal, Flux::ExactTwoPoint].into_iter().enumerate() {
             let (p, q, _) = solve_cavitating(groove, f, n)?;
-            let (eq, ew) = ((q / qr - 1.0).abs(), (load(&p) / wr - 1.0).abs());
-            let [lq, lw]: [Option<f64>; 2] =
-                last[k].map_or([None, None], |(a, b)| [Some(a), Some(b)]);
-            let _ = write!(
-                md,
-                " {eq:.2e}{} | {ew:.2e}{} |",
-                observed_order(eq, lq),
-                observed_order(ew, lw)
-            );
-            last[k] = Some((eq, ew));
+            let errors = ((q / qr - 1.0).abs(), (load(&p) / wr - 1.0).abs());
+            error_cells(&mut md, errors, &mut last[k]);
         }
         let _ = writeln!(md);
     }
@@ -413,13 +428,7 @@ pub fn main(_args: &[String]) -> Result<(), String> {
                     .zip(&pe)
                     .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
                     / pmax;
-                let _ = write!(
-                    md,
-                    " {eq:.2e}{} | {ep:.2e}{} |",
-                    observed_order(eq, last[k].map(|l| l.0)),
-                    observed_order(ep, last[k].map(|l| l.1))
-                );
-                last[k] = Some((eq, ep));
+                error_cells(&mut md, (eq, ep), &mut last[k]);
             }
             let _ = writeln!(md);
         }
@@ -437,11 +446,7 @@ pub fn main(_args: &[String]) -> Result<(), String> {
          this steady film does not test: the storage of a moving texture (a cut cell's film \
          volume), and two dimensions.\n",
     );
-    fs::create_dir_all("results/rim_1d").map_err(|e| e.to_string())?;
-    fs::write("results/rim_1d/README.md", &md).map_err(|e| e.to_string())?;
-    print!("{md}");
-    eprintln!("wrote results/rim_1d/README.md");
-    Ok(())
+    write_report("rim_1d", &md)
 }
 
 #[cfg(test)]

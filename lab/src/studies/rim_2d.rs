@@ -18,9 +18,8 @@
 //! reports ∫∫|p|.)
 
 use std::fmt::Write as _;
-use std::fs;
 
-use super::rim_1d::observed_order;
+use super::rim_1d::{error_cells, write_report};
 use texopt::solve::band::BandLu;
 use texopt::solve::Stencil5;
 
@@ -166,15 +165,8 @@ pub fn main(_args: &[String]) -> Result<(), String> {
         let _ = write!(md, "| {n1} × {n2} |");
         for (k, f) in [Faces::Nodal, Faces::Strips].into_iter().enumerate() {
             let (w, q) = solve(f, n1, n2)?;
-            let (ew, eq) = ((w / wr - 1.0).abs(), (q / qr - 1.0).abs());
-            let (lw, lq) = last[k].map_or((None, None), |(a, b)| (Some(a), Some(b)));
-            let _ = write!(
-                md,
-                " {ew:.2e}{} | {eq:.2e}{} |",
-                observed_order(ew, lw),
-                observed_order(eq, lq)
-            );
-            last[k] = Some((ew, eq));
+            let errors = ((w / wr - 1.0).abs(), (q / qr - 1.0).abs());
+            error_cells(&mut md, errors, &mut last[k]);
             eprintln!("{} {n1}×{n2}: ∫∫|p| {w:.8} inflow {q:.8}", f.name());
         }
         let _ = writeln!(md);
@@ -189,11 +181,7 @@ pub fn main(_args: &[String]) -> Result<(), String> {
          rim. What this full, steady film does not test: the cavitated film and a moving \
          texture's storage.\n",
     );
-    fs::create_dir_all("results/rim_2d").map_err(|e| e.to_string())?;
-    fs::write("results/rim_2d/README.md", &md).map_err(|e| e.to_string())?;
-    print!("{md}");
-    eprintln!("wrote results/rim_2d/README.md");
-    Ok(())
+    write_report("rim_2d", &md)
 }
 
 #[cfg(test)]

@@ -18,9 +18,8 @@
 //! The reference is the second on REFERENCE cells.
 
 use std::fmt::Write as _;
-use std::fs;
 
-use super::rim_1d::{active_set, observed_order, Storage};
+use super::rim_1d::{active_set, error_cells, write_report, Storage};
 
 const U: f64 = 1.0;
 const LAND: f64 = 1.0;
@@ -233,15 +232,8 @@ pub fn main(_args: &[String]) -> Result<(), String> {
             .enumerate()
         {
             let (q, w, _) = run(s, n)?;
-            let (eq, ew) = ((q / qr - 1.0).abs(), (w / wr - 1.0).abs());
-            let (lq, lw) = last[k].map_or((None, None), |(a, b)| (Some(a), Some(b)));
-            let _ = write!(
-                md,
-                " {eq:.2e}{} | {ew:.2e}{} |",
-                observed_order(eq, lq),
-                observed_order(ew, lw)
-            );
-            last[k] = Some((eq, ew));
+            let errors = ((q / qr - 1.0).abs(), (w / wr - 1.0).abs());
+            error_cells(&mut md, errors, &mut last[k]);
         }
         let _ = writeln!(md);
     }
@@ -260,11 +252,7 @@ pub fn main(_args: &[String]) -> Result<(), String> {
          film's exact content is no rim model for a moving texture; the nodal stencil, whose \
          storage and content are the nodal gap, stays the better of these.\n",
     );
-    fs::create_dir_all("results/rim_moving").map_err(|e| e.to_string())?;
-    fs::write("results/rim_moving/README.md", &md).map_err(|e| e.to_string())?;
-    print!("{md}");
-    eprintln!("wrote results/rim_moving/README.md");
-    Ok(())
+    write_report("rim_moving", &md)
 }
 
 #[cfg(test)]

@@ -12,8 +12,8 @@
 //! with them) at 24 across.
 
 use std::fmt::Write as _;
-use std::fs;
 
+use super::rim_1d::write_report;
 use texopt::mesh::RimModel;
 use texopt::model::case::{CaseSpec, Texture};
 use texopt::time::{resolve, simulate, Fidelity, Outcome, Overrides, TimeScheme};
@@ -129,6 +129,5 @@ pub fn main(_args: &[String]) -> Result<(), String> {
         }
     }
     let _ = writeln!(md);
-    fs::create_dir_all("results/rim_rows").map_err(|e| e.to_string())?;
-    fs::write("results/rim_rows/README.md", &md).map_err(|e| e.to_string())
+    write_report("rim_rows", &md)
 }
