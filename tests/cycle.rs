@@ -196,38 +196,18 @@ fn the_dead_centres_are_excluded_and_carry_no_number() {
 
 #[test]
 fn the_transient_cycle_reports_three_liners_and_the_plain_ones_work_is_a_direct_runs() {
-    use texopt::model::liner_layout::LinerLayout;
-    use texopt::time::cycle::{cycle_numerics, metrics, CycleRun, Drive};
     let dir = scratch("cycle-transient");
     let file = dir.join("e.toml");
     std::fs::write(&file, engine_text()).unwrap();
-    let mut extra = vec![
-        "--particles",
-        "2",
-        "--iterations",
-        "1",
-        "--fidelity",
-        "draft",
-    ];
+    let mut extra = common::QUICK_SEARCH.to_vec();
     extra.extend(["--mesh", "192x8"]);
     let t0 = std::time::Instant::now();
     let (code, _, err, _) = common::cycle(&dir, &file, &extra);
     eprintln!("texopt cycle: {:.1} s", t0.elapsed().as_secs_f64());
     assert_eq!(code, 0, "{err}");
     let out = dir.join("out");
-    for suffix in [
-        ".json",
-        ".md",
-        "_steps.csv",
-        "_cycles.csv",
-        "_oil.csv",
-        "_force.png",
-    ] {
-        let f = out.join(format!("cycle_t{suffix}"));
-        assert!(f.is_file(), "{} missing", f.display());
-    }
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("cycle_t.json")).unwrap()).unwrap();
+    let suffixes = [".md", "_steps.csv", "_cycles.csv", "_oil.csv", "_force.png"];
+    let r = common::report_files(&out, "cycle_t", &suffixes);
     assert_eq!(r["excluded_cycle_fraction"].as_f64(), Some(0.0));
     // A mesh given in place of the tier's is said beside the tier.
     assert_eq!(r["mesh"].as_str(), Some("192×8"));
@@ -241,27 +221,8 @@ fn the_transient_cycle_reports_three_liners_and_the_plain_ones_work_is_a_direct_
         .collect();
     assert!(work.iter().all(|w| w.is_finite() && *w > 0.0), "{work:?}");
 
-    // The plain liner run directly: the engine's ring with the default roughness, at draft.
-    let (engine, _): (Engine, serde::de::IgnoredAny) = engine_file::parse(&engine_text()).unwrap();
-    let drive = Drive::new(&engine);
-    let mut ring = drive.ring_case();
-    if let Some(a) = ring.contact.as_mut() {
-        a.sigma = Validity::default().roughness_um * 1e-6;
-    }
-    // The command's --mesh (a cycle's time steps are its crank steps).
-    let mesh = Overrides {
-        n1: Some(192),
-        n2: Some(8),
-        ..Overrides::default()
-    };
-    let num = cycle_numerics(Fidelity::Draft, &mesh, &ring, None);
-    let bounds: Vec<f64> = engine.bounds_mm.iter().map(|b| 0.1 * b).collect();
-    let layout = LinerLayout::zoned(bounds, vec![None, None]).unwrap();
-    let plain = CycleRun::new(&drive, ring, layout, num)
-        .unwrap()
-        .run(&mut |_| {}, &mut |_| {})
-        .unwrap();
-    assert_eq!(work[0], metrics(&plain.rows, &engine).work_j_per_m);
+    // The plain liner run directly, on the command's --mesh.
+    assert_eq!(work[0], common::plain_cycle_work(&engine_text(), (192, 8)));
     let _ = std::fs::remove_dir_all(dir);
 }
 

@@ -65,6 +65,15 @@ pub struct CycleArgs {
     /// results/cycle_NAME_quasi_steady unless --out says otherwise.
     #[arg(long = "quasi-steady")]
     pub quasi_steady: bool,
+    /// Search where to texture: a band next to each dead centre, each with its place, length
+    /// and texture, plain elsewhere, judged over the engine file's \[\[operating\]\] map (or its
+    /// own point) by the time-weighted friction power; the report goes to
+    /// results/cycle_NAME_bands unless --out says otherwise.
+    #[arg(long, conflicts_with = "quasi_steady")]
+    pub bands: bool,
+    /// Least band length with --bands (mm) \[default: the file's \[design\] band_min_mm, else 4\].
+    #[arg(long = "band-min", value_name = "MM")]
+    pub band_min: Option<f64>,
 }
 
 /// Units as in `simulate`: lengths in cm, depth in µm; ranges are LO..HI. Settings come from
@@ -215,6 +224,8 @@ pub(super) struct DesignFile {
     pub(super) roughness_um: Option<f64>,
     pub(super) step_deg: Option<f64>,
     pub(super) design_step_deg: Option<f64>,
+    /// Least band length of `cycle --bands` (mm).
+    pub(super) band_min_mm: Option<f64>,
 }
 
 /// Which file a [`DesignFile`] was read from.
@@ -244,6 +255,7 @@ impl DesignFile {
             ("roughness_um", self.roughness_um.is_some()),
             ("step_deg", self.step_deg.is_some()),
             ("design_step_deg", self.design_step_deg.is_some()),
+            ("band_min_mm", self.band_min_mm.is_some()),
         ];
         let foreign: &[(&'static str, bool)] = match of {
             DesignFileOf::Optimise => &engine_only,

@@ -12,16 +12,35 @@ use super::{install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::case::short;
 use crate::model::engine::{three_digits, zone_label, Engine, STEP_RANGE_DEG};
 use crate::model::operating::Validity;
+use crate::optimise::bands::BandSpace;
 use crate::optimise::cycle::{design_all, evaluate_liners, no_angle_inside, points, CycleSettings};
+use crate::optimise::cycle_map::{design_over_map, evaluate_over_map};
+use crate::optimise::cycle_map_report as map_report;
 use crate::optimise::cycle_report::{assemble, non_finite, table, write};
 use crate::optimise::cycle_search::design_over_cycle;
 use crate::optimise::cycle_transient::evaluate_transient;
 use crate::optimise::cycle_transient_report as transient_report;
+use crate::optimise::error::OptimiseError;
 use crate::optimise::space::Space;
 use crate::study::engine_file;
 
 pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
-    let s = settings(a)?;
+    let (s, band_min_file) = settings(a)?;
+    if s.engine.has_map() && !a.bands {
+        return Err(input(
+            &a.file,
+            "[[operating]]: the operating map is what --bands designs for; add --bands, or remove the map to design the zones at the engine's own point",
+        ));
+    }
+    if !a.bands && a.band_min.is_some() {
+        return Err(CmdError::Input(
+            "--band-min: the least band length of --bands; add --bands, or drop --band-min".into(),
+        ));
+    }
+    if a.bands {
+        let space = band_space(a, &s, band_min_file)?;
+        return run_bands(a, &s, &space);
+    }
     if !a.quasi_steady {
         // The angle-by-angle steps mean nothing to the transient cycle, whose steps follow
         // the crank (docs/model.md §12): a flag that would be ignored is refused.
@@ -115,13 +134,55 @@ fn run_transient(a: &CycleArgs, s: &CycleSettings) -> Result<i32, CmdError> {
     Ok(0)
 }
 
+/// The liner in bands: searched over the map, then plain, uniform and banded at the report's
+/// fidelity.
+fn run_bands(a: &CycleArgs, s: &CycleSettings, space: &BandSpace) -> Result<i32, CmdError> {
+    let t0 = std::time::Instant::now();
+    let other = |e: OptimiseError| CmdError::Other(e.to_string());
+    let designs = design_over_map(s, space).map_err(other)?;
+    let liners = evaluate_over_map(s, &designs).map_err(other)?;
+    let r = map_report::assemble(s, &designs, &liners, t0.elapsed().as_secs_f64());
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
+    } else {
+        print!("{}", map_report::table(&r));
+    }
+    if let Some(dir) = &s.search.out_dir {
+        for f in map_report::write(dir, &r, &liners).map_err(other)? {
+            eprintln!("wrote {}", f.display());
+        }
+    }
+    Ok(0)
+}
+
+/// The band space: the design space's textures, the least band length from --band-min, else
+/// the file's `[design] band_min_mm`, else [`BAND_MIN_MM`].
+fn band_space(a: &CycleArgs, s: &CycleSettings, file: Option<f64>) -> Result<BandSpace, CmdError> {
+    let stroke = s.engine.file.engine.stroke_mm;
+    let min = a.band_min.or(file).unwrap_or(BAND_MIN_MM);
+    BandSpace::new(s.search.space.clone(), stroke, min).map_err(|e| {
+        let named = match (a.band_min, file) {
+            (None, Some(_)) => input(&a.file, format!("[design] band_min_mm = {}", short(min))),
+            _ => CmdError::Input(format!("--band-min {}", short(min))),
+        };
+        match named {
+            CmdError::Input(m) => CmdError::Input(format!("{m}: {e}")),
+            other => other,
+        }
+    })
+}
+
+/// Default least band length (mm): a laser-textured band's least practical width, several
+/// texture periods (the longest period of the design space is 0.6 mm).
+pub const BAND_MIN_MM: f64 = 4.0;
+
 fn input(file: &Path, m: impl std::fmt::Display) -> CmdError {
     CmdError::Input(format!("{}: {m}", file.display()))
 }
 
 /// The engine and the design's settings: each from its flag, else the file's `[design]`,
 /// else its default; all checked before anything runs.
-fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
+fn settings(a: &CycleArgs) -> Result<(CycleSettings, Option<f64>), CmdError> {
     let text = std::fs::read_to_string(&a.file)
         .map_err(|e| input(&a.file, format!("cannot read the engine file: {e}")))?;
     let (engine, d): (Engine, DesignFile) =
@@ -196,8 +257,12 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
         })?;
     let in_file = |key: &str| format!("{}: [design] {key}", a.file.display());
     let out_dir = a.out.clone().unwrap_or_else(|| {
-        let qs = if a.quasi_steady { "_quasi_steady" } else { "" };
-        PathBuf::from(format!("results/cycle_{}{qs}", engine.file.engine.name))
+        let kind = match (a.quasi_steady, a.bands) {
+            (true, _) => "_quasi_steady",
+            (false, true) => "_bands",
+            (false, false) => "",
+        };
+        PathBuf::from(format!("results/cycle_{}{kind}", engine.file.engine.name))
     });
     let search = search_settings(
         &a.search,
@@ -207,13 +272,16 @@ fn settings(a: &CycleArgs) -> Result<CycleSettings, CmdError> {
         out_dir,
         !a.json,
     )?;
-    Ok(CycleSettings {
-        search,
-        min_clearance_um,
-        step_deg,
-        design_step_deg,
-        engine,
-    })
+    Ok((
+        CycleSettings {
+            search,
+            min_clearance_um,
+            step_deg,
+            design_step_deg,
+            engine,
+        },
+        d.band_min_mm,
+    ))
 }
 
 /// A crank-angle step (`flag`, else the file's, else `def`): within [`STEP_RANGE_DEG`], and

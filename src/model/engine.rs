@@ -7,6 +7,7 @@ use serde::Deserialize;
 
 use super::asperity::Asperity;
 use super::case::{face_spans_ring, short};
+use super::engine_map::{operating_map, MapPoint, MapPointFile};
 use super::flow_factors::{FlowFactors, LINER_ROUGHNESS_SHARE};
 use super::operating::Operating;
 
@@ -21,6 +22,8 @@ pub struct EngineFile {
     pub zones: Zones,
     /// The asperity contact's constants (docs/model.md §11); the defaults where absent.
     pub contact: ContactFile,
+    /// The operating map's points (docs/model.md §13); none: the engine's own point.
+    pub operating: Vec<MapPointFile>,
 }
 
 /// The asperity contact between ring face and liner (docs/model.md §11, §12): each constant
@@ -213,12 +216,14 @@ fn err(key: &str, value: impl std::fmt::Display, rule: impl Into<String>) -> Eng
     }
 }
 
-/// A checked engine: the file's data and the zone boundaries.
+/// A checked engine: the file's data, the zone boundaries and the operating map.
 #[derive(Clone, Debug)]
 pub struct Engine {
     pub file: EngineFile,
     /// Zone boundaries (mm from top dead centre), from 0 to the stroke.
     pub bounds_mm: Vec<f64>,
+    /// The `[[operating]]` points, each checked as an engine (empty: the file lists none).
+    map: Vec<MapPoint>,
 }
 
 /// One crank angle of the cycle as the ring meets it.
@@ -411,7 +416,12 @@ impl Engine {
         file.contact.check()?;
         let bounds_mm = Self::zone_bounds(&file.zones, e.stroke_mm)?;
         Self::check_oil(&file.oil, e.stroke_mm)?;
-        let engine = Engine { file, bounds_mm };
+        let map = operating_map(&file)?;
+        let engine = Engine {
+            file,
+            bounds_mm,
+            map,
+        };
         engine.check_zone_spans()?;
         // The ring face's radius must exceed its half width (docs/model.md §2), as `simulate`
         // asks of --R.
@@ -428,6 +438,24 @@ impl Engine {
             ));
         }
         Ok(engine)
+    }
+
+    /// The operating map (docs/model.md §13): the file's `[[operating]]` points, or the
+    /// engine's own point alone, its share 1.
+    pub fn operating_points(&self) -> Vec<MapPoint> {
+        if !self.map.is_empty() {
+            return self.map.clone();
+        }
+        vec![MapPoint {
+            name: self.file.engine.name.clone(),
+            share: 1.0,
+            engine: self.clone(),
+        }]
+    }
+
+    /// Whether the file lists an operating map.
+    pub fn has_map(&self) -> bool {
+        !self.map.is_empty()
     }
 
     fn check_gas(g: &Gas) -> Result<(), EngineError> {
@@ -689,7 +717,7 @@ impl Engine {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     #[test]
@@ -708,9 +736,10 @@ mod tests {
     }
 
     /// The example engine of `study::engine_file`'s tests, with these zones.
-    fn example(zones: Zones) -> EngineFile {
+    pub(crate) fn example(zones: Zones) -> EngineFile {
         EngineFile {
             contact: ContactFile::default(),
+            operating: Vec::new(),
             engine: Crank {
                 name: "test".into(),
                 bore_mm: 80.0,

@@ -51,6 +51,32 @@ impl LinerLayout {
         })
     }
 
+    /// Bands along the stroke, each (start, end, texture) in cm, increasing and apart, on a
+    /// plain liner: the zones between them plain, zones of no length left out. A band that
+    /// starts at 0 or ends at the stroke runs on past it, as the first and last zones do.
+    pub fn banded(stroke_cm: f64, bands: &[(f64, f64, Texture)]) -> Self {
+        let (mut bounds, mut textures) = (vec![0.0], Vec::new());
+        for (a, b, t) in bands {
+            let last = *bounds.last().unwrap_or(&0.0);
+            if *a > last {
+                bounds.push(*a);
+                textures.push(None);
+            }
+            bounds.push(b.min(stroke_cm));
+            textures.push(Some(t.clone()));
+        }
+        if *bounds.last().unwrap_or(&0.0) < stroke_cm {
+            bounds.push(stroke_cm);
+            textures.push(None);
+        }
+        Self::zoned(bounds, textures).expect("one texture per zone by construction")
+    }
+
+    /// The zone boundaries (cm).
+    pub fn bounds_cm(&self) -> &[f64] {
+        &self.bounds_cm
+    }
+
     /// Whether any zone is textured.
     pub fn textured(&self) -> bool {
         self.textures.iter().any(Option::is_some)
@@ -115,5 +141,25 @@ mod tests {
         assert_eq!(l.finest_period_cm(), 0.05);
         let e = LinerLayout::zoned(vec![0.0, 1.0, 8.0], vec![Some(t)]).unwrap_err();
         assert!(matches!(e, LayoutError::Count { zones: 3, .. }), "{e}");
+    }
+
+    #[test]
+    fn bands_lie_where_they_are_put_and_the_rest_is_plain() {
+        let t = Texture::circular(0.01, 0.05, 5.0);
+        // One band at top dead centre, one before the stroke's end.
+        let l = LinerLayout::banded(8.0, &[(0.0, 1.0, t.clone()), (6.0, 7.5, t.clone())]);
+        assert_eq!(l.bounds_cm(), &[0.0, 1.0, 6.0, 7.5, 8.0]);
+        assert_eq!(
+            l.textures(),
+            &[Some(t.clone()), None, Some(t.clone()), None]
+        );
+        // The first band runs on past top dead centre; mid-stroke is plain.
+        assert!((l.depth_um(-0.05, 0.025) - 5.0).abs() < 1e-9);
+        assert_eq!(l.depth_um(3.0, 0.025), 0.0);
+        // The second band's lattice starts at its own start.
+        assert!((l.depth_um(6.0, 0.025) - 5.0).abs() < 1e-9);
+        let one = LinerLayout::banded(8.0, &[(2.0, 8.0, t.clone())]);
+        assert_eq!(one.bounds_cm(), &[0.0, 2.0, 8.0]);
+        assert_eq!(one.textures(), &[None, Some(t)]);
     }
 }

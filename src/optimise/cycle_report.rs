@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::cycle::{Confirmation, CycleSettings, Designs, LinerRuns};
-use super::design_report::{csv_bytes, Column};
+use super::design_report::{csv_bytes, json_and_md, Column};
 use super::error::OptimiseError;
 use crate::model::case::Texture;
 use crate::model::engine::zone_label;
@@ -427,16 +427,9 @@ fn captions(r: &CycleReport) -> String {
 
 /// JSON, CSV (one row per crank angle), the tables as Markdown, and the two figures.
 pub fn write(dir: &Path, r: &CycleReport) -> Result<Vec<PathBuf>, OptimiseError> {
-    let files = OptimiseError::Files;
-    std::fs::create_dir_all(dir)
-        .map_err(|e| files(format!("cannot create {}: {e}", dir.display())))?;
-    let stem = |ext: &str| dir.join(format!("cycle_{}{ext}", r.name));
-    let json = serde_json::to_string_pretty(r).map_err(|e| files(e.to_string()))?;
-    crate::output::write(&stem(".json"), json)?;
-    crate::output::write(
-        &stem(".md"),
-        format!("# Cycle `{}`\n\n{}{}", r.name, table(r), captions(r)),
-    )?;
+    let base = format!("cycle_{}", r.name);
+    let md = format!("# Cycle `{}`\n\n{}{}", r.name, table(r), captions(r));
+    let stem = json_and_md(dir, &base, r, md)?;
     crate::output::write(&stem(".csv"), csv_bytes(&COLUMNS, &r.samples)?)?;
     force_plot(&stem("_force.png"), r)?;
     liner_plot(&stem("_liner.png"), r)?;

@@ -17,48 +17,87 @@ use super::goal::FAILED_COST;
 use super::search::{swarm, Objective};
 use super::space::Space;
 use crate::model::case::Texture;
+use crate::model::engine::Engine;
 use crate::model::liner_layout::LinerLayout;
 use crate::time::cycle::{
-    cycle_numerics, metrics, CycleNumerics, CycleRun, CycleState, Drive, SETTLE_CYCLES,
+    cycle_numerics, metrics, CycleMetrics, CycleNumerics, CycleRow, CycleRun, CycleState, Drive,
+    SETTLE_CYCLES,
 };
 use crate::time::Fidelity;
 
-/// The plain liner's cyclic run: its friction work (J/m), least film (µm) and end state.
-struct PlainAt {
-    work: f64,
-    h_min_um: f64,
+/// Share by which a liner's least film may fall below the plain liner's where that is already
+/// below the least clearance: the tiers' error on the least film is about 1 % (§12), within
+/// which the two cannot be told apart (docs/model.md §12, "Designing over the cycle").
+pub const FILM_TOLERANCE: f64 = 0.01;
+
+/// Whether a liner's least film `h_um` keeps the least clearance `least_um`, or where the plain
+/// liner's `plain_um` is below it, the plain liner's within [`FILM_TOLERANCE`].
+pub fn keeps_film(h_um: f64, plain_um: f64, least_um: f64) -> bool {
+    if plain_um >= least_um {
+        h_um >= least_um
+    } else {
+        h_um >= plain_um * (1.0 - FILM_TOLERANCE)
+    }
+}
+
+/// The plain liner's cyclic run: its figures, its last cycle and its end state.
+pub struct PlainAt {
+    pub metrics: CycleMetrics,
+    pub rows: Vec<CycleRow>,
     end: CycleState,
 }
 
-/// What a candidate's run gave: the friction work of its last cycle (J/m) and its least
-/// film (µm).
-struct Judged {
-    work: f64,
-    h_min_um: f64,
+/// A liner's run from the plain liner's cyclic state: its last cycle's figures and rows.
+pub struct Judged {
+    pub metrics: CycleMetrics,
+    pub rows: Vec<CycleRow>,
 }
 
-/// Runs liners through the cycle at the search's fidelity, each from the plain liner's
-/// cyclic state (computed once: the cells along x1, which a resumed run shares, do not depend
-/// on the texture, and a plain liner is one cell across).
+/// Runs liners of one engine through the cycle at the search's fidelity, each from the plain
+/// liner's cyclic state (computed once: the cells along x1, which a resumed run shares, do
+/// not depend on the texture, and a plain liner is one cell across).
 pub struct CycleJudge<'a> {
     s: &'a CycleSettings,
+    engine: Engine,
     drive: Drive,
     fidelity: Fidelity,
+    /// Cycles a judged liner runs from the plain liner's state (None: until it repeats
+    /// itself, as the plain liner does).
+    settle: Option<usize>,
     plain: Mutex<Option<std::sync::Arc<PlainAt>>>,
 }
 
 impl<'a> CycleJudge<'a> {
+    /// The judge of the settings' engine.
     pub fn new(s: &'a CycleSettings) -> Self {
+        Self::at(s, s.engine.clone())
+    }
+
+    /// The judge of `engine` (a point of the settings' engine's map) with the settings'
+    /// search.
+    pub fn at(s: &'a CycleSettings, engine: Engine) -> Self {
         CycleJudge {
             s,
-            drive: Drive::new(&s.engine),
+            drive: Drive::new(&engine),
+            engine,
             fidelity: s.search.search_fidelity,
+            settle: Some(SETTLE_CYCLES),
             plain: Mutex::new(None),
         }
     }
 
-    fn numerics(&self, textures: &[Option<Texture>]) -> CycleNumerics {
-        let finest = textures
+    /// The same judge at the report's fidelity, each liner run until it repeats itself.
+    pub fn reporting(self) -> Self {
+        CycleJudge {
+            fidelity: self.s.search.report_fidelity,
+            settle: None,
+            ..self
+        }
+    }
+
+    fn numerics(&self, layout: &LinerLayout) -> CycleNumerics {
+        let finest = layout
+            .textures()
             .iter()
             .flatten()
             .min_by(|a, b| a.per.total_cmp(&b.per));
@@ -69,6 +108,23 @@ impl<'a> CycleJudge<'a> {
     fn layout(&self, textures: Vec<Option<Texture>>) -> Result<LinerLayout, OptimiseError> {
         let bounds_cm: Vec<f64> = self.s.engine.bounds_mm.iter().map(|b| 0.1 * b).collect();
         LinerLayout::zoned(bounds_cm, textures).map_err(|e| OptimiseError::Series(e.to_string()))
+    }
+
+    /// The figures of a cycle's rows, with work per zone of `bounds_cm` (None: the engine's
+    /// zones).
+    pub fn metrics(
+        &self,
+        rows: &[crate::time::cycle::CycleRow],
+        bounds_cm: Option<&[f64]>,
+    ) -> CycleMetrics {
+        match bounds_cm {
+            None => metrics(rows, &self.engine),
+            Some(b) => {
+                let mut e = self.engine.clone();
+                e.bounds_mm = b.iter().map(|x| 10.0 * x).collect();
+                metrics(rows, &e)
+            }
+        }
     }
 
     /// The plain liner with `numerics`, run until it repeats itself (once).
@@ -83,52 +139,51 @@ impl<'a> CycleJudge<'a> {
         let o = CycleRun::new(&self.drive, ring, layout, numerics.clone())
             .and_then(|r| r.run(&mut |_| {}, &mut |_| {}))
             .map_err(|e| OptimiseError::Series(format!("plain liner: {e}")))?;
-        let m = metrics(&o.rows, &self.s.engine);
         let p = std::sync::Arc::new(PlainAt {
-            work: m.work_j_per_m,
-            h_min_um: m.h_min_um,
+            metrics: self.metrics(&o.rows, None),
+            rows: o.rows,
             end: o.end,
         });
         *plain = Some(p.clone());
         Ok(p)
     }
 
-    /// The liner of zone `textures` judged from the plain liner's cyclic state: its last
-    /// cycle's work and least film (an error where its run fails), and the plain liner's on
-    /// the same mesh (the outer error: the plain liner itself failed, which no design mends).
+    /// `layout` judged from the plain liner's cyclic state: its last cycle (work per zone of
+    /// `zones_cm` where given, else of the engine's), an error where its run fails, and the plain liner's on the same mesh (the outer error: the plain liner itself
+    /// failed, which no design mends).
     #[allow(clippy::type_complexity)]
-    fn judge(
+    pub fn judge_layout(
         &self,
-        textures: Vec<Option<Texture>>,
-    ) -> Result<(Result<Judged, OptimiseError>, Judged), OptimiseError> {
-        let mut numerics = self.numerics(&textures);
+        layout: LinerLayout,
+        zones_cm: Option<&[f64]>,
+    ) -> Result<(Result<Judged, OptimiseError>, std::sync::Arc<PlainAt>), OptimiseError> {
+        let mut numerics = self.numerics(&layout);
         let plain = self.plain(&numerics)?;
-        numerics.max_cycles = SETTLE_CYCLES;
-        let layout = self.layout(textures)?;
+        if let Some(n) = self.settle {
+            numerics.max_cycles = n;
+        }
         let ring = ring_case(self.s, &self.drive);
         let judged = CycleRun::resume(&self.drive, ring, layout, numerics, &plain.end)
             .and_then(|r| r.run(&mut |_| {}, &mut |_| {}))
-            .map(|o| {
-                let m = metrics(&o.rows, &self.s.engine);
-                Judged {
-                    work: m.work_j_per_m,
-                    h_min_um: m.h_min_um,
-                }
+            .map(|o| Judged {
+                metrics: self.metrics(&o.rows, zones_cm),
+                rows: o.rows,
             })
             .map_err(|e| OptimiseError::Series(e.to_string()));
-        let plain = Judged {
-            work: plain.work,
-            h_min_um: plain.h_min_um,
-        };
         Ok((judged, plain))
     }
 
     /// A liner's cost: its work over the plain liner's, or [`FAILED_COST`] where its run
-    /// fails or its least film falls below both the least clearance and the plain liner's.
+    /// fails or its least film does not [`keeps_film`].
     fn cost(&self, textures: Vec<Option<Texture>>) -> Result<f64, OptimiseError> {
-        let (judged, p) = self.judge(textures)?;
+        let (judged, p) = self.judge_layout(self.layout(textures)?, None)?;
+        let p = &p.metrics;
         Ok(match judged {
-            Ok(t) if t.h_min_um >= self.s.min_clearance_um.min(p.h_min_um) => t.work / p.work,
+            Ok(Judged { metrics: t, .. })
+                if keeps_film(t.h_min_um, p.h_min_um, self.s.min_clearance_um) =>
+            {
+                t.work_j_per_m / p.work_j_per_m
+            }
             _ => FAILED_COST,
         })
     }
@@ -186,7 +241,7 @@ pub fn design_over_cycle(s: &CycleSettings) -> Result<Designs, OptimiseError> {
         let (u, ratio) = swarm(&problem, s.search.swarm)?;
         if ratio >= FAILED_COST {
             say(format!(
-                "zone {}: every candidate failed or thinned the film below {} µm and the plain liner's least film: plain",
+                "zone {}: every candidate failed or thinned the film below {:.3} µm (or 1 % below the plain liner's where that is thinner): plain",
                 zone + 1,
                 s.min_clearance_um
             ));

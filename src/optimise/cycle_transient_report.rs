@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 use super::cycle::{CycleSettings, Designs};
 use super::cycle_transient::{LinerCycle, TransientLiners};
-use super::design_report::{csv_bytes, Column};
+use super::design_report::{csv_bytes, json_and_md, Column};
 use super::error::OptimiseError;
 use crate::model::case::Texture;
 use crate::model::engine::zone_label;
@@ -285,16 +285,9 @@ const CYCLE_COLUMNS: [Column<CycleLine>; 6] = [
 
 /// JSON, Markdown, CSVs (steps, oil map, convergence) and figures.
 pub fn write(dir: &Path, r: &TransientReport) -> Result<Vec<PathBuf>, OptimiseError> {
-    let files = OptimiseError::Files;
-    std::fs::create_dir_all(dir)
-        .map_err(|e| files(format!("cannot create {}: {e}", dir.display())))?;
-    let stem = |ext: &str| dir.join(format!("cycle_{}{ext}", r.name));
-    let json = serde_json::to_string_pretty(r).map_err(|e| files(e.to_string()))?;
-    crate::output::write(&stem(".json"), json)?;
-    crate::output::write(
-        &stem(".md"),
-        format!("# Cycle `{}`\n\n{}", r.name, table(r)),
-    )?;
+    let base = format!("cycle_{}", r.name);
+    let md = format!("# Cycle `{}`\n\n{}", r.name, table(r));
+    let stem = json_and_md(dir, &base, r, md)?;
     let steps: Vec<LinerStep> = (0..3)
         .flat_map(|k| {
             thinned(&r.runs[k].outcome.rows).map(move |row| LinerStep {
@@ -340,7 +333,7 @@ const CSV_EVERY_DEG: f64 = 0.25;
 
 /// The rows of a cycle, the first at or after each multiple of [`CSV_EVERY_DEG`] (every row of
 /// a run whose steps are longer).
-fn thinned(rows: &[CycleRow]) -> impl Iterator<Item = &CycleRow> {
+pub(super) fn thinned(rows: &[CycleRow]) -> impl Iterator<Item = &CycleRow> {
     let mut next = f64::NEG_INFINITY;
     rows.iter().filter(move |r| {
         let keep = r.crank_deg >= next;

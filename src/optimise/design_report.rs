@@ -5,6 +5,8 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use serde::Serialize;
+
 use super::design::{labelled, table_rows, Report, Role, Row};
 use super::error::OptimiseError;
 use super::search::Evaluator;
@@ -185,6 +187,24 @@ fn texture_cell(x: &Line, f: fn(&Texture) -> f64) -> String {
         .texture
         .as_ref()
         .map_or(String::new(), |t| f(t).to_string())
+}
+
+/// Creates `dir` and writes the report `r` as `dir/base.json` and the tables `md` as
+/// `dir/base.md`; returns the path of `dir/base` + a suffix, for the report's other files.
+pub(super) fn json_and_md<'a>(
+    dir: &'a Path,
+    base: &'a str,
+    r: &impl Serialize,
+    md: String,
+) -> Result<impl Fn(&str) -> PathBuf + 'a, OptimiseError> {
+    let files = OptimiseError::Files;
+    std::fs::create_dir_all(dir)
+        .map_err(|e| files(format!("cannot create {}: {e}", dir.display())))?;
+    let stem = move |ext: &str| dir.join(format!("{base}{ext}"));
+    let json = serde_json::to_string_pretty(r).map_err(|e| files(e.to_string()))?;
+    crate::output::write(&stem(".json"), json)?;
+    crate::output::write(&stem(".md"), md)?;
+    Ok(stem)
 }
 
 /// A CSV column: its header, and its cell of a record.

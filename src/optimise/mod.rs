@@ -8,7 +8,10 @@
 //! an `error::OptimiseError`. The simulator knows nothing of this module: every evaluation is
 //! a study job run through the cache.
 
+pub mod bands;
 pub mod cycle;
+pub mod cycle_map;
+pub mod cycle_map_report;
 pub mod cycle_report;
 pub mod cycle_search;
 pub mod cycle_transient;

@@ -238,18 +238,44 @@ impl SwarmSettings {
     };
 }
 
-/// What a search minimises over the unit cube of its design space: the costs of a batch of
-/// designs (a batch, so that the evaluations run in parallel). Every search is one of these;
-/// the argmin cost function over them is [`Cost`].
+/// What a texture search minimises over the unit cube of its design space: the costs of a
+/// batch of textures (a batch, so that the evaluations run in parallel). Every texture search
+/// is one of these, and through it a [`CubeObjective`].
 pub trait Objective: Sync {
     fn space(&self) -> &Space;
     fn costs(&self, designs: &[Texture]) -> Result<Vec<f64>, OptimiseError>;
 }
 
-/// The argmin cost function of an [`Objective`]: unit-cube points decoded into designs.
+/// What any search minimises over a unit cube: its dimension, the design at a point, and the
+/// costs of a batch of designs. The argmin cost function over them is [`Cost`]; a texture
+/// search is one through its [`Space`], a banded liner's through its band space.
+pub trait CubeObjective: Sync {
+    type Design: Clone + Send + Sync;
+    fn dim(&self) -> usize;
+    fn decode(&self, u: &[f64]) -> Self::Design;
+    fn costs_of(&self, designs: &[Self::Design]) -> Result<Vec<f64>, OptimiseError>;
+}
+
+impl<O: Objective + ?Sized> CubeObjective for O {
+    type Design = Texture;
+
+    fn dim(&self) -> usize {
+        self.space().dim()
+    }
+
+    fn decode(&self, u: &[f64]) -> Texture {
+        self.space().decode(u)
+    }
+
+    fn costs_of(&self, designs: &[Texture]) -> Result<Vec<f64>, OptimiseError> {
+        self.costs(designs)
+    }
+}
+
+/// The argmin cost function of a [`CubeObjective`]: unit-cube points decoded into designs.
 pub struct Cost<'a, O: ?Sized>(pub &'a O);
 
-impl<O: Objective + ?Sized> CostFunction for Cost<'_, O> {
+impl<O: CubeObjective + ?Sized> CostFunction for Cost<'_, O> {
     type Param = Vec<f64>;
     type Output = f64;
 
@@ -262,9 +288,8 @@ impl<O: Objective + ?Sized> CostFunction for Cost<'_, O> {
     where
         P: std::borrow::Borrow<Vec<f64>> + argmin::core::SyncAlias,
     {
-        let space = self.0.space();
-        let designs: Vec<Texture> = params.iter().map(|u| space.decode(u.borrow())).collect();
-        Ok(self.0.costs(&designs)?)
+        let designs: Vec<O::Design> = params.iter().map(|u| self.0.decode(u.borrow())).collect();
+        Ok(self.0.costs_of(&designs)?)
     }
 }
 
@@ -303,11 +328,11 @@ impl Objective for GoalSearch<'_> {
 
 /// A particle swarm over the unit cube of `problem`'s space; returns the best point and its
 /// cost.
-pub fn swarm<O: Objective + ?Sized>(
+pub fn swarm<O: CubeObjective + ?Sized>(
     problem: &O,
     settings: SwarmSettings,
 ) -> Result<(Vec<f64>, f64), OptimiseError> {
-    let n = problem.space().dim();
+    let n = problem.dim();
     let solver = ParticleSwarm::new((vec![0.0; n], vec![1.0; n]), settings.particles)
         .with_rng_generator(rand::rngs::StdRng::seed_from_u64(settings.seed));
     let res = Executor::new(Cost(problem), solver)
@@ -325,16 +350,15 @@ pub fn swarm<O: Objective + ?Sized>(
 /// Every search: a particle swarm, the best of its answer and the `starts` (points worth
 /// trying, e.g. other searches' optima), polished by a compass search; returns the point and
 /// its cost.
-pub fn swarm_and_refine<O: Objective + ?Sized>(
+pub fn swarm_and_refine<O: CubeObjective + ?Sized>(
     problem: &O,
     settings: SwarmSettings,
     starts: &[Vec<f64>],
 ) -> Result<(Vec<f64>, f64), OptimiseError> {
     let (mut u, mut c) = swarm(problem, settings)?;
     if !starts.is_empty() {
-        let space = problem.space();
-        let designs: Vec<Texture> = starts.iter().map(|x| space.decode(x)).collect();
-        for (x, cost) in starts.iter().zip(problem.costs(&designs)?) {
+        let designs: Vec<O::Design> = starts.iter().map(|x| problem.decode(x)).collect();
+        for (x, cost) in starts.iter().zip(problem.costs_of(&designs)?) {
             if cost < c {
                 (u, c) = (x.clone(), cost);
             }
@@ -427,7 +451,7 @@ where
 
 /// Refines a point by compass search ([`REFINE_STEP`] down to [`REFINE_MIN_STEP`], at most
 /// [`REFINE_ITERS`] polls); returns the best point and its cost.
-pub fn refine<O: Objective + ?Sized>(
+pub fn refine<O: CubeObjective + ?Sized>(
     problem: &O,
     start: Vec<f64>,
 ) -> Result<(Vec<f64>, f64), OptimiseError> {

@@ -23,6 +23,9 @@
 //! d_oil_um = 20               # or a table against position_mm
 //! [zones]
 //! count = 4                   # or boundaries_mm = [0, …, stroke]
+//! [[operating]]               # optional, repeated: the operating map (docs/model.md §13)
+//! name = "idle"               # and weight (time share); rpm, gas_scale, viscosity_pa_s
+//! weight = 0.3                #   change the engine's own where given
 //! [contact]                   # optional: the asperities (docs/model.md §11)
 //! eta_beta_sigma = 0.04       # and sigma_over_beta, e_star_gpa, tau0_mpa, varsigma; off = true
 //! [design]                    # the design's settings (`texopt cycle`)
@@ -35,6 +38,7 @@ use crate::model::case::one_line;
 use crate::model::engine::{
     ContactFile, Crank, Engine, EngineError, EngineFile, Gas, Oil, RingFile, Zones,
 };
+use crate::model::engine_map::MapPointFile;
 
 /// An engine file that cannot be used.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -62,6 +66,8 @@ struct FileToml {
     #[serde(default)]
     contact: ContactFile,
     #[serde(default)]
+    operating: Vec<MapPointFile>,
+    #[serde(default)]
     design: toml::Table,
 }
 
@@ -76,6 +82,7 @@ pub fn parse<D: DeserializeOwned>(text: &str) -> Result<(Engine, D), EngineFileE
         oil: raw.oil,
         zones: raw.zones,
         contact: raw.contact,
+        operating: raw.operating,
     })?;
     let design = toml::Value::Table(raw.design)
         .try_into()

@@ -73,6 +73,55 @@ pub fn scratch(test: &str) -> PathBuf {
 }
 
 /// A small engine file of the cycle tests, its `[zones]` given as `zones`.
+/// The plain liner of the engine file `text` run straight through its cycle, as `texopt
+/// cycle` runs it: the ring with the default roughness, at draft on `mesh` (N1, N2) cells, until
+/// it repeats itself. Its friction work (J/m).
+#[allow(dead_code)]
+pub fn plain_cycle_work(text: &str, (n1, n2): (usize, usize)) -> f64 {
+    use texopt::model::engine::Engine;
+    use texopt::model::liner_layout::LinerLayout;
+    use texopt::model::operating::Validity;
+    use texopt::time::cycle::{cycle_numerics, metrics, CycleRun, Drive};
+    let (engine, _): (Engine, serde::de::IgnoredAny) =
+        texopt::study::engine_file::parse(text).unwrap();
+    let drive = Drive::new(&engine);
+    let ring = drive.ring_case_at(Validity::default().roughness_um);
+    let mesh = Overrides {
+        n1: Some(n1),
+        n2: Some(n2),
+        ..Overrides::default()
+    };
+    let num = cycle_numerics(Fidelity::Draft, &mesh, &ring, None);
+    let layout = LinerLayout::uniform(0.1 * engine.file.engine.stroke_mm, None);
+    let plain = CycleRun::new(&drive, ring, layout, num)
+        .unwrap()
+        .run(&mut |_| {}, &mut |_| {})
+        .unwrap();
+    metrics(&plain.rows, &engine).work_j_per_m
+}
+
+/// The report `out/base` + each suffix must exist; its JSON, `out/base.json`, read.
+#[allow(dead_code)]
+pub fn report_files(out: &std::path::Path, base: &str, suffixes: &[&str]) -> serde_json::Value {
+    for suffix in suffixes {
+        let f = out.join(format!("{base}{suffix}"));
+        assert!(f.is_file(), "{} missing", f.display());
+    }
+    let json = std::fs::read_to_string(out.join(format!("{base}.json"))).unwrap();
+    serde_json::from_str(&json).unwrap()
+}
+
+/// The least search a command takes: 2 particles, 1 iteration, at draft.
+#[allow(dead_code)]
+pub const QUICK_SEARCH: [&str; 6] = [
+    "--particles",
+    "2",
+    "--iterations",
+    "1",
+    "--fidelity",
+    "draft",
+];
+
 pub fn engine(zones: &str) -> String {
     format!(
         r#"

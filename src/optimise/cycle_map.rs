@@ -1,0 +1,437 @@
+//! Where to texture the liner (docs/model.md §13): banded liners searched over the engine's
+//! operating map. A liner is judged at every point of the map by the transient cycle (the
+//! zones' judge of `cycle_search`, one per point), and costs the time-weighted mean friction
+//! power over the map relative to the plain liner's; a liner that thins the film below both
+//! the least clearance and the plain liner's least film at any point is infeasible. The
+//! swarm searches the band space; the uniform candidates are the best liner's band textures
+//! laid over the whole stroke; plain, uniform and banded are then run at the report's
+//! fidelity until each repeats itself.
+
+use std::sync::{Arc, Mutex};
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::bands::{BandSpace, Banded};
+use super::cycle::CycleSettings;
+use super::cycle_search::{keeps_film, CycleJudge, Judged, PlainAt};
+use super::error::OptimiseError;
+use super::goal::FAILED_COST;
+use super::search::{swarm, CubeObjective};
+use crate::model::case::Texture;
+use crate::model::engine_map::MapPoint;
+use crate::model::liner_layout::LinerLayout;
+use crate::time::cycle::CycleMetrics;
+use crate::time::Fidelity;
+
+/// One liner over the map: per point its last cycle (or why its run failed) and the plain
+/// liner's on the same mesh.
+pub struct OverMap {
+    pub points: Vec<Result<Judged, String>>,
+    pub plain: Vec<Arc<PlainAt>>,
+}
+
+/// The time-weighted mean of `f` over the map's points (shares sum to 1).
+fn weighted(points: &[MapPoint], f: impl Fn(usize) -> f64) -> f64 {
+    points.iter().enumerate().map(|(k, p)| p.share * f(k)).sum()
+}
+
+impl OverMap {
+    /// Per point its figures, where its run succeeded.
+    pub fn metrics(&self, k: usize) -> Option<&CycleMetrics> {
+        self.points[k].as_ref().ok().map(|j| &j.metrics)
+    }
+
+    /// The time-weighted mean friction power (W/m): the friction energy over the drive
+    /// cycle over its duration (docs/model.md §13). None where a point failed.
+    pub fn mean_power(&self, map: &[MapPoint]) -> Option<f64> {
+        let ok = (0..map.len()).all(|k| self.metrics(k).is_some());
+        ok.then(|| {
+            weighted(map, |k| {
+                self.metrics(k).map_or(0.0, |m| m.mean_power_w_per_m)
+            })
+        })
+    }
+
+    pub fn plain_mean_power(&self, map: &[MapPoint]) -> f64 {
+        weighted(map, |k| self.plain[k].metrics.mean_power_w_per_m)
+    }
+
+    /// The least film over every point (µm), None where a point failed.
+    pub fn worst_film(&self) -> Option<f64> {
+        (0..self.points.len())
+            .map(|k| self.metrics(k).map(|m| m.h_min_um))
+            .try_fold(f64::INFINITY, |a, h| h.map(|h| a.min(h)))
+    }
+
+    pub fn plain_worst_film(&self) -> f64 {
+        self.plain
+            .iter()
+            .map(|p| p.metrics.h_min_um)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Whether every point ran and [`keeps_film`] there.
+    pub fn feasible(&self, least_um: f64) -> bool {
+        (0..self.points.len()).all(|k| {
+            self.metrics(k)
+                .is_some_and(|m| keeps_film(m.h_min_um, self.plain[k].metrics.h_min_um, least_um))
+        })
+    }
+
+    /// Its cost: mean power over the plain liner's, the search's failed cost where infeasible.
+    pub fn cost(&self, map: &[MapPoint], least_um: f64) -> f64 {
+        match self.mean_power(map) {
+            Some(p) if self.feasible(least_um) => p / self.plain_mean_power(map),
+            _ => FAILED_COST,
+        }
+    }
+}
+
+/// One liner the search judged: its cost (mean power over the plain liner's) and its least
+/// film over the plain liner's, both at the search's fidelity.
+#[derive(Clone, Debug, Serialize)]
+pub struct MapEval {
+    pub banded: Banded,
+    pub power_ratio: f64,
+    pub film_ratio: f64,
+    pub feasible: bool,
+}
+
+/// Judges liners over the map, a cycle judge per point.
+pub struct MapJudge<'a> {
+    pub s: &'a CycleSettings,
+    pub map: Vec<MapPoint>,
+    judges: Vec<CycleJudge<'a>>,
+    /// Every banded liner judged, in order.
+    pub log: Mutex<Vec<MapEval>>,
+}
+
+impl<'a> MapJudge<'a> {
+    /// At the search's fidelity.
+    pub fn new(s: &'a CycleSettings) -> Self {
+        let map = s.engine.operating_points();
+        let judges = map
+            .iter()
+            .map(|p| CycleJudge::at(s, p.engine.clone()))
+            .collect();
+        MapJudge {
+            s,
+            map,
+            judges,
+            log: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// The same at the report's fidelity, each liner run until it repeats itself.
+    pub fn reporting(self) -> Self {
+        MapJudge {
+            judges: self.judges.into_iter().map(CycleJudge::reporting).collect(),
+            log: Mutex::new(Vec::new()),
+            ..self
+        }
+    }
+
+    /// `layout` at every point, in parallel; work per zone of `zones_cm` where given.
+    pub fn judge(
+        &self,
+        layout: &LinerLayout,
+        zones_cm: Option<&[f64]>,
+    ) -> Result<OverMap, OptimiseError> {
+        let runs: Vec<_> = self
+            .judges
+            .par_iter()
+            .map(|j| j.judge_layout(layout.clone(), zones_cm))
+            .collect::<Result<_, _>>()?;
+        let (points, plain) = runs
+            .into_iter()
+            .map(|(r, p)| (r.map_err(|e| e.to_string()), p))
+            .unzip();
+        Ok(OverMap { points, plain })
+    }
+
+    fn stroke_mm(&self) -> f64 {
+        self.s.engine.file.engine.stroke_mm
+    }
+
+    /// A banded liner's cost, logged.
+    fn cost(&self, b: &Banded) -> Result<f64, OptimiseError> {
+        let over = self.judge(&b.layout(self.stroke_mm()), None)?;
+        let cost = over.cost(&self.map, self.s.min_clearance_um);
+        let film_ratio = over
+            .worst_film()
+            .map_or(f64::NAN, |h| h / over.plain_worst_film());
+        self.log
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(MapEval {
+                banded: b.clone(),
+                power_ratio: cost,
+                film_ratio,
+                feasible: cost < FAILED_COST,
+            });
+        Ok(cost)
+    }
+
+    /// A texture over the whole stroke: its cost.
+    fn uniform_cost(&self, t: &Texture) -> Result<f64, OptimiseError> {
+        let layout = LinerLayout::uniform(0.1 * self.stroke_mm(), Some(t.clone()));
+        Ok(self
+            .judge(&layout, None)?
+            .cost(&self.map, self.s.min_clearance_um))
+    }
+}
+
+/// A search over a band space: its liners' costs, a batch at a time, by `costs`.
+pub struct OverBands<'s, F> {
+    pub space: &'s BandSpace,
+    pub costs: F,
+}
+
+impl<F> CubeObjective for OverBands<'_, F>
+where
+    F: Fn(&[Banded]) -> Result<Vec<f64>, OptimiseError> + Sync,
+{
+    type Design = Banded;
+
+    fn dim(&self) -> usize {
+        self.space.dim()
+    }
+
+    fn decode(&self, u: &[f64]) -> Banded {
+        self.space.decode(u)
+    }
+
+    fn costs_of(&self, designs: &[Banded]) -> Result<Vec<f64>, OptimiseError> {
+        (self.costs)(designs)
+    }
+}
+
+impl MapJudge<'_> {
+    /// A batch of banded liners judged in parallel over the map, the best so far said.
+    fn costs(&self, designs: &[Banded], t0: std::time::Instant) -> Result<Vec<f64>, OptimiseError> {
+        let costs: Vec<f64> = designs
+            .par_iter()
+            .map(|b| self.cost(b))
+            .collect::<Result<_, _>>()?;
+        if self.s.search.progress {
+            let log = self.log.lock().unwrap_or_else(|e| e.into_inner());
+            let best = log
+                .iter()
+                .map(|e| e.power_ratio)
+                .fold(f64::INFINITY, f64::min);
+            let best = if best < FAILED_COST {
+                format!("{best:.5}")
+            } else {
+                "none feasible yet".into()
+            };
+            eprintln!(
+                "[{:6.1} s] {} banded liners judged, best power ratio {best}",
+                t0.elapsed().as_secs_f64(),
+                log.len()
+            );
+        }
+        Ok(costs)
+    }
+}
+
+/// What the search found, at its fidelity: the best banded liner and its cost, the best
+/// uniform texture (the banded liner's band textures over the whole stroke) and its cost,
+/// and every banded liner judged.
+pub struct MapDesigns {
+    pub banded: Banded,
+    pub banded_cost: f64,
+    pub uniform: Option<(Texture, f64)>,
+    pub log: Vec<MapEval>,
+    pub fidelity: Fidelity,
+}
+
+/// The banded search over the map (the swarm, and the least bands at the dead centres), then
+/// the uniform candidates.
+pub fn design_over_map(s: &CycleSettings, space: &BandSpace) -> Result<MapDesigns, OptimiseError> {
+    let t0 = std::time::Instant::now();
+    let say = |m: String| {
+        if s.search.progress {
+            eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
+        }
+    };
+    let judge = MapJudge::new(s);
+    say(format!(
+        "bands over {} operating point(s) at {}: {} particles × {} iterations, each liner a cycle run per point …",
+        judge.map.len(),
+        s.search.search_fidelity.name(),
+        s.search.swarm.particles,
+        s.search.swarm.iterations,
+    ));
+    let problem = OverBands {
+        space,
+        costs: |d: &[Banded]| judge.costs(d, t0),
+    };
+    let (mut u, mut banded_cost) = swarm(&problem, s.search.swarm)?;
+    // Also the least bands at both dead centres with the design space's middle texture: a
+    // band away from where it helps costs alike wherever it lies, a plateau a small swarm
+    // may not leave.
+    let start = space.at_dead_centres();
+    if let Some(&c) = problem.costs_of(&[space.decode(&start)])?.first() {
+        if c < banded_cost {
+            (u, banded_cost) = (start, c);
+        }
+    }
+    let banded = space.decode(&u);
+    say(format!(
+        "bands: {}, power ratio {banded_cost:.5}",
+        banded.label()
+    ));
+    let mut textures: Vec<Texture> = Vec::new();
+    for b in &banded.bands {
+        if !textures.contains(&b.texture) {
+            textures.push(b.texture.clone());
+        }
+    }
+    let costs: Vec<f64> = textures
+        .par_iter()
+        .map(|t| judge.uniform_cost(t))
+        .collect::<Result<_, _>>()?;
+    let uniform = (0..textures.len())
+        .filter(|&k| costs[k] < FAILED_COST)
+        .min_by(|&a, &b| costs[a].total_cmp(&costs[b]))
+        .map(|k| (textures[k].clone(), costs[k]));
+    match &uniform {
+        Some((t, c)) => say(format!("uniform: {}, power ratio {c:.5}", t.rounded_label())),
+        None => say(format!(
+            "uniform: every band texture over the whole stroke failed or thinned the film below {:.3} µm (or 1 % below the plain liner's where that is thinner) at some point",
+            s.min_clearance_um
+        )),
+    }
+    let log = std::mem::take(&mut *judge.log.lock().unwrap_or_else(|e| e.into_inner()));
+    Ok(MapDesigns {
+        banded,
+        banded_cost,
+        uniform,
+        log,
+        fidelity: s.search.search_fidelity,
+    })
+}
+
+/// The three liners at the report's fidelity over the map, each until it repeats itself:
+/// plain, the best uniform texture (None: every uniform candidate failed) and the banded
+/// liner; work per zone of the banded liner's zones for all three.
+pub struct MapLiners {
+    pub map: Vec<MapPoint>,
+    pub zones_cm: Vec<f64>,
+    pub uniform: Option<OverMap>,
+    pub banded: OverMap,
+}
+
+impl MapLiners {
+    /// The plain liner's figures at point k with work per band zone.
+    pub fn plain(&self, k: usize) -> &PlainAt {
+        &self.banded.plain[k]
+    }
+}
+
+pub fn evaluate_over_map(s: &CycleSettings, d: &MapDesigns) -> Result<MapLiners, OptimiseError> {
+    let t0 = std::time::Instant::now();
+    let judge = MapJudge::new(s).reporting();
+    let stroke_mm = s.engine.file.engine.stroke_mm;
+    let layout = d.banded.layout(stroke_mm);
+    let zones_cm = layout.bounds_cm().to_vec();
+    let run = |name: &str, layout: &LinerLayout| -> Result<OverMap, OptimiseError> {
+        let say = |m: String| {
+            if s.search.progress {
+                eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
+            }
+        };
+        say(format!(
+            "the {name} liner over the map at {}, each point until it repeats itself …",
+            s.search.report_fidelity.name()
+        ));
+        let over = judge.judge(layout, Some(&zones_cm))?;
+        for (k, p) in judge.map.iter().enumerate() {
+            let plain = &over.plain[k].metrics;
+            say(match over.metrics(k) {
+                Some(m) => format!(
+                    "{name}, {}: {:.4} J/m (plain {:.4}), least film {:.3} µm (plain {:.3})",
+                    p.name, m.work_j_per_m, plain.work_j_per_m, m.h_min_um, plain.h_min_um
+                ),
+                None => format!("{name}, {}: its run failed", p.name),
+            });
+        }
+        Ok(over)
+    };
+    let banded = run("banded", &layout)?;
+    let uniform = match &d.uniform {
+        Some((t, _)) => Some(run(
+            "uniform",
+            &LinerLayout::uniform(0.1 * stroke_mm, Some(t.clone())),
+        )?),
+        None => None,
+    };
+    Ok(MapLiners {
+        map: judge.map,
+        zones_cm,
+        uniform,
+        banded,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optimise::search::{swarm_and_refine, SwarmSettings};
+    use crate::optimise::space::Space;
+
+    /// Reversal zones: within 8 mm of either dead centre of an 81 mm stroke.
+    const REVERSALS: [(f64, f64); 2] = [(0.0, 8.0), (73.0, 81.0)];
+
+    /// A liner's cost along the stroke known by construction: a texture saves 1 per mm where
+    /// the ring reverses (asperity friction it lowers) and costs 1 per mm elsewhere (film
+    /// shear it adds). The best liner has a band over each reversal zone, mid-stroke plain.
+    fn cost(b: &Banded) -> f64 {
+        b.bands
+            .iter()
+            .map(|band| {
+                let over: f64 = REVERSALS
+                    .iter()
+                    .map(|&(a, e)| (band.end_mm.min(e) - band.start_mm.max(a)).max(0.0))
+                    .sum();
+                (band.end_mm - band.start_mm) - 2.0 * over
+            })
+            .sum()
+    }
+
+    #[test]
+    fn the_search_puts_the_bands_over_the_reversals_and_leaves_mid_stroke_plain() {
+        let texture = Space {
+            bounds: Default::default(),
+            cons: Default::default(),
+        };
+        let space = BandSpace::new(texture, 81.0, 4.0).unwrap();
+        let problem = OverBands {
+            space: &space,
+            costs: |d: &[Banded]| Ok(d.iter().map(cost).collect()),
+        };
+        // A band away from its reversal zone costs the same wherever it lies: a plateau the
+        // swarm needs a fuller population to leave (24 particles stay on it for the top band).
+        let settings = SwarmSettings {
+            particles: 40,
+            iterations: 30,
+            seed: 1,
+        };
+        let (u, c) = swarm_and_refine(&problem, settings, &[]).unwrap();
+        let b = problem.decode(&u);
+        // The optimum is −16: each band exactly over its reversal zone.
+        assert!(c <= -14.0, "cost {c}: {}", b.label());
+        let (top, bottom) = (&b.bands[0], &b.bands[1]);
+        assert!(
+            top.start_mm <= 1.0 && (6.0..=10.0).contains(&top.end_mm),
+            "{}",
+            b.label()
+        );
+        assert!(
+            bottom.end_mm >= 80.0 && (71.0..=75.0).contains(&bottom.start_mm),
+            "{}",
+            b.label()
+        );
+    }
+}
