@@ -79,6 +79,25 @@ impl OverMap {
         })
     }
 
+    /// Why it is infeasible: the first point whose run failed, or whose least film falls too
+    /// far (docs/model.md §13).
+    pub fn why_infeasible(&self, map: &[MapPoint], least_um: f64) -> String {
+        for (k, p) in map.iter().enumerate() {
+            let plain = self.plain[k].metrics.h_min_um;
+            match &self.points[k] {
+                Err(e) => return format!("{}: {e}", p.name),
+                Ok(j) if !keeps_film(j.metrics.h_min_um, plain, least_um) => {
+                    return format!(
+                        "{}: least film {:.4} µm against the plain liner's {:.4} µm",
+                        p.name, j.metrics.h_min_um, plain
+                    )
+                }
+                Ok(_) => {}
+            }
+        }
+        "feasible".into()
+    }
+
     /// Its cost: mean power over the plain liner's, the search's failed cost where infeasible.
     pub fn cost(&self, map: &[MapPoint], least_um: f64) -> f64 {
         match self.mean_power(map) {
@@ -96,6 +115,9 @@ pub struct MapEval {
     pub power_ratio: f64,
     pub film_ratio: f64,
     pub feasible: bool,
+    /// Why it is infeasible: the first point whose run failed, and why, or that thinned the
+    /// film too far (None: feasible).
+    pub why: Option<String>,
 }
 
 /// Judges liners over the map, a cycle judge per point.
@@ -169,6 +191,8 @@ impl<'a> MapJudge<'a> {
                 power_ratio: cost,
                 film_ratio,
                 feasible: cost < FAILED_COST,
+                why: (cost >= FAILED_COST)
+                    .then(|| over.why_infeasible(&self.map, self.s.min_clearance_um)),
             });
         Ok(cost)
     }

@@ -322,10 +322,11 @@ fn zone_table(t: &mut String, r: &MapReport) {
     }
 }
 
-const FRONT_COLUMNS: [Column<MapEval>; 5] = [
+const FRONT_COLUMNS: [Column<MapEval>; 6] = [
     ("power_ratio", |e| e.power_ratio.to_string()),
     ("film_ratio", |e| e.film_ratio.to_string()),
     ("feasible", |e| e.feasible.to_string()),
+    ("why_infeasible", |e| e.why.clone().unwrap_or_default()),
     ("bands", |e| e.banded.label()),
     ("band_mm", |e| {
         let b: Vec<String> = e
