@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use super::bands::Banded;
 use super::cycle::CycleSettings;
 use super::cycle_map::{MapDesigns, MapEval, MapLiners, OverMap};
+use super::cycle_search::metrics_over;
 use super::cycle_transient_report::thinned;
 use super::design_report::{csv_bytes, json_and_md, Column};
 use super::error::OptimiseError;
@@ -18,7 +19,7 @@ use super::goal::{pareto, FAILED_COST};
 use crate::model::case::Texture;
 use crate::model::engine_map::MapPoint;
 use crate::plot::{self, Chart, Scale, Series, Style};
-use crate::time::cycle::{metrics, CycleMetrics, CycleRow};
+use crate::time::cycle::{CycleMetrics, CycleRow};
 
 const LINERS: [&str; 3] = ["plain liner", "uniform best", "banded"];
 
@@ -98,11 +99,10 @@ fn figures(point: &MapPoint, m: &CycleMetrics) -> PointFigures {
     }
 }
 
-/// The plain liner's figures at point k, work per zone of `zones_mm`.
-fn plain_figures(l: &MapLiners, k: usize, zones_mm: &[f64]) -> PointFigures {
-    let mut e = l.map[k].engine.clone();
-    e.bounds_mm = zones_mm.to_vec();
-    figures(&l.map[k], &metrics(&l.plain(k).rows, &e))
+/// The plain liner's figures at point k, work per zone of the banded liner.
+fn plain_figures(l: &MapLiners, k: usize) -> PointFigures {
+    let m = metrics_over(&l.plain(k).rows, &l.map[k].engine, Some(&l.zones_cm));
+    figures(&l.map[k], &m)
 }
 
 fn change(p: Option<f64>, plain: f64) -> Option<f64> {
@@ -150,9 +150,7 @@ fn front(log: &[MapEval]) -> Vec<MapEval> {
 
 pub fn assemble(s: &CycleSettings, d: &MapDesigns, l: &MapLiners, wall: f64) -> MapReport {
     let zones_mm: Vec<f64> = l.zones_cm.iter().map(|z| 10.0 * z).collect();
-    let plain_points = (0..l.map.len())
-        .map(|k| Ok(plain_figures(l, k, &zones_mm)))
-        .collect();
+    let plain_points = (0..l.map.len()).map(|k| Ok(plain_figures(l, k))).collect();
     let plain_power = l.banded.plain_mean_power(&l.map);
     let plain = MapLinerRow {
         liner: LINERS[0],

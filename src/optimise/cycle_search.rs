@@ -40,6 +40,19 @@ pub fn keeps_film(h_um: f64, plain_um: f64, least_um: f64) -> bool {
     }
 }
 
+/// The figures of a cycle's `rows` on `engine`, with work per zone of `bounds_cm` (cm) where
+/// given, else of the engine's zones.
+pub fn metrics_over(rows: &[CycleRow], engine: &Engine, bounds_cm: Option<&[f64]>) -> CycleMetrics {
+    match bounds_cm {
+        None => metrics(rows, engine),
+        Some(b) => {
+            let mut e = engine.clone();
+            e.bounds_mm = b.iter().map(|x| 10.0 * x).collect();
+            metrics(rows, &e)
+        }
+    }
+}
+
 /// The plain liner's cyclic run: its figures, its last cycle and its end state.
 pub struct PlainAt {
     pub metrics: CycleMetrics,
@@ -112,19 +125,8 @@ impl<'a> CycleJudge<'a> {
 
     /// The figures of a cycle's rows, with work per zone of `bounds_cm` (None: the engine's
     /// zones).
-    pub fn metrics(
-        &self,
-        rows: &[crate::time::cycle::CycleRow],
-        bounds_cm: Option<&[f64]>,
-    ) -> CycleMetrics {
-        match bounds_cm {
-            None => metrics(rows, &self.engine),
-            Some(b) => {
-                let mut e = self.engine.clone();
-                e.bounds_mm = b.iter().map(|x| 10.0 * x).collect();
-                metrics(rows, &e)
-            }
-        }
+    pub fn metrics(&self, rows: &[CycleRow], bounds_cm: Option<&[f64]>) -> CycleMetrics {
+        metrics_over(rows, &self.engine, bounds_cm)
     }
 
     /// The plain liner with `numerics`, run until it repeats itself (once).
