@@ -6,22 +6,64 @@
 mod common;
 
 use common::{scratch, texopt};
+use std::path::Path;
 
-/// The test engine with a map: idle (slow, half the gas load, a thicker oil) and cruise (the
-/// engine's own point), the second three times as long.
-fn mapped() -> String {
-    common::engine("count = 2").replace(
-        "[zones]",
-        "[[operating]]\nname = \"idle\"\nweight = 1\nrpm = 800\ngas_scale = 0.5\nviscosity_pa_s = 0.02\n\n\
-         [[operating]]\nname = \"cruise\"\nweight = 3\n\n[zones]",
+/// The band search's report without its wall time, and its progress lines (stderr).
+fn quick_bands(dir: &Path, file: &Path, out: &str) -> (serde_json::Value, String) {
+    let mut extra = common::QUICK_SEARCH.to_vec();
+    extra.extend(["--bands", "--band-min", "6", "--mesh", "96x4", "--out", out]);
+    let cache = dir.join("c.sqlite");
+    let mut args = vec!["cycle", file.to_str().unwrap(), "--cache"];
+    args.push(cache.to_str().unwrap());
+    args.extend(extra);
+    let (code, _, err) = texopt(&args);
+    assert_eq!(code, 0, "{err}");
+    (
+        common::report_without_wall_time(Path::new(out), "cycle_t_bands"),
+        err,
     )
+}
+
+#[test]
+fn a_search_again_over_the_same_cache_runs_nothing_and_finds_the_same() {
+    let dir = scratch("bands-cache");
+    let file = dir.join("e.toml");
+    std::fs::write(&file, common::mapped_engine()).unwrap();
+    let first = dir.join("first");
+    let again = dir.join("again");
+    let (cold, log) = quick_bands(&dir, &file, first.to_str().unwrap());
+    let (warm, log_again) = quick_bands(&dir, &file, again.to_str().unwrap());
+    assert_eq!(cold, warm);
+    // Every line of the second search's progress: all from the cache, none run.
+    let counts = |log: &str| -> Vec<(usize, usize)> {
+        log.lines()
+            .filter_map(|l| {
+                let (_, tail) = l.split_once(" (")?;
+                let (held, rest) = tail.split_once(" runs from the cache, ")?;
+                let ran = rest.strip_suffix(" run)")?;
+                Some((held.parse().ok()?, ran.parse().ok()?))
+            })
+            .collect()
+    };
+    let (c, w) = (counts(&log), counts(&log_again));
+    assert!(
+        !c.is_empty() && c.len() == w.len(),
+        "{log}\n---\n{log_again}"
+    );
+    let ran_cold = c.last().unwrap().1;
+    assert!(ran_cold > 0, "{log}");
+    assert_eq!(
+        w.last().unwrap(),
+        &(ran_cold + c.last().unwrap().0, 0),
+        "{log_again}"
+    );
 }
 
 #[test]
 fn a_banded_liner_is_judged_at_every_point_of_the_map_and_weighed_by_its_time() {
     let dir = scratch("bands");
     let file = dir.join("e.toml");
-    std::fs::write(&file, mapped()).unwrap();
+    std::fs::write(&file, common::mapped_engine()).unwrap();
     let mut extra = common::QUICK_SEARCH.to_vec();
     extra.extend(["--bands", "--band-min", "6", "--mesh", "96x4"]);
     let (code, _, err, _) = common::cycle(&dir, &file, &extra);
@@ -76,7 +118,7 @@ fn a_banded_liner_is_judged_at_every_point_of_the_map_and_weighed_by_its_time() 
     assert!((reported / power - 1.0).abs() < 1e-12, "{reported} {power}");
 
     // Idle's plain liner is the engine run directly at idle.
-    let text = mapped()
+    let text = common::mapped_engine()
         .replace("rpm = 3000", "rpm = 800")
         .replace("viscosity_pa_s = 0.007", "viscosity_pa_s = 0.02")
         .replace(
@@ -94,27 +136,27 @@ fn bad_maps_and_band_lengths_are_refused_with_exit_2_naming_the_key() {
     let file = dir.join("e.toml");
     for (text, extra, says) in [
         (
-            mapped(),
+            common::mapped_engine(),
             vec![],
             "[[operating]]: the operating map is what --bands",
         ),
         (
-            mapped().replace("weight = 1", "weight = 0"),
+            common::mapped_engine().replace("weight = 1", "weight = 0"),
             vec!["--bands"],
             "[[operating]] idle weight",
         ),
         (
-            mapped().replace("rpm = 800", "rpm = 1e9"),
+            common::mapped_engine().replace("rpm = 800", "rpm = 1e9"),
             vec!["--bands"],
             "[[operating]] idle rpm",
         ),
         (
-            mapped().replace("name = \"cruise\"", "name = \"idle\""),
+            common::mapped_engine().replace("name = \"cruise\"", "name = \"idle\""),
             vec!["--bands"],
             "[[operating]] name",
         ),
         (
-            mapped(),
+            common::mapped_engine(),
             vec!["--bands", "--band-min", "50"],
             "--band-min 50",
         ),
@@ -124,7 +166,7 @@ fn bad_maps_and_band_lengths_are_refused_with_exit_2_naming_the_key() {
             "--band-min: the least band length of --bands",
         ),
         (
-            mapped().replace("[design]", "[design]\nband_min_mm = 0"),
+            common::mapped_engine().replace("[design]", "[design]\nband_min_mm = 0"),
             vec!["--bands"],
             "[design] band_min_mm = 0",
         ),
@@ -136,7 +178,7 @@ fn bad_maps_and_band_lengths_are_refused_with_exit_2_naming_the_key() {
         assert!(err.contains(says), "expected {says:?} in {err}");
         assert!(!wrote, "{says}: something was written");
     }
-    std::fs::write(&file, mapped()).unwrap();
+    std::fs::write(&file, common::mapped_engine()).unwrap();
     let f = file.to_str().unwrap();
     let (code, _, err) = texopt(&["cycle", f, "--bands", "--quasi-steady"]);
     assert_eq!(code, 2, "{err}");

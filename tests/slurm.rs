@@ -341,3 +341,78 @@ fn a_study_under_paths_with_quotes_dollars_and_patterns_runs_on_slurm() {
     }
     let _ = std::fs::remove_dir_all(root);
 }
+
+/// `texopt cycle FILE --bands` with the least search, into `cache` and `out`, and `more`.
+fn band_search(dir: &Path, cache: &Path, out: &Path, more: &[&str]) -> serde_json::Value {
+    let mut args = vec![
+        "cycle",
+        "e.toml",
+        "--bands",
+        "--band-min",
+        "6",
+        "--mesh",
+        "96x4",
+    ];
+    args.extend(common::QUICK_SEARCH);
+    args.extend([
+        "--cache",
+        cache.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    args.extend(more);
+    let (code, _, err) = texopt_in(dir, &args);
+    assert_eq!(code, 0, "{err}");
+    common::report_without_wall_time(out, "cycle_t_bands")
+}
+
+#[test]
+fn a_band_search_through_slurm_finds_what_it_finds_here_bit_for_bit() {
+    if !slurm_up() {
+        return;
+    }
+    let dir = scratch("slurm-bands");
+    std::fs::write(dir.join("e.toml"), common::mapped_engine()).unwrap();
+    let t0 = Instant::now();
+    let (local, here) = (dir.join("local.sqlite"), dir.join("here"));
+    let report_here = band_search(&dir, &local, &here, &[]);
+    let on_two_cores = t0.elapsed().as_secs_f64();
+    let t0 = Instant::now();
+    let (merged, there) = (dir.join("merged.sqlite"), dir.join("there"));
+    let run = dir.join("run");
+    let slurm = ["--slurm", run.to_str().unwrap(), "--tasks", "2"];
+    let report_there = band_search(&dir, &merged, &there, &slurm);
+    eprintln!(
+        "band search: {:.1} s through Slurm (2 tasks a step), {on_two_cores:.1} s here",
+        t0.elapsed().as_secs_f64()
+    );
+    assert_eq!(report_here, report_there);
+    // Every run of the search, in both caches, alike to the last bit.
+    let runs = entries(&local);
+    assert!(runs.len() >= 10, "{} runs", runs.len());
+    assert_eq!(runs, entries(&merged));
+    assert!(run.join("logs/batch-1-task-2.log").is_file());
+
+    // A task under other settings (another mesh) refuses the batch: its keys differ.
+    let batch = run.join("batches/batch-1.json");
+    let (code, _, err) = texopt_in(
+        &dir,
+        &[
+            "cycle",
+            "e.toml",
+            "--bands",
+            "--mesh",
+            "96x8",
+            "--fidelity",
+            "draft",
+            "--answer",
+            batch.to_str().unwrap(),
+            "--share",
+            "1/2",
+            "--cache",
+            dir.join("other.sqlite").to_str().unwrap(),
+        ],
+    );
+    assert_ne!(code, 0);
+    assert!(err.contains("another key than the batch's"), "{err}");
+}

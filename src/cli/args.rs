@@ -49,8 +49,8 @@ pub struct CycleArgs {
     pub design_step: Option<f64>,
     #[command(flatten)]
     pub search: SearchArgs,
-    /// Cache file, with --quasi-steady (the transient cycle's runs are not cached) [default:
-    /// $TEXOPT_CACHE or .texopt/cache.sqlite].
+    /// Cache file, with --quasi-steady and with --bands (whose search runs through it; the
+    /// report's runs are not cached) [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
     #[arg(long, value_name = "FILE")]
     pub cache: Option<PathBuf>,
     /// Directory of the report \[default: results/cycle_NAME, NAME the engine's\].
@@ -74,6 +74,26 @@ pub struct CycleArgs {
     /// Least band length with --bands (mm) \[default: the file's \[design\] band_min_mm, else 4\].
     #[arg(long = "band-min", value_name = "MM")]
     pub band_min: Option<f64>,
+    /// With --bands: each search step's cycle runs as a Slurm array of --tasks shares, each
+    /// task into a cache of its own in DIR/caches, merged into --cache once the array is done;
+    /// this command waits for each array (sbatch --wait, so run it where sbatch works) and
+    /// writes the report itself. Scripts and logs in DIR.
+    #[arg(long, value_name = "DIR", requires = "bands")]
+    pub slurm: Option<PathBuf>,
+    #[command(flatten)]
+    pub cluster: ClusterArgs,
+    /// A Slurm task's work (--slurm writes it): share --share of the runs in batch FILE, into
+    /// --cache; nothing else is searched or written.
+    #[arg(
+        long,
+        value_name = "FILE",
+        hide = true,
+        requires = "bands",
+        conflicts_with = "slurm"
+    )]
+    pub answer: Option<PathBuf>,
+    #[arg(long, value_name = "I/N", hide = true, requires = "answer", value_parser = parse_shard)]
+    pub share: Option<(usize, usize)>,
 }
 
 /// Units as in `simulate`: lengths in cm, depth in µm; ranges are LO..HI. Settings come from
@@ -410,6 +430,16 @@ pub struct StudyArgs {
     /// The paths the scripts name cannot hold control characters, nor DIR a backslash.
     #[arg(long, value_name = "DIR")]
     pub slurm: Option<PathBuf>,
+    #[command(flatten)]
+    pub cluster: ClusterArgs,
+    /// Submit the scripts with sbatch and print the job ids (else: print how to).
+    #[arg(long, requires = "slurm")]
+    pub submit: bool,
+}
+
+/// The Slurm jobs of `--slurm`: how many tasks, where and how long.
+#[derive(Args, Debug, Default)]
+pub struct ClusterArgs {
     /// Array tasks (shares) of --slurm [default: 4].
     #[arg(long, value_name = "N", requires = "slurm", value_parser = parse_tasks)]
     pub tasks: Option<usize>,
@@ -422,9 +452,6 @@ pub struct StudyArgs {
     /// CPUs per task, its worker threads [default: 1].
     #[arg(long, value_name = "C", requires = "slurm", value_parser = parse_jobs)]
     pub cpus: Option<usize>,
-    /// Submit the scripts with sbatch and print the job ids (else: print how to).
-    #[arg(long, requires = "slurm")]
-    pub submit: bool,
 }
 
 /// Most shares of a study (a typo guard: each is a job with its own cache file).

@@ -3,8 +3,10 @@
 //! and the report.
 
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use super::args::{CycleArgs, DesignFile, DesignFileOf};
+use super::cycle_slurm::SlurmRunner;
 use super::optimise::{
     check_design_space, search_settings, space_error_named, SearchKeys, SpaceKeys,
 };
@@ -14,9 +16,10 @@ use crate::model::engine::{three_digits, zone_label, Engine, STEP_RANGE_DEG};
 use crate::model::operating::Validity;
 use crate::optimise::bands::BandSpace;
 use crate::optimise::cycle::{design_all, evaluate_liners, no_angle_inside, points, CycleSettings};
-use crate::optimise::cycle_map::{design_over_map, evaluate_over_map};
+use crate::optimise::cycle_map::{design_over_map, evaluate_over_map, MapJudge};
 use crate::optimise::cycle_map_report as map_report;
 use crate::optimise::cycle_report::{assemble, non_finite, table, write};
+use crate::optimise::cycle_runs::{lock, run_here, Here, MapBatch};
 use crate::optimise::cycle_search::design_over_cycle;
 use crate::optimise::cycle_transient::evaluate_transient;
 use crate::optimise::cycle_transient_report as transient_report;
@@ -139,7 +142,21 @@ fn run_transient(a: &CycleArgs, s: &CycleSettings) -> Result<i32, CmdError> {
 fn run_bands(a: &CycleArgs, s: &CycleSettings, space: &BandSpace) -> Result<i32, CmdError> {
     let t0 = std::time::Instant::now();
     let other = |e: OptimiseError| CmdError::Other(e.to_string());
-    let designs = design_over_map(s, space).map_err(other)?;
+    if let Some(batch) = &a.answer {
+        return answer_share(a, s, batch);
+    }
+    let cache = Mutex::new(open_cache(a.cache.as_deref())?);
+    let designs = match &a.slurm {
+        Some(dir) => {
+            let runner = SlurmRunner::new(dir, &a.cluster, &s.engine.file.engine.name)?;
+            if s.search.progress {
+                eprintln!("the search's runs as {}", runner.describe());
+            }
+            design_over_map(s, space, &cache, &runner)
+        }
+        None => design_over_map(s, space, &cache, &Here),
+    }
+    .map_err(other)?;
     let liners = evaluate_over_map(s, &designs).map_err(other)?;
     let r = map_report::assemble(s, &designs, &liners, t0.elapsed().as_secs_f64());
     if a.json {
@@ -152,6 +169,32 @@ fn run_bands(a: &CycleArgs, s: &CycleSettings, space: &BandSpace) -> Result<i32,
             eprintln!("wrote {}", f.display());
         }
     }
+    Ok(0)
+}
+
+/// A Slurm task of `--slurm`: its share of a batch's runs into its cache.
+fn answer_share(a: &CycleArgs, s: &CycleSettings, file: &Path) -> Result<i32, CmdError> {
+    let (i, n) = a.share.unwrap_or((1, 1));
+    let read = std::fs::read_to_string(file)
+        .map_err(|e| e.to_string())
+        .and_then(|t| serde_json::from_str::<MapBatch>(&t).map_err(|e| e.to_string()));
+    let batch = read.map_err(|e| {
+        CmdError::Input(format!(
+            "--answer {}: {e}; give a batch that `cycle --bands --slurm` wrote",
+            file.display()
+        ))
+    })?;
+    let cache = Mutex::new(open_cache(a.cache.as_deref())?);
+    let share = batch.share(i, n);
+    let ran = run_here(&MapJudge::new(s), &batch, share, &cache)
+        .map_err(|e| CmdError::Other(e.to_string()))?;
+    eprintln!(
+        "share {i}/{n} of {}: {} runs, {ran} run here, {} found in {}",
+        file.display(),
+        share.len(),
+        share.len() - ran,
+        lock(&cache).path().display()
+    );
     Ok(0)
 }
 

@@ -5,6 +5,7 @@ mod args;
 mod bench;
 mod cache;
 mod cycle;
+mod cycle_slurm;
 mod optimise;
 mod simulate;
 mod slurm;

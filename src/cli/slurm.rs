@@ -7,6 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use super::args::ClusterArgs;
 use super::{CmdError, StudyArgs};
 use crate::study::Study;
 
@@ -17,22 +18,9 @@ struct Scripts {
 }
 
 pub(super) fn run(a: &StudyArgs, study: &Study, dir: &Path) -> Result<i32, CmdError> {
-    let tasks = a.tasks.unwrap_or(4);
-    let cpus = a.cpus.unwrap_or(1);
-    if let Some(t) = &a.time {
-        check_time(t)?;
-    }
-    if let Some(p) = &a.partition {
-        if p.is_empty()
-            || !p
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || "_-.".contains(c))
-        {
-            return Err(CmdError::Input(format!(
-                "--partition {p:?}: a Slurm partition name is letters, digits, '_', '-' or '.'"
-            )));
-        }
-    }
+    let tasks = a.cluster.tasks.unwrap_or(4);
+    let cpus = a.cluster.cpus.unwrap_or(1);
+    check_cluster(&a.cluster)?;
     let input = |e: std::io::Error, what: &Path| {
         CmdError::Input(format!(
             "--slurm {}: cannot create {}: {e}",
@@ -90,6 +78,39 @@ pub(super) fn run(a: &StudyArgs, study: &Study, dir: &Path) -> Result<i32, CmdEr
     Ok(0)
 }
 
+/// The cluster flags checked before anything is written: a Slurm time limit, a partition
+/// name.
+pub(super) fn check_cluster(c: &ClusterArgs) -> Result<(), CmdError> {
+    if let Some(t) = &c.time {
+        check_time(t)?;
+    }
+    if let Some(p) = &c.partition {
+        if p.is_empty()
+            || !p
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || "_-.".contains(c))
+        {
+            return Err(CmdError::Input(format!(
+                "--partition {p:?}: a Slurm partition name is letters, digits, '_', '-' or '.'"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The scripts' first lines: the shell, the partition and time limit where given, and the
+/// working directory (`cwd`, a [`script_path`]).
+pub(super) fn script_head(c: &ClusterArgs, cwd: &str) -> String {
+    let mut head = String::from("#!/bin/bash\n");
+    if let Some(part) = &c.partition {
+        head += &format!("#SBATCH --partition={part}\n");
+    }
+    if let Some(t) = &c.time {
+        head += &format!("#SBATCH --time={t}\n");
+    }
+    head + &format!("#SBATCH --chdir={}\n", sbatch_quote(cwd))
+}
+
 /// The paths the scripts name, each checked by [`script_path`].
 struct Paths<'a> {
     dir: &'a str,
@@ -99,7 +120,7 @@ struct Paths<'a> {
 }
 
 /// `sbatch --parsable ARGS`: the job id.
-fn sbatch(args: &[&str]) -> Result<String, CmdError> {
+pub(super) fn sbatch(args: &[&str]) -> Result<String, CmdError> {
     let out = Command::new("sbatch")
         .arg("--parsable")
         .args(args)
@@ -145,7 +166,7 @@ fn check_time(t: &str) -> Result<(), CmdError> {
 /// `path` as text for a script, or why it cannot be: it must be UTF-8 (the scripts are text)
 /// and hold no control character (a newline would end a line of the script, or of an
 /// `#SBATCH` directive, early).
-fn script_path<'a>(what: &str, path: &'a Path) -> Result<&'a str, CmdError> {
+pub(super) fn script_path<'a>(what: &str, path: &'a Path) -> Result<&'a str, CmdError> {
     let refuse = |rule: &str| {
         CmdError::Input(format!(
             "{what} {:?}: {rule}, as it is written into the Slurm scripts; use another path",
@@ -165,7 +186,7 @@ fn script_path<'a>(what: &str, path: &'a Path) -> Result<&'a str, CmdError> {
 
 /// `--slurm DIR` as text for the scripts: a [`script_path`] without a backslash, since
 /// Slurm drops every backslash of a log file's path (it reads one as "no %-patterns here").
-fn slurm_dir(dir: &Path) -> Result<&str, CmdError> {
+pub(super) fn slurm_dir(dir: &Path) -> Result<&str, CmdError> {
     let text = script_path("--slurm", dir)?;
     if text.contains('\\') {
         return Err(CmdError::Input(format!(
@@ -177,7 +198,7 @@ fn slurm_dir(dir: &Path) -> Result<&str, CmdError> {
 
 /// `s` as one word for a POSIX shell: in single quotes, each `'` written `'\''`, so
 /// nothing in it (`$`, backquotes, `"`, spaces, globs) is expanded or split.
-fn shell_quote(s: &str) -> String {
+pub(super) fn shell_quote(s: &str) -> String {
     format!("'{}'", s.replace('\'', "'\\''"))
 }
 
@@ -185,7 +206,7 @@ fn shell_quote(s: &str) -> String {
 /// it): in double quotes, with `\`, `"`, `'` and `#` escaped by a backslash. That is what
 /// every sbatch reads alike: older ones know only double quotes and end the line at any
 /// unescaped `#`, even in quotes; newer ones take single quotes too.
-fn sbatch_quote(s: &str) -> String {
+pub(super) fn sbatch_quote(s: &str) -> String {
     let mut out = String::from('"');
     for c in s.chars() {
         if matches!(c, '\\' | '"' | '\'' | '#') {
@@ -207,14 +228,7 @@ fn write_scripts(
     tasks: usize,
     cpus: usize,
 ) -> Result<Scripts, CmdError> {
-    let mut head = String::from("#!/bin/bash\n");
-    if let Some(part) = &a.partition {
-        head += &format!("#SBATCH --partition={part}\n");
-    }
-    if let Some(t) = &a.time {
-        head += &format!("#SBATCH --time={t}\n");
-    }
-    head += &format!("#SBATCH --chdir={}\n", sbatch_quote(p.cwd));
+    let head = script_head(&a.cluster, p.cwd);
     let log = |name: &str| sbatch_quote(&format!("{}/logs/{name}", p.dir.replace('%', "%%")));
     // The paths once, as shell variables; the lines below only use them in double quotes.
     let vars = format!(

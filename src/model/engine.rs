@@ -3,7 +3,7 @@
 //! the four strokes, and the zones of the liner. Each crank angle is one operating point of a
 //! quasi-steady evaluation: its speed, load and oil supply, on the zone the ring is over.
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use super::asperity::Asperity;
 use super::case::{face_spans_ring, short};
@@ -13,7 +13,7 @@ use super::operating::Operating;
 
 /// An engine as its file gives it (`study::engine_file` reads it): the crank train, the
 /// ring, the gas pressure, the oil and the zones.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize)]
 pub struct EngineFile {
     pub engine: Crank,
     pub ring: RingFile,
@@ -28,7 +28,7 @@ pub struct EngineFile {
 
 /// The asperity contact between ring face and liner (docs/model.md §11, §12): each constant
 /// the default of §11 where not given (the roughness is the `[design]` section's).
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ContactFile {
     pub eta_beta_sigma: Option<f64>,
@@ -123,7 +123,7 @@ impl ContactFile {
 }
 
 /// The crank train.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Crank {
     pub name: String,
@@ -134,7 +134,7 @@ pub struct Crank {
 }
 
 /// The engine file's ring section (the dynamics' ring is `model::ring::Ring`).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RingFile {
     /// Face radius R (cm).
@@ -150,7 +150,7 @@ pub struct RingFile {
 /// angle from firing top dead centre (degrees, 0–720, increasing): linear between the points,
 /// periodic over 720°. Below the ring: a table of its own (`below_crank_deg`,
 /// `below_pressure_bar`), ambient (0) where none is given.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Gas {
     pub crank_deg: Vec<f64>,
@@ -163,7 +163,7 @@ pub struct Gas {
 
 /// The oil: viscosity, and the film on the liner ahead of the ring (one value: everywhere;
 /// a table: against the distance from top dead centre).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Oil {
     pub viscosity_pa_s: f64,
@@ -172,7 +172,7 @@ pub struct Oil {
     pub position_mm: Vec<f64>,
 }
 
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(untagged)]
 pub enum OilSupply {
     Everywhere(f64),
@@ -181,7 +181,7 @@ pub enum OilSupply {
 
 /// The zones of the liner along the stroke: `count` equal ones, or their boundaries (mm from
 /// top dead centre, from 0 to the stroke, increasing).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Zones {
     pub count: Option<usize>,

@@ -3,13 +3,13 @@
 //! and the share of the running time spent there. A liner is textured once and runs at all
 //! of them, so a design is judged by the time-weighted friction work over the map.
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use super::case::short;
 use super::engine::{Engine, EngineError, EngineFile};
 
 /// One `[[operating]]` point as the engine file gives it; what it leaves out is the engine's.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct MapPointFile {
     /// Names the point in the reports (letters, digits, '-', '_').

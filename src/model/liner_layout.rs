@@ -10,10 +10,12 @@ use super::geometry::Liner;
 /// ring's centre stands at top dead centre. A zone's lattice has a pocket centre at its
 /// zone's start (plus the texture's phase); the first and last zones run on past the stroke's
 /// ends.
-#[derive(Clone, Debug)]
+/// It serialises as its boundaries and textures, which determine it (a cache key holds it).
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct LinerLayout {
     /// Zone boundaries (cm), increasing, from 0 to the stroke.
     bounds_cm: Vec<f64>,
+    #[serde(skip)]
     zones: Vec<Liner>,
     textures: Vec<Option<Texture>>,
 }

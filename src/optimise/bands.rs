@@ -3,14 +3,14 @@
 //! elsewhere. The band space maps the unit cube onto such liners, as [`Space`] maps it onto
 //! textures, so that every search runs on it unchanged.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::space::Space;
 use crate::model::case::Texture;
 use crate::model::liner_layout::LinerLayout;
 
 /// Which dead centre a band lies next to.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum DeadCentre {
     Top,
@@ -28,7 +28,7 @@ impl DeadCentre {
 
 /// One band: where it lies along the stroke (mm from the ring's top-dead-centre position)
 /// and its texture.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Band {
     pub at: DeadCentre,
     pub start_mm: f64,
@@ -37,7 +37,7 @@ pub struct Band {
 }
 
 /// A banded liner: its bands, top dead centre's first.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Banded {
     pub bands: Vec<Band>,
 }

@@ -14,6 +14,7 @@ use serde::Serialize;
 
 use super::bands::{BandSpace, Banded};
 use super::cycle::CycleSettings;
+use super::cycle_runs::{cache_error, lock, stored, Here, MapBatch, MapLiner, MapRun, Runner};
 use super::cycle_search::{keeps_film, CycleJudge, Judged, PlainAt};
 use super::error::OptimiseError;
 use super::goal::FAILED_COST;
@@ -21,13 +22,32 @@ use super::search::{swarm, CubeObjective};
 use crate::model::case::Texture;
 use crate::model::engine_map::MapPoint;
 use crate::model::liner_layout::LinerLayout;
+use crate::study::cache::{Cache, Key};
 use crate::time::cycle::CycleMetrics;
 use crate::time::Fidelity;
 
-/// One liner over the map: per point its last cycle (or why its run failed) and the plain
-/// liner's on the same mesh.
-pub struct OverMap {
-    pub points: Vec<Result<Judged, String>>,
+/// What a liner's run at a point gives the search: its figures (the report's runs keep their
+/// cycle's rows too).
+pub trait Figures {
+    fn figures(&self) -> &CycleMetrics;
+}
+
+impl Figures for Judged {
+    fn figures(&self) -> &CycleMetrics {
+        &self.metrics
+    }
+}
+
+impl Figures for CycleMetrics {
+    fn figures(&self) -> &CycleMetrics {
+        self
+    }
+}
+
+/// One liner over the map: per point its run (or why it failed) and the plain liner's on the
+/// same mesh.
+pub struct OverMap<R = Judged> {
+    pub points: Vec<Result<R, String>>,
     pub plain: Vec<Arc<PlainAt>>,
 }
 
@@ -36,10 +56,10 @@ fn weighted(points: &[MapPoint], f: impl Fn(usize) -> f64) -> f64 {
     points.iter().enumerate().map(|(k, p)| p.share * f(k)).sum()
 }
 
-impl OverMap {
+impl<R: Figures> OverMap<R> {
     /// Per point its figures, where its run succeeded.
     pub fn metrics(&self, k: usize) -> Option<&CycleMetrics> {
-        self.points[k].as_ref().ok().map(|j| &j.metrics)
+        self.points[k].as_ref().ok().map(Figures::figures)
     }
 
     /// The time-weighted mean friction power (W/m): the friction energy over the drive
@@ -86,10 +106,12 @@ impl OverMap {
             let plain = self.plain[k].metrics.h_min_um;
             match &self.points[k] {
                 Err(e) => return format!("{}: {e}", p.name),
-                Ok(j) if !keeps_film(j.metrics.h_min_um, plain, least_um) => {
+                Ok(j) if !keeps_film(j.figures().h_min_um, plain, least_um) => {
                     return format!(
                         "{}: least film {:.4} µm against the plain liner's {:.4} µm",
-                        p.name, j.metrics.h_min_um, plain
+                        p.name,
+                        j.figures().h_min_um,
+                        plain
                     )
                 }
                 Ok(_) => {}
@@ -120,11 +142,15 @@ pub struct MapEval {
     pub why: Option<String>,
 }
 
-/// Judges liners over the map, a cycle judge per point.
+/// Judges liners over the map, a cycle judge per point; the search's runs through the cache
+/// and a runner ([`MapJudge::through`]).
 pub struct MapJudge<'a> {
     pub s: &'a CycleSettings,
     pub map: Vec<MapPoint>,
     judges: Vec<CycleJudge<'a>>,
+    through: Option<(&'a Mutex<Cache>, &'a dyn Runner)>,
+    /// Runs answered by the cache and runs handed to the runner, so far.
+    counts: Mutex<(usize, usize)>,
     /// Every banded liner judged, in order.
     pub log: Mutex<Vec<MapEval>>,
 }
@@ -141,7 +167,17 @@ impl<'a> MapJudge<'a> {
             s,
             map,
             judges,
+            through: None,
+            counts: Mutex::new((0, 0)),
             log: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// The same, its runs looked up in `cache` and the missing ones run by `runner`.
+    pub fn through(self, cache: &'a Mutex<Cache>, runner: &'a dyn Runner) -> Self {
+        MapJudge {
+            through: Some((cache, runner)),
+            ..self
         }
     }
 
@@ -154,7 +190,20 @@ impl<'a> MapJudge<'a> {
         }
     }
 
-    /// `layout` at every point, in parallel; work per zone of `zones_cm` where given.
+    /// The cache the search's runs go through.
+    pub fn cache(&self) -> Result<&'a Mutex<Cache>, OptimiseError> {
+        self.through
+            .map(|(c, _)| c)
+            .ok_or_else(|| OptimiseError::Runs("this judge has no cache to run through".into()))
+    }
+
+    /// The judge of point `k`.
+    pub fn point(&self, k: usize) -> Option<&CycleJudge<'a>> {
+        self.judges.get(k)
+    }
+
+    /// `layout` at every point, in parallel, with its rows; work per zone of `zones_cm`
+    /// where given.
     pub fn judge(
         &self,
         layout: &LinerLayout,
@@ -172,37 +221,104 @@ impl<'a> MapJudge<'a> {
         Ok(OverMap { points, plain })
     }
 
-    fn stroke_mm(&self) -> f64 {
+    pub fn stroke_mm(&self) -> f64 {
         self.s.engine.file.engine.stroke_mm
     }
 
-    /// A banded liner's cost, logged.
-    fn cost(&self, b: &Banded) -> Result<f64, OptimiseError> {
-        let over = self.judge(&b.layout(self.stroke_mm()), None)?;
-        let cost = over.cost(&self.map, self.s.min_clearance_um);
-        let film_ratio = over
-            .worst_film()
-            .map_or(f64::NAN, |h| h / over.plain_worst_film());
-        self.log
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .push(MapEval {
-                banded: b.clone(),
-                power_ratio: cost,
-                film_ratio,
-                feasible: cost < FAILED_COST,
-                why: (cost >= FAILED_COST)
-                    .then(|| over.why_infeasible(&self.map, self.s.min_clearance_um)),
-            });
-        Ok(cost)
+    /// `liners` over the map through the cache: the runs it does not hold handed to the
+    /// runner as one batch (point by point), then every answer read from it.
+    fn answers(&self, liners: &[MapLiner]) -> Result<Vec<OverMap<CycleMetrics>>, OptimiseError> {
+        let cache = self.cache()?;
+        let layouts: Vec<LinerLayout> = liners.iter().map(|l| l.layout(self.stroke_mm())).collect();
+        let Some(first) = layouts.first() else {
+            return Ok(Vec::new());
+        };
+        let plain: Vec<Arc<PlainAt>> = self
+            .judges
+            .par_iter()
+            .map(|j| j.plain_of(first))
+            .collect::<Result<_, _>>()?;
+        let keys: Vec<Vec<Key>> = layouts
+            .iter()
+            .map(|l| self.judges.iter().map(|j| j.key(l)).collect())
+            .collect();
+        let mut runs: Vec<MapRun> = Vec::new();
+        for point in 0..self.judges.len() {
+            for (liner, k) in keys.iter().enumerate() {
+                let key = &k[point].hash;
+                let held = lock(cache).get_cycle(&k[point]).map_err(cache_error)?;
+                if held.is_none() && !runs.iter().any(|r| &r.key == key) {
+                    runs.push(MapRun {
+                        liner,
+                        point,
+                        key: key.clone(),
+                    });
+                }
+            }
+        }
+        {
+            let mut c = self.counts.lock().unwrap_or_else(|e| e.into_inner());
+            c.0 += keys.len() * self.judges.len() - runs.len();
+            c.1 += runs.len();
+        }
+        if !runs.is_empty() {
+            let runner = self.through.map(|(_, r)| r).unwrap_or(&Here);
+            runner.run(
+                self,
+                &MapBatch {
+                    liners: liners.to_vec(),
+                    runs,
+                },
+            )?;
+        }
+        keys.iter()
+            .map(|k| {
+                let points = k
+                    .iter()
+                    .map(|key| Ok(stored(cache, key)?.map(|a| a.metrics)))
+                    .collect::<Result<_, OptimiseError>>()?;
+                Ok(OverMap {
+                    points,
+                    plain: plain.clone(),
+                })
+            })
+            .collect()
     }
 
-    /// A texture over the whole stroke: its cost.
-    fn uniform_cost(&self, t: &Texture) -> Result<f64, OptimiseError> {
-        let layout = LinerLayout::uniform(0.1 * self.stroke_mm(), Some(t.clone()));
+    /// Banded liners' costs over the map, each logged.
+    fn banded_costs(&self, designs: &[Banded]) -> Result<Vec<f64>, OptimiseError> {
+        let liners: Vec<MapLiner> = designs.iter().cloned().map(MapLiner::Banded).collect();
+        let least = self.s.min_clearance_um;
+        let overs = self.answers(&liners)?;
+        let mut log = self.log.lock().unwrap_or_else(|e| e.into_inner());
+        Ok(designs
+            .iter()
+            .zip(&overs)
+            .map(|(b, over)| {
+                let cost = over.cost(&self.map, least);
+                let film_ratio = over
+                    .worst_film()
+                    .map_or(f64::NAN, |h| h / over.plain_worst_film());
+                log.push(MapEval {
+                    banded: b.clone(),
+                    power_ratio: cost,
+                    film_ratio,
+                    feasible: cost < FAILED_COST,
+                    why: (cost >= FAILED_COST).then(|| over.why_infeasible(&self.map, least)),
+                });
+                cost
+            })
+            .collect())
+    }
+
+    /// Textures over the whole stroke: their costs.
+    fn uniform_costs(&self, textures: &[Texture]) -> Result<Vec<f64>, OptimiseError> {
+        let liners: Vec<MapLiner> = textures.iter().cloned().map(MapLiner::Uniform).collect();
         Ok(self
-            .judge(&layout, None)?
-            .cost(&self.map, self.s.min_clearance_um))
+            .answers(&liners)?
+            .iter()
+            .map(|o| o.cost(&self.map, self.s.min_clearance_um))
+            .collect())
     }
 }
 
@@ -232,12 +348,9 @@ where
 }
 
 impl MapJudge<'_> {
-    /// A batch of banded liners judged in parallel over the map, the best so far said.
+    /// A batch of banded liners judged over the map, the best so far said.
     fn costs(&self, designs: &[Banded], t0: std::time::Instant) -> Result<Vec<f64>, OptimiseError> {
-        let costs: Vec<f64> = designs
-            .par_iter()
-            .map(|b| self.cost(b))
-            .collect::<Result<_, _>>()?;
+        let costs = self.banded_costs(designs)?;
         if self.s.search.progress {
             let log = self.log.lock().unwrap_or_else(|e| e.into_inner());
             let best = log
@@ -249,8 +362,9 @@ impl MapJudge<'_> {
             } else {
                 "none feasible yet".into()
             };
+            let (held, ran) = *self.counts.lock().unwrap_or_else(|e| e.into_inner());
             eprintln!(
-                "[{:6.1} s] {} banded liners judged, best power ratio {best}",
+                "[{:6.1} s] {} banded liners judged, best power ratio {best} ({held} runs from the cache, {ran} run)",
                 t0.elapsed().as_secs_f64(),
                 log.len()
             );
@@ -272,14 +386,19 @@ pub struct MapDesigns {
 
 /// The banded search over the map (the swarm, and the least bands at the dead centres), then
 /// the uniform candidates.
-pub fn design_over_map(s: &CycleSettings, space: &BandSpace) -> Result<MapDesigns, OptimiseError> {
+pub fn design_over_map(
+    s: &CycleSettings,
+    space: &BandSpace,
+    cache: &Mutex<Cache>,
+    runner: &dyn Runner,
+) -> Result<MapDesigns, OptimiseError> {
     let t0 = std::time::Instant::now();
     let say = |m: String| {
         if s.search.progress {
             eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
         }
     };
-    let judge = MapJudge::new(s);
+    let judge = MapJudge::new(s).through(cache, runner);
     say(format!(
         "bands over {} operating point(s) at {}: {} particles × {} iterations, each liner a cycle run per point …",
         judge.map.len(),
@@ -312,10 +431,7 @@ pub fn design_over_map(s: &CycleSettings, space: &BandSpace) -> Result<MapDesign
             textures.push(b.texture.clone());
         }
     }
-    let costs: Vec<f64> = textures
-        .par_iter()
-        .map(|t| judge.uniform_cost(t))
-        .collect::<Result<_, _>>()?;
+    let costs = judge.uniform_costs(&textures)?;
     let uniform = (0..textures.len())
         .filter(|&k| costs[k] < FAILED_COST)
         .min_by(|&a, &b| costs[a].total_cmp(&costs[b]))

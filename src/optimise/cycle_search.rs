@@ -19,6 +19,8 @@ use super::space::Space;
 use crate::model::case::Texture;
 use crate::model::engine::Engine;
 use crate::model::liner_layout::LinerLayout;
+use crate::study::cache::Key;
+use crate::study::cycle_cache::CycleRunInputs;
 use crate::time::cycle::{
     cycle_numerics, metrics, CycleMetrics, CycleNumerics, CycleRow, CycleRun, CycleState, Drive,
     SETTLE_CYCLES,
@@ -129,6 +131,27 @@ impl<'a> CycleJudge<'a> {
         metrics_over(rows, &self.engine, bounds_cm)
     }
 
+    /// The numerics `layout` is judged with: the tier's, its cycles cut to the settle rule's.
+    fn settled(&self, layout: &LinerLayout) -> CycleNumerics {
+        let mut numerics = self.numerics(layout);
+        if let Some(n) = self.settle {
+            numerics.max_cycles = n;
+        }
+        numerics
+    }
+
+    /// The cache key of `layout`'s run by this judge: the point's engine, the ring, the liner,
+    /// the numerics and the settle rule.
+    pub fn key(&self, layout: &LinerLayout) -> Key {
+        Key::of_cycle(&CycleRunInputs {
+            engine: &self.engine.file,
+            ring: &ring_case(self.s, &self.drive),
+            layout,
+            numerics: &self.settled(layout),
+            settle: self.settle,
+        })
+    }
+
     /// The plain liner with `numerics`, run until it repeats itself (once).
     fn plain(&self, numerics: &CycleNumerics) -> Result<std::sync::Arc<PlainAt>, OptimiseError> {
         let mut plain = self.plain.lock().unwrap_or_else(|e| e.into_inner());
@@ -150,6 +173,11 @@ impl<'a> CycleJudge<'a> {
         Ok(p)
     }
 
+    /// The plain liner on `layout`'s mesh, run until it repeats itself (once).
+    pub fn plain_of(&self, layout: &LinerLayout) -> Result<std::sync::Arc<PlainAt>, OptimiseError> {
+        self.plain(&self.numerics(layout))
+    }
+
     /// `layout` judged from the plain liner's cyclic state: its last cycle (work per zone of
     /// `zones_cm` where given, else of the engine's), an error where its run fails, and the plain liner's on the same mesh (the outer error: the plain liner itself
     /// failed, which no design mends).
@@ -159,11 +187,8 @@ impl<'a> CycleJudge<'a> {
         layout: LinerLayout,
         zones_cm: Option<&[f64]>,
     ) -> Result<(Result<Judged, OptimiseError>, std::sync::Arc<PlainAt>), OptimiseError> {
-        let mut numerics = self.numerics(&layout);
-        let plain = self.plain(&numerics)?;
-        if let Some(n) = self.settle {
-            numerics.max_cycles = n;
-        }
+        let plain = self.plain(&self.numerics(&layout))?;
+        let numerics = self.settled(&layout);
         let ring = ring_case(self.s, &self.drive);
         let judged = CycleRun::resume(&self.drive, ring, layout, numerics, &plain.end)
             .and_then(|r| r.run(&mut |_| {}, &mut |_| {}))

@@ -37,6 +37,10 @@ pub enum OptimiseError {
     /// The run of a report's time series failed.
     #[error("{0}")]
     Series(String),
+    /// A batch of cycle runs handed to other processes (a cluster's tasks) that failed, did
+    /// not answer, or was asked of a process with other settings.
+    #[error("{0}")]
+    Runs(String),
     /// A report file or figure could not be written.
     #[error("{0}")]
     Files(String),

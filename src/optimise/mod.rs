@@ -13,6 +13,7 @@ pub mod cycle;
 pub mod cycle_map;
 pub mod cycle_map_report;
 pub mod cycle_report;
+pub mod cycle_runs;
 pub mod cycle_search;
 pub mod cycle_transient;
 pub mod cycle_transient_report;

@@ -121,6 +121,15 @@ pub enum Entry {
     Damaged(String),
 }
 
+/// An entry as stored, its outcome read as `T`.
+pub(super) enum Stored<T> {
+    Done(T),
+    /// An outcome that does not read as `T` (written by an older layout).
+    Unreadable,
+    Failed(String),
+    Damaged(String),
+}
+
 /// The canonical key of an evaluation and its hash.
 #[derive(Clone, Debug)]
 pub struct Key {
@@ -348,6 +357,19 @@ impl Cache {
     /// The entry stored for `key`, its checksum checked: an entry altered after it was
     /// written is [`Entry::Damaged`]; an outcome of an older layout is `None` (recomputed).
     pub fn get(&self, key: &Key) -> Result<Option<Entry>, CacheError> {
+        Ok(self.get_as(key)?.and_then(|e| match e {
+            Stored::Done(out) => Some(Entry::Done(out)),
+            Stored::Unreadable => None, // an older layout: recompute
+            Stored::Failed(why) => Some(Entry::Failed(why)),
+            Stored::Damaged(why) => Some(Entry::Damaged(why)),
+        }))
+    }
+
+    /// The entry stored for `key` with its outcome read as `T`, its checksum checked.
+    pub(super) fn get_as<T: serde::de::DeserializeOwned>(
+        &self,
+        key: &Key,
+    ) -> Result<Option<Stored<T>>, CacheError> {
         let raw = self
             .conn
             .query_row(
@@ -364,15 +386,12 @@ impl Cache {
             return Ok(None);
         };
         if let Some(why) = raw.damage(self.checked) {
-            return Ok(Some(Entry::Damaged(why)));
+            return Ok(Some(Stored::Damaged(why)));
         }
-        Ok(match (raw.status.as_str(), raw.outcome) {
-            ("done", Some(o)) => match serde_json::from_str(&o) {
-                Ok(out) => Some(Entry::Done(out)),
-                Err(_) => None, // unreadable (older layout): recompute
-            },
-            _ => Some(Entry::Failed(raw.reason.unwrap_or_default())),
-        })
+        Ok(Some(match (raw.status.as_str(), raw.outcome) {
+            ("done", Some(o)) => serde_json::from_str(&o).map_or(Stored::Unreadable, Stored::Done),
+            _ => Stored::Failed(raw.reason.unwrap_or_default()),
+        }))
     }
 
     /// Every entry as stored, in hash order, with what is wrong with it (if anything).
@@ -401,55 +420,48 @@ impl Cache {
     /// Stores a finished evaluation (replacing a stored failure).
     pub fn put_done(&self, key: &Key, out: &Outcome) -> Result<(), CacheError> {
         let outcome = serde_json::to_string(out).expect("plain data");
-        self.conn
-            .execute(
-                "INSERT OR REPLACE INTO evaluations
-                 (hash, key, status, outcome, reason, wall_time_s, steps, texopt_version, checksum)
-                 VALUES (?1, ?2, 'done', ?3, NULL, ?4, ?5, ?6, ?7)",
-                params![
-                    key.hash,
-                    key.json,
-                    outcome,
-                    out.wall_time_s,
-                    out.steps as i64,
-                    env!("CARGO_PKG_VERSION"),
-                    checksum(&Covered {
-                        hash: &key.hash,
-                        key: &key.json,
-                        status: "done",
-                        outcome: Some(&outcome),
-                        reason: None,
-                        wall_time_s: out.wall_time_s,
-                        steps: out.steps as i64,
-                        texopt_version: env!("CARGO_PKG_VERSION"),
-                    })
-                ],
-            )
-            .map(|_| ())
-            .map_err(|e| self.sql(e))
+        self.put(key, Ok(&outcome), out.wall_time_s, out.steps as i64)
     }
 
     /// Stores a failed evaluation with its reason (never as a result).
     pub fn put_failed(&self, key: &Key, reason: &str, wall_time_s: f64) -> Result<(), CacheError> {
+        self.put(key, Err(reason), wall_time_s, 0)
+    }
+
+    /// Stores an entry: an outcome's JSON (status `done`) or a failure's reason.
+    pub(super) fn put(
+        &self,
+        key: &Key,
+        answer: Result<&str, &str>,
+        wall_time_s: f64,
+        steps: i64,
+    ) -> Result<(), CacheError> {
+        let (status, outcome, reason) = match answer {
+            Ok(o) => ("done", Some(o), None),
+            Err(r) => ("failed", None, Some(r)),
+        };
         self.conn
             .execute(
                 "INSERT OR REPLACE INTO evaluations
                  (hash, key, status, outcome, reason, wall_time_s, steps, texopt_version, checksum)
-                 VALUES (?1, ?2, 'failed', NULL, ?3, ?4, 0, ?5, ?6)",
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)",
                 params![
                     key.hash,
                     key.json,
+                    status,
+                    outcome,
                     reason,
                     wall_time_s,
+                    steps,
                     env!("CARGO_PKG_VERSION"),
                     checksum(&Covered {
                         hash: &key.hash,
                         key: &key.json,
-                        status: "failed",
-                        outcome: None,
-                        reason: Some(reason),
+                        status,
+                        outcome,
+                        reason,
                         wall_time_s,
-                        steps: 0,
+                        steps,
                         texopt_version: env!("CARGO_PKG_VERSION"),
                     })
                 ],

@@ -4,6 +4,7 @@
 pub mod bench;
 pub mod cache;
 pub mod cache_merge;
+pub mod cycle_cache;
 pub mod engine_file;
 mod entry;
 pub mod file;

@@ -111,6 +111,24 @@ pub fn report_files(out: &std::path::Path, base: &str, suffixes: &[&str]) -> ser
     serde_json::from_str(&json).unwrap()
 }
 
+/// A report's JSON (`DIR/BASE.json`) without its wall time, the one field that differs
+/// between equal runs.
+pub fn report_without_wall_time(out: &std::path::Path, base: &str) -> serde_json::Value {
+    let mut r = report_files(out, base, &[".json"]);
+    r.as_object_mut().unwrap().remove("wall_time_s");
+    r
+}
+
+/// The test engine with a map: idle (slow, half the gas load, a thicker oil) and cruise (the
+/// engine's own point), the second three times as long.
+pub fn mapped_engine() -> String {
+    engine("count = 2").replace(
+        "[zones]",
+        "[[operating]]\nname = \"idle\"\nweight = 1\nrpm = 800\ngas_scale = 0.5\nviscosity_pa_s = 0.02\n\n\
+         [[operating]]\nname = \"cruise\"\nweight = 3\n\n[zones]",
+    )
+}
+
 /// The least search a command takes: 2 particles, 1 iteration, at draft.
 #[allow(dead_code)]
 pub const QUICK_SEARCH: [&str; 6] = [

@@ -206,7 +206,7 @@ pub fn crank_steps(
 }
 
 /// How a cycle run's crank steps follow the motion ([`crank_steps`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct StepRule {
     /// Crank step where the piston runs at the mean piston speed or faster (degrees).
     pub step_deg: f64,

@@ -29,8 +29,13 @@ impl Regime {
     }
 }
 
+/// Λ as JSON holds it: serde_json writes +∞ (no contact model) as null.
+fn infinite_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    <Option<f64> as serde::Deserialize>::deserialize(d).map(|v| v.unwrap_or(f64::INFINITY))
+}
+
 /// A cycle's figures of merit.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CycleMetrics {
     /// Friction work per unit circumferential length over the cycle (J/m), and the
     /// asperities' part of it.
@@ -46,6 +51,7 @@ pub struct CycleMetrics {
     /// The thinnest film over the cycle (µm), where (crank angle), and the least Λ.
     pub h_min_um: f64,
     pub h_min_deg: f64,
+    #[serde(deserialize_with = "infinite_if_null")]
     pub lambda_min: f64,
     /// Largest share of the load the asperities carry, and the share of the cycle's time
     /// during which they carry any.

@@ -25,7 +25,7 @@ use crate::time::steady::solve_untextured;
 use crate::time::TimeScheme;
 
 /// How a cycle run is discretised and when it stops.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct CycleNumerics {
     /// Cells along x1 over the film's domain (2.5 ring widths) and across half a lattice
     /// width (1 for a plain liner, whose film does not vary across).

@@ -1,0 +1,179 @@
+//! The map search's cycle runs through the evaluation cache (docs/model.md §13, "Scale"):
+//! each liner at each operating point is one run, keyed by everything that determines it.
+//! A batch of liners is looked up first; the runs missing are handed to a [`Runner`], which
+//! stores their answers (or why each failed) in the cache: here, on this machine's threads,
+//! or elsewhere (a cluster's tasks, each into a cache of its own merged back). The search
+//! then reads every answer from the cache, so a rerun, or another machine's share, gives the
+//! same numbers.
+
+use std::sync::Mutex;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::bands::Banded;
+use super::cycle_map::MapJudge;
+use super::error::OptimiseError;
+use crate::model::case::Texture;
+use crate::model::liner_layout::LinerLayout;
+use crate::study::cache::{Cache, Key};
+use crate::study::cycle_cache::CycleAnswer;
+
+/// A liner the map search judges: banded, or one texture over the whole stroke.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MapLiner {
+    Banded(Banded),
+    Uniform(Texture),
+}
+
+impl MapLiner {
+    pub fn layout(&self, stroke_mm: f64) -> LinerLayout {
+        match self {
+            MapLiner::Banded(b) => b.layout(stroke_mm),
+            MapLiner::Uniform(t) => LinerLayout::uniform(0.1 * stroke_mm, Some(t.clone())),
+        }
+    }
+}
+
+/// One run of a batch: a liner (its index) at a point of the map (its index), and the key
+/// its answer is stored under.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MapRun {
+    pub liner: usize,
+    pub point: usize,
+    pub key: String,
+}
+
+/// The runs a search step needs that the cache does not hold, point by point.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MapBatch {
+    pub liners: Vec<MapLiner>,
+    pub runs: Vec<MapRun>,
+}
+
+impl MapBatch {
+    /// Share `i` of `n` (1-based): a contiguous run of about len/n runs. The runs are in
+    /// point order, so a share meets few points and runs few plain liners.
+    pub fn share(&self, i: usize, n: usize) -> &[MapRun] {
+        let len = self.runs.len();
+        let (lo, hi) = ((i - 1) * len / n, i * len / n);
+        &self.runs[lo..hi]
+    }
+}
+
+/// Who runs a batch: every run's answer (or why it failed) stored in the judge's cache.
+pub trait Runner: Sync {
+    fn run(&self, judge: &MapJudge, batch: &MapBatch) -> Result<(), OptimiseError>;
+}
+
+/// Runs a batch on this machine's threads.
+pub struct Here;
+
+impl Runner for Here {
+    fn run(&self, judge: &MapJudge, batch: &MapBatch) -> Result<(), OptimiseError> {
+        run_here(judge, batch, &batch.runs, judge.cache()?).map(|_| ())
+    }
+}
+
+/// `runs` of `batch` run here, each answer stored in `cache` as it comes; those `cache`
+/// already holds (a task run again) are skipped. Refused before anything runs: a run whose
+/// key differs from the one this judge gives it (the batch was made with other settings).
+/// Returns how many were run.
+pub fn run_here(
+    judge: &MapJudge,
+    batch: &MapBatch,
+    runs: &[MapRun],
+    cache: &Mutex<Cache>,
+) -> Result<usize, OptimiseError> {
+    let stroke_mm = judge.stroke_mm();
+    let mut todo = Vec::new();
+    for r in runs {
+        let (Some(liner), Some(point)) = (batch.liners.get(r.liner), judge.point(r.point)) else {
+            return Err(OptimiseError::Runs(format!(
+                "the batch names liner {} at point {}, which it does not hold",
+                r.liner, r.point
+            )));
+        };
+        let layout = liner.layout(stroke_mm);
+        let key = point.key(&layout);
+        if key.hash != r.key {
+            return Err(OptimiseError::Runs(format!(
+                "run {} (liner {} at point {}): this process's settings give it another key than the batch's; run it with the engine file and flags of the search that wrote the batch",
+                &r.key[..12.min(r.key.len())],
+                r.liner,
+                r.point
+            )));
+        }
+        if lock(cache).get_cycle(&key).map_err(cache_error)?.is_none() {
+            todo.push((layout, point, key));
+        }
+    }
+    todo.par_iter()
+        .map(|(layout, point, key)| {
+            let t0 = std::time::Instant::now();
+            let (judged, _) = point.judge_layout(layout.clone(), None)?;
+            let wall_time_s = t0.elapsed().as_secs_f64();
+            let answer = judged
+                .map(|j| CycleAnswer {
+                    metrics: j.metrics,
+                    wall_time_s,
+                })
+                .map_err(|e| (e.to_string(), wall_time_s));
+            lock(cache).put_cycle(key, &answer).map_err(cache_error)
+        })
+        .collect::<Result<Vec<()>, _>>()?;
+    Ok(todo.len())
+}
+
+/// The cache, whichever thread panicked while holding it (its entries are each one write).
+pub fn lock(cache: &Mutex<Cache>) -> std::sync::MutexGuard<'_, Cache> {
+    cache.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+pub(super) fn cache_error(e: impl std::fmt::Display) -> OptimiseError {
+    OptimiseError::Cache(e.to_string())
+}
+
+/// The answer the cache holds for `key`, or the error that says it has none.
+pub(super) fn stored(
+    cache: &Mutex<Cache>,
+    key: &Key,
+) -> Result<Result<CycleAnswer, String>, OptimiseError> {
+    lock(cache).get_cycle(key).map_err(cache_error)?.ok_or_else(|| {
+        OptimiseError::Runs(format!(
+            "no answer in the cache for run {} after its batch ran (a task that stopped early? its log says why)",
+            &key.hash[..12]
+        ))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_shares_of_a_batch_are_disjoint_and_cover_it() {
+        for len in [0, 1, 5, 17] {
+            let batch = MapBatch {
+                liners: Vec::new(),
+                runs: (0..len)
+                    .map(|k| MapRun {
+                        liner: k,
+                        point: 0,
+                        key: k.to_string(),
+                    })
+                    .collect(),
+            };
+            for n in [1, 2, 4, 7] {
+                let all: Vec<usize> = (1..=n)
+                    .flat_map(|i| batch.share(i, n).iter().map(|r| r.liner))
+                    .collect();
+                assert_eq!(all, (0..len).collect::<Vec<_>>(), "len {len}, n {n}");
+                let sizes: Vec<usize> = (1..=n).map(|i| batch.share(i, n).len()).collect();
+                let (lo, hi) = (sizes.iter().min().unwrap(), sizes.iter().max().unwrap());
+                assert!(hi - lo <= 1, "len {len}, n {n}: {sizes:?}");
+            }
+        }
+    }
+}
