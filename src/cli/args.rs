@@ -49,8 +49,8 @@ pub struct CycleArgs {
     pub design_step: Option<f64>,
     #[command(flatten)]
     pub search: SearchArgs,
-    /// Cache file, with --quasi-steady and with --bands (whose search runs through it; the
-    /// report's runs are not cached) [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
+    /// Cache file, with --quasi-steady and with --bands (whose runs go through it) [default:
+    /// $TEXOPT_CACHE or .texopt/cache.sqlite].
     #[arg(long, value_name = "FILE")]
     pub cache: Option<PathBuf>,
     /// Directory of the report \[default: results/cycle_NAME, NAME the engine's\].
@@ -74,10 +74,10 @@ pub struct CycleArgs {
     /// Least band length with --bands (mm) \[default: the file's \[design\] band_min_mm, else 4\].
     #[arg(long = "band-min", value_name = "MM")]
     pub band_min: Option<f64>,
-    /// With --bands: each search step's cycle runs as a Slurm array of --tasks shares, each
-    /// task into a cache of its own in DIR/caches, merged into --cache once the array is done;
-    /// this command waits for each array (sbatch --wait, so run it where sbatch works) and
-    /// writes the report itself. Scripts and logs in DIR.
+    /// With --bands: each search step's cycle runs, and the report's, as a Slurm array of
+    /// --tasks shares, each task into a cache of its own in DIR/caches, merged into --cache
+    /// once the array is done; this command waits for each array (sbatch --wait, so run it
+    /// where sbatch works) and writes the report itself. Scripts and logs in DIR.
     #[arg(long, value_name = "DIR", requires = "bands")]
     pub slurm: Option<PathBuf>,
     #[command(flatten)]

@@ -19,7 +19,7 @@ use crate::optimise::cycle::{design_all, evaluate_liners, no_angle_inside, point
 use crate::optimise::cycle_map::{design_over_map, evaluate_over_map, MapJudge};
 use crate::optimise::cycle_map_report as map_report;
 use crate::optimise::cycle_report::{assemble, non_finite, table, write};
-use crate::optimise::cycle_runs::{lock, run_here, Here, MapBatch};
+use crate::optimise::cycle_runs::{lock, run_here, Here, MapBatch, Runner};
 use crate::optimise::cycle_search::design_over_cycle;
 use crate::optimise::cycle_transient::evaluate_transient;
 use crate::optimise::cycle_transient_report as transient_report;
@@ -146,18 +146,22 @@ fn run_bands(a: &CycleArgs, s: &CycleSettings, space: &BandSpace) -> Result<i32,
         return answer_share(a, s, batch);
     }
     let cache = Mutex::new(open_cache(a.cache.as_deref())?);
-    let designs = match &a.slurm {
+    let slurm = match &a.slurm {
         Some(dir) => {
             let runner = SlurmRunner::new(dir, &a.cluster, &s.engine.file.engine.name)?;
             if s.search.progress {
-                eprintln!("the search's runs as {}", runner.describe());
+                eprintln!("the map's runs as {}", runner.describe());
             }
-            design_over_map(s, space, &cache, &runner)
+            Some(runner)
         }
-        None => design_over_map(s, space, &cache, &Here),
-    }
-    .map_err(other)?;
-    let liners = evaluate_over_map(s, &designs).map_err(other)?;
+        None => None,
+    };
+    let runner: &dyn Runner = match &slurm {
+        Some(r) => r,
+        None => &Here,
+    };
+    let designs = design_over_map(s, space, &cache, runner).map_err(other)?;
+    let liners = evaluate_over_map(s, &designs, &cache, runner).map_err(other)?;
     let r = map_report::assemble(s, &designs, &liners, t0.elapsed().as_secs_f64());
     if a.json {
         println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
@@ -186,8 +190,12 @@ fn answer_share(a: &CycleArgs, s: &CycleSettings, file: &Path) -> Result<i32, Cm
     })?;
     let cache = Mutex::new(open_cache(a.cache.as_deref())?);
     let share = batch.share(i, n);
-    let ran = run_here(&MapJudge::new(s), &batch, share, &cache)
-        .map_err(|e| CmdError::Other(e.to_string()))?;
+    let judge = match batch.report {
+        true => MapJudge::new(s).reporting(),
+        false => MapJudge::new(s),
+    };
+    let ran =
+        run_here(&judge, &batch, share, &cache).map_err(|e| CmdError::Other(e.to_string()))?;
     eprintln!(
         "share {i}/{n} of {}: {} runs, {ran} run here, {} found in {}",
         file.display(),

@@ -15,7 +15,7 @@ use serde::Serialize;
 use super::bands::{BandSpace, Banded};
 use super::cycle::CycleSettings;
 use super::cycle_runs::{cache_error, lock, stored, Here, MapBatch, MapLiner, MapRun, Runner};
-use super::cycle_search::{keeps_film, CycleJudge, Judged, PlainAt};
+use super::cycle_search::{keeps_film, metrics_over, CycleJudge, Judged, PlainAt};
 use super::error::OptimiseError;
 use super::goal::FAILED_COST;
 use super::search::{swarm, CubeObjective};
@@ -23,6 +23,7 @@ use crate::model::case::Texture;
 use crate::model::engine_map::MapPoint;
 use crate::model::liner_layout::LinerLayout;
 use crate::study::cache::{Cache, Key};
+use crate::study::cycle_cache::CycleAnswer;
 use crate::time::cycle::CycleMetrics;
 use crate::time::Fidelity;
 
@@ -202,36 +203,22 @@ impl<'a> MapJudge<'a> {
         self.judges.get(k)
     }
 
-    /// `layout` at every point, in parallel, with its rows; work per zone of `zones_cm`
-    /// where given.
-    pub fn judge(
-        &self,
-        layout: &LinerLayout,
-        zones_cm: Option<&[f64]>,
-    ) -> Result<OverMap, OptimiseError> {
-        let runs: Vec<_> = self
-            .judges
-            .par_iter()
-            .map(|j| j.judge_layout(layout.clone(), zones_cm))
-            .collect::<Result<_, _>>()?;
-        let (points, plain) = runs
-            .into_iter()
-            .map(|(r, p)| (r.map_err(|e| e.to_string()), p))
-            .unzip();
-        Ok(OverMap { points, plain })
-    }
-
     pub fn stroke_mm(&self) -> f64 {
         self.s.engine.file.engine.stroke_mm
     }
 
     /// `liners` over the map through the cache: the runs it does not hold handed to the
-    /// runner as one batch (point by point), then every answer read from it.
-    fn answers(&self, liners: &[MapLiner]) -> Result<Vec<OverMap<CycleMetrics>>, OptimiseError> {
+    /// runner as one batch (point by point), then every answer read from it; and the plain
+    /// liner at every point.
+    #[allow(clippy::type_complexity)]
+    fn answers(
+        &self,
+        liners: &[MapLiner],
+    ) -> Result<(Vec<Vec<Result<CycleAnswer, String>>>, Vec<Arc<PlainAt>>), OptimiseError> {
         let cache = self.cache()?;
         let layouts: Vec<LinerLayout> = liners.iter().map(|l| l.layout(self.stroke_mm())).collect();
         let Some(first) = layouts.first() else {
-            return Ok(Vec::new());
+            return Ok((Vec::new(), Vec::new()));
         };
         let plain: Vec<Arc<PlainAt>> = self
             .judges
@@ -263,33 +250,68 @@ impl<'a> MapJudge<'a> {
         }
         if !runs.is_empty() {
             let runner = self.through.map(|(_, r)| r).unwrap_or(&Here);
+            let report = self.judges.first().is_some_and(|j| j.reports());
             runner.run(
                 self,
                 &MapBatch {
                     liners: liners.to_vec(),
                     runs,
+                    report,
                 },
             )?;
         }
-        keys.iter()
-            .map(|k| {
-                let points = k
-                    .iter()
-                    .map(|key| Ok(stored(cache, key)?.map(|a| a.metrics)))
-                    .collect::<Result<_, OptimiseError>>()?;
-                Ok(OverMap {
-                    points,
-                    plain: plain.clone(),
-                })
+        let answers = keys
+            .iter()
+            .map(|k| k.iter().map(|key| stored(cache, key)).collect())
+            .collect::<Result<_, _>>()?;
+        Ok((answers, plain))
+    }
+
+    /// `liners` over the map through the cache, each point's figures only.
+    fn figures(&self, liners: &[MapLiner]) -> Result<Vec<OverMap<CycleMetrics>>, OptimiseError> {
+        let (answers, plain) = self.answers(liners)?;
+        Ok(answers
+            .into_iter()
+            .map(|points| OverMap {
+                points: points.into_iter().map(|a| a.map(|a| a.metrics)).collect(),
+                plain: plain.clone(),
             })
-            .collect()
+            .collect())
+    }
+
+    /// `liners` over the map through the cache with their cycles' rows (a reporting judge's),
+    /// work per zone of `zones_cm`.
+    pub fn judge_all(
+        &self,
+        liners: &[MapLiner],
+        zones_cm: &[f64],
+    ) -> Result<Vec<OverMap>, OptimiseError> {
+        let (answers, plain) = self.answers(liners)?;
+        let judged = |k: usize, a: CycleAnswer| -> Result<Judged, String> {
+            let rows = a
+                .rows
+                .ok_or("the cache holds this run without its cycle (a search's run)")?;
+            let metrics = metrics_over(&rows, self.judges[k].engine(), Some(zones_cm));
+            Ok(Judged { metrics, rows })
+        };
+        Ok(answers
+            .into_iter()
+            .map(|points| OverMap {
+                points: points
+                    .into_iter()
+                    .enumerate()
+                    .map(|(k, a)| a.and_then(|a| judged(k, a)))
+                    .collect(),
+                plain: plain.clone(),
+            })
+            .collect())
     }
 
     /// Banded liners' costs over the map, each logged.
     fn banded_costs(&self, designs: &[Banded]) -> Result<Vec<f64>, OptimiseError> {
         let liners: Vec<MapLiner> = designs.iter().cloned().map(MapLiner::Banded).collect();
         let least = self.s.min_clearance_um;
-        let overs = self.answers(&liners)?;
+        let overs = self.figures(&liners)?;
         let mut log = self.log.lock().unwrap_or_else(|e| e.into_inner());
         Ok(designs
             .iter()
@@ -315,7 +337,7 @@ impl<'a> MapJudge<'a> {
     fn uniform_costs(&self, textures: &[Texture]) -> Result<Vec<f64>, OptimiseError> {
         let liners: Vec<MapLiner> = textures.iter().cloned().map(MapLiner::Uniform).collect();
         Ok(self
-            .answers(&liners)?
+            .figures(&liners)?
             .iter()
             .map(|o| o.cost(&self.map, self.s.min_clearance_um))
             .collect())
@@ -470,23 +492,37 @@ impl MapLiners {
     }
 }
 
-pub fn evaluate_over_map(s: &CycleSettings, d: &MapDesigns) -> Result<MapLiners, OptimiseError> {
+pub fn evaluate_over_map(
+    s: &CycleSettings,
+    d: &MapDesigns,
+    cache: &Mutex<Cache>,
+    runner: &dyn Runner,
+) -> Result<MapLiners, OptimiseError> {
     let t0 = std::time::Instant::now();
-    let judge = MapJudge::new(s).reporting();
-    let stroke_mm = s.engine.file.engine.stroke_mm;
-    let layout = d.banded.layout(stroke_mm);
-    let zones_cm = layout.bounds_cm().to_vec();
-    let run = |name: &str, layout: &LinerLayout| -> Result<OverMap, OptimiseError> {
-        let say = |m: String| {
-            if s.search.progress {
-                eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
-            }
-        };
-        say(format!(
-            "the {name} liner over the map at {}, each point until it repeats itself …",
-            s.search.report_fidelity.name()
-        ));
-        let over = judge.judge(layout, Some(&zones_cm))?;
+    let say = |m: String| {
+        if s.search.progress {
+            eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
+        }
+    };
+    let judge = MapJudge::new(s).reporting().through(cache, runner);
+    let zones_cm = d.banded.layout(judge.stroke_mm()).bounds_cm().to_vec();
+    let mut liners = vec![MapLiner::Banded(d.banded.clone())];
+    liners.extend(d.uniform.iter().map(|(t, _)| MapLiner::Uniform(t.clone())));
+    say(format!(
+        "the {} over the map at {}, each point until it repeats itself …",
+        if liners.len() > 1 {
+            "banded and uniform liners"
+        } else {
+            "banded liner"
+        },
+        s.search.report_fidelity.name()
+    ));
+    let mut overs = judge.judge_all(&liners, &zones_cm)?.into_iter();
+    let (Some(banded), uniform) = (overs.next(), overs.next()) else {
+        return Err(OptimiseError::Nothing("banded liner"));
+    };
+    for (name, over) in [("banded", Some(&banded)), ("uniform", uniform.as_ref())] {
+        let Some(over) = over else { continue };
         for (k, p) in judge.map.iter().enumerate() {
             let plain = &over.plain[k].metrics;
             say(match over.metrics(k) {
@@ -497,16 +533,7 @@ pub fn evaluate_over_map(s: &CycleSettings, d: &MapDesigns) -> Result<MapLiners,
                 None => format!("{name}, {}: its run failed", p.name),
             });
         }
-        Ok(over)
-    };
-    let banded = run("banded", &layout)?;
-    let uniform = match &d.uniform {
-        Some((t, _)) => Some(run(
-            "uniform",
-            &LinerLayout::uniform(0.1 * stroke_mm, Some(t.clone())),
-        )?),
-        None => None,
-    };
+    }
     Ok(MapLiners {
         map: judge.map,
         zones_cm,

@@ -1,5 +1,6 @@
-//! The map search's cycle runs through the evaluation cache (docs/model.md §13, "Scale"):
-//! each liner at each operating point is one run, keyed by everything that determines it.
+//! The map search's cycle runs, and its report's, through the evaluation cache (docs/model.md
+//! §13, "Scale"): each liner at each operating point is one run, keyed by everything that
+//! determines it.
 //! A batch of liners is looked up first; the runs missing are handed to a [`Runner`], which
 //! stores their answers (or why each failed) in the cache: here, on this machine's threads,
 //! or elsewhere (a cluster's tasks, each into a cache of its own merged back). The search
@@ -45,11 +46,16 @@ pub struct MapRun {
     pub key: String,
 }
 
-/// The runs a search step needs that the cache does not hold, point by point.
+/// The runs a search step (or the report) needs that the cache does not hold, point by
+/// point.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MapBatch {
     pub liners: Vec<MapLiner>,
     pub runs: Vec<MapRun>,
+    /// The report's runs: at the report's fidelity, each until it repeats itself, its rows
+    /// kept.
+    #[serde(default)]
+    pub report: bool,
 }
 
 impl MapBatch {
@@ -117,6 +123,7 @@ pub fn run_here(
             let answer = judged
                 .map(|j| CycleAnswer {
                     metrics: j.metrics,
+                    rows: point.reports().then_some(j.rows),
                     wall_time_s,
                 })
                 .map_err(|e| (e.to_string(), wall_time_s));
@@ -156,6 +163,7 @@ mod tests {
     fn the_shares_of_a_batch_are_disjoint_and_cover_it() {
         for len in [0, 1, 5, 17] {
             let batch = MapBatch {
+                report: false,
                 liners: Vec::new(),
                 runs: (0..len)
                     .map(|k| MapRun {

@@ -131,6 +131,17 @@ impl<'a> CycleJudge<'a> {
         metrics_over(rows, &self.engine, bounds_cm)
     }
 
+    /// Whether this judge runs each liner until it repeats itself (the report's), so that its
+    /// runs keep their cycles' rows.
+    pub fn reports(&self) -> bool {
+        self.settle.is_none()
+    }
+
+    /// The engine at this judge's point.
+    pub fn engine(&self) -> &Engine {
+        &self.engine
+    }
+
     /// The numerics `layout` is judged with: the tier's, its cycles cut to the settle rule's.
     fn settled(&self, layout: &LinerLayout) -> CycleNumerics {
         let mut numerics = self.numerics(layout);

@@ -11,7 +11,7 @@ use super::entry;
 use crate::model::case::CaseSpec;
 use crate::model::engine::EngineFile;
 use crate::model::liner_layout::LinerLayout;
-use crate::time::cycle::{CycleMetrics, CycleNumerics};
+use crate::time::cycle::{CycleMetrics, CycleNumerics, CycleRow};
 
 /// A cycle run as its key holds it: everything that determines its answer.
 #[derive(Serialize)]
@@ -32,10 +32,13 @@ struct CycleKey<'a> {
     cycle: &'a CycleRunInputs<'a>,
 }
 
-/// What the cache keeps of a finished cycle run.
+/// What the cache keeps of a finished cycle run: its figures, and the last cycle step by step
+/// where a report draws it (None for a search's run).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CycleAnswer {
     pub metrics: CycleMetrics,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rows: Option<Vec<CycleRow>>,
     pub wall_time_s: f64,
 }
 

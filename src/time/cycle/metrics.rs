@@ -30,7 +30,7 @@ impl Regime {
 }
 
 /// Λ as JSON holds it: serde_json writes +∞ (no contact model) as null.
-fn infinite_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+pub(super) fn infinite_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     <Option<f64> as serde::Deserialize>::deserialize(d).map(|v| v.unwrap_or(f64::INFINITY))
 }
 

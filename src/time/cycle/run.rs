@@ -48,7 +48,7 @@ pub struct CycleNumerics {
 }
 
 /// One step of the cycle, in the engine's units.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CycleRow {
     /// Crank angle at the step's end (degrees, in [0, 720)) and the step's length (degrees).
     pub crank_deg: f64,
@@ -75,6 +75,7 @@ pub struct CycleRow {
     /// Share of the ring's load the asperities carry, W_a/W.
     pub asperity_share: f64,
     /// Film parameter Λ = h_min/σ (infinite without a contact model).
+    #[serde(deserialize_with = "super::metrics::infinite_if_null")]
     pub lambda: f64,
     /// Friction power per unit circumferential length, |F·U| (W/m).
     pub power_w_per_m: f64,
