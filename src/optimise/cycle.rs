@@ -408,11 +408,7 @@ pub fn design_all(
     stop: &AtomicBool,
 ) -> Result<Designs, OptimiseError> {
     let t0 = Instant::now();
-    let say = |m: String| {
-        if s.search.progress {
-            eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
-        }
-    };
+    let say = s.search.say_since(t0);
     let mut pts = points(s, s.design_step_deg);
     say(format!(
         "the plain liner at the {} design angles (every {}°) …",

@@ -415,11 +415,7 @@ pub fn design_over_map(
     runner: &dyn Runner,
 ) -> Result<MapDesigns, OptimiseError> {
     let t0 = std::time::Instant::now();
-    let say = |m: String| {
-        if s.search.progress {
-            eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
-        }
-    };
+    let say = s.search.say_since(t0);
     let judge = MapJudge::new(s).through(cache, runner);
     say(format!(
         "bands over {} operating point(s) at {}: {} particles × {} iterations, each liner a cycle run per point …",
@@ -499,11 +495,7 @@ pub fn evaluate_over_map(
     runner: &dyn Runner,
 ) -> Result<MapLiners, OptimiseError> {
     let t0 = std::time::Instant::now();
-    let say = |m: String| {
-        if s.search.progress {
-            eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
-        }
-    };
+    let say = s.search.say_since(t0);
     let judge = MapJudge::new(s).reporting().through(cache, runner);
     let zones_cm = d.banded.layout(judge.stroke_mm()).bounds_cm().to_vec();
     let mut liners = vec![MapLiner::Banded(d.banded.clone())];

@@ -255,11 +255,7 @@ impl Objective for ZoneOverCycle<'_, '_> {
 /// the zones' best textures laid over the whole stroke, the one of least work.
 pub fn design_over_cycle(s: &CycleSettings) -> Result<Designs, OptimiseError> {
     let t0 = std::time::Instant::now();
-    let say = |m: String| {
-        if s.search.progress {
-            eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
-        }
-    };
+    let say = s.search.say_since(t0);
     let judge = CycleJudge::new(s);
     let zones = s.engine.bounds_mm.len() - 1;
     let (mut found, mut candidates) = (Vec::new(), Vec::new());

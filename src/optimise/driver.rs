@@ -61,11 +61,7 @@ fn optimise_on_pool(
     let t0 = Instant::now();
     let ss = &s.search;
     ss.space.validate().map_err(OptimiseError::Space)?;
-    let say = |m: String| {
-        if ss.progress {
-            eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
-        }
-    };
+    let say = ss.say_since(t0);
     let ev_s = evaluator(s, ss.search_fidelity, cache, stop);
     let ev_r = evaluator(s, ss.report_fidelity, cache, stop);
     let (plain_s, plain_r) = rayon::join(|| ev_s.plain(), || ev_r.plain());

@@ -206,6 +206,16 @@ impl SearchSettings {
     pub const SEARCH_FIDELITY: Fidelity = Fidelity::Draft;
     pub const REPORT_FIDELITY: Fidelity = Fidelity::Fast;
 
+    /// A progress line on stderr, stamped with the seconds since `t0`, where progress is
+    /// asked for.
+    pub fn say_since(&self, t0: std::time::Instant) -> impl Fn(String) + '_ {
+        move |m| {
+            if self.progress {
+                eprintln!("[{:6.1} s] {m}", t0.elapsed().as_secs_f64());
+            }
+        }
+    }
+
     /// Threads by default: every core.
     pub fn default_jobs() -> usize {
         std::thread::available_parallelism().map_or(1, |n| n.get())
