@@ -9,6 +9,7 @@
 //!     texopt-lab shear-threshold
 //!     texopt-lab cycle-steps
 //!     texopt-lab cycle-contact
+//!     texopt-lab cycle-stress [LINER …]
 //!     texopt-lab rim-1d
 //!     texopt-lab rim-2d
 //!     texopt-lab rim-moving
@@ -29,12 +30,13 @@ fn main() {
         Some("shear-threshold") => studies::shear_threshold::main(rest),
         Some("cycle-steps") => studies::cycle_steps::main(rest),
         Some("cycle-contact") => studies::cycle_contact::main(rest),
+        Some("cycle-stress") => studies::cycle_stress::main(rest),
         Some("rim-1d") => studies::rim_1d::main(rest),
         Some("rim-2d") => studies::rim_2d::main(rest),
         Some("rim-moving") => studies::rim_moving::main(rest),
         Some("rim-rows") => studies::rim_rows::main(rest),
         _ => Err(
-            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | cycle-steps | cycle-contact | rim-1d | rim-2d | rim-moving | rim-rows | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
+            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | cycle-steps | cycle-contact | cycle-stress [LINER …] | rim-1d | rim-2d | rim-moving | rim-rows | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
                 .into(),
         ),
     };
