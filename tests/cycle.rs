@@ -323,8 +323,20 @@ fn the_angle_by_angle_steps_are_refused_without_quasi_steady() {
     let dir = scratch("cycle-steps-refused");
     let file = dir.join("e.toml");
     std::fs::write(&file, engine_text()).unwrap();
-    for flag in ["--step", "--design-step"] {
-        let (code, _, err, wrote) = common::cycle(&dir, &file, &[flag, "30"]);
+    // The transient cycle's steps follow the crank, the band search's too: --dt, the
+    // periodic runs' time step, would be ignored as the angle steps would.
+    for (flag, value, bands) in [
+        ("--step", "30", false),
+        ("--design-step", "30", false),
+        ("--dt", "1e-3", false),
+        ("--dt", "1e-3", true),
+        ("--step", "30", true),
+    ] {
+        let mut args = vec![flag, value];
+        if bands {
+            args.push("--bands");
+        }
+        let (code, _, err, wrote) = common::cycle(&dir, &file, &args);
         assert_eq!(code, 2, "{flag}: {err}");
         assert_eq!(err.lines().count(), 1, "{flag}: {err}");
         assert!(

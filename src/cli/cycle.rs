@@ -40,21 +40,14 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
             "--band-min: the least band length of --bands; add --bands, or drop --band-min".into(),
         ));
     }
+    if !a.quasi_steady {
+        refuse_angle_by_angle_flags(a)?;
+    }
     if a.bands {
         let space = band_space(a, &s, band_min_file)?;
         return run_bands(a, &s, &space);
     }
     if !a.quasi_steady {
-        // The angle-by-angle steps mean nothing to the transient cycle, whose steps follow
-        // the crank (docs/model.md §12): a flag that would be ignored is refused.
-        for (flag, given) in [("--step", a.step), ("--design-step", a.design_step)] {
-            if let Some(v) = given {
-                return Err(CmdError::Input(format!(
-                    "{flag} {}: the angle-by-angle evaluation's step; the transient cycle (the default) steps with the crank and searches over the whole cycle. Add --quasi-steady, or drop {flag}",
-                    short(v)
-                )));
-            }
-        }
         return run_transient(a, &s);
     }
     // A cycle whose every design angle is outside the model before anything runs (an engine
@@ -244,29 +237,7 @@ fn settings(a: &CycleArgs) -> Result<(CycleSettings, Option<f64>), CmdError> {
             format!("[design] unknown field `{k}`: a key of `optimise --config`, not of an engine file's [design]"),
         ));
     }
-    let roughness = d.roughness_um.unwrap_or(Validity::default().roughness_um);
-    if !(roughness > 0.0 && roughness <= 10.0) {
-        return Err(input(
-            &a.file,
-            format!(
-                "[design] roughness_um = {}: must lie in (0, 10] µm",
-                short(roughness)
-            ),
-        ));
-    }
-    let validity = Validity {
-        roughness_um: roughness,
-    };
-    let min_clearance_um = d.min_clearance_um.unwrap_or(validity.clearance_limit_um());
-    if !(min_clearance_um.is_finite() && min_clearance_um > 0.0 && min_clearance_um <= 100.0) {
-        return Err(input(
-            &a.file,
-            format!(
-                "[design] min_clearance_um = {}: must lie in (0, 100] µm (a film above 100 µm is no ring's)",
-                short(min_clearance_um)
-            ),
-        ));
-    }
+    let (validity, min_clearance_um) = validity(&a.file, &d)?;
     // A step is named where it came from: the flag, else the engine file's key.
     let named = |flag: Option<f64>, file: Option<f64>, name: &'static str, key: &'static str| match (
         flag, file,
@@ -333,6 +304,61 @@ fn settings(a: &CycleArgs) -> Result<(CycleSettings, Option<f64>), CmdError> {
         },
         d.band_min_mm,
     ))
+}
+
+/// The angle-by-angle steps and the periodic runs' time step mean nothing to the transient
+/// cycle, whose steps follow the crank (docs/model.md §12): a flag that would be ignored is
+/// refused.
+fn refuse_angle_by_angle_flags(a: &CycleArgs) -> Result<(), CmdError> {
+    for (flag, given, what) in [
+        ("--step", a.step, "the angle-by-angle evaluation's step"),
+        (
+            "--design-step",
+            a.design_step,
+            "the angle-by-angle design's step",
+        ),
+        (
+            "--dt",
+            a.search.dt,
+            "the time step of the angle-by-angle periodic runs",
+        ),
+    ] {
+        if let Some(v) = given {
+            return Err(CmdError::Input(format!(
+                "{flag} {}: {what}; the transient cycle steps with the crank (its steps are the tier's, refined near the dead centres) and searches over the whole cycle. Add --quasi-steady, or drop {flag}",
+                short(v)
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The file's `[design]` roughness (the film's validity) and least clearance, each checked.
+fn validity(file: &Path, d: &DesignFile) -> Result<(Validity, f64), CmdError> {
+    let roughness = d.roughness_um.unwrap_or(Validity::default().roughness_um);
+    if !(roughness > 0.0 && roughness <= 10.0) {
+        return Err(input(
+            file,
+            format!(
+                "[design] roughness_um = {}: must lie in (0, 10] µm",
+                short(roughness)
+            ),
+        ));
+    }
+    let validity = Validity {
+        roughness_um: roughness,
+    };
+    let min_clearance_um = d.min_clearance_um.unwrap_or(validity.clearance_limit_um());
+    if !(min_clearance_um.is_finite() && min_clearance_um > 0.0 && min_clearance_um <= 100.0) {
+        return Err(input(
+            file,
+            format!(
+                "[design] min_clearance_um = {}: must lie in (0, 100] µm (a film above 100 µm is no ring's)",
+                short(min_clearance_um)
+            ),
+        ));
+    }
+    Ok((validity, min_clearance_um))
 }
 
 /// A crank-angle step (`flag`, else the file's, else `def`): within [`STEP_RANGE_DEG`], and

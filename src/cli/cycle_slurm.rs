@@ -16,8 +16,7 @@ use super::slurm::{
     check_cluster, sbatch, sbatch_quote, script_head, script_path, shell_quote, slurm_dir,
 };
 use super::CmdError;
-use crate::optimise::cycle_map::MapJudge;
-use crate::optimise::cycle_runs::{lock, MapBatch, Runner};
+use crate::optimise::cycle_runs::{lock, BatchJudge, MapBatch, Runner};
 use crate::optimise::error::OptimiseError;
 
 /// Flags of the driver that its tasks do not take: the cluster's, the cache's (each task has
@@ -143,7 +142,7 @@ fn task_args(args: impl Iterator<Item = String>) -> Result<Vec<String>, CmdError
 }
 
 impl Runner for SlurmRunner {
-    fn run(&self, judge: &MapJudge, batch: &MapBatch) -> Result<(), OptimiseError> {
+    fn run(&self, judge: &dyn BatchJudge, batch: &MapBatch) -> Result<(), OptimiseError> {
         let k = self.batches.fetch_add(1, Ordering::Relaxed) + 1;
         let tasks = self.tasks.min(batch.runs.len()).max(1);
         let dir = Path::new(&self.dir);
@@ -153,7 +152,7 @@ impl Runner for SlurmRunner {
         crate::output::write(&file, json).map_err(|e| runs(e.to_string()))?;
         let script = dir.join(format!("batch-{k}.sbatch"));
         crate::output::write(&script, self.script(k, tasks)).map_err(|e| runs(e.to_string()))?;
-        if judge.s.search.progress {
+        if judge.progress() {
             eprintln!(
                 "batch {k}: {} runs in {tasks} Slurm task(s), waiting …",
                 batch.runs.len()

@@ -96,7 +96,7 @@ pub fn face_conductance(a: f64, b: f64, s: f64) -> f64 {
 
 /// A strip's Poiseuille conductance before its geometry factor: h³, times the pressure flow
 /// factor φx(h) on a rough film (docs/model.md §3, §11), for the faces whose rows vary
-/// across their cells ([`crate::mesh::Rows`]).
+/// across their cells (the mesh's rows sampled across each cell).
 #[inline(always)]
 pub fn strip_conductance(h: f64, flow: Option<&FlowFactors>) -> f64 {
     match flow {

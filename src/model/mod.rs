@@ -5,7 +5,6 @@
 pub mod asperity;
 pub mod case;
 pub mod engine;
-pub mod engine_map;
 pub mod film;
 pub mod flow_factors;
 pub mod friction;

@@ -235,8 +235,8 @@ pub fn evaluate(
             }
         })
         .collect();
-    let (sum, results) = sweep::run(&jobs, cache, &s.search.sweep_options(), stop)
-        .map_err(|e| OptimiseError::Cache(e.to_string()))?;
+    let (sum, results) =
+        sweep::run(&jobs, cache, &s.search.sweep_options(), stop).map_err(OptimiseError::Cache)?;
     if sum.stopped {
         return Err(OptimiseError::Stopped);
     }

@@ -14,16 +14,16 @@ use serde::Serialize;
 
 use super::bands::{BandSpace, Banded};
 use super::cycle::CycleSettings;
-use super::cycle_runs::{cache_error, lock, stored, Here, MapBatch, MapLiner, MapRun, Runner};
+use super::cycle_runs::{lock, stored, BatchJudge, Here, MapBatch, MapLiner, MapRun, Runner};
 use super::cycle_search::{keeps_film, metrics_over, CycleJudge, Judged, PlainAt};
 use super::error::OptimiseError;
 use super::goal::FAILED_COST;
 use super::search::{swarm, CubeObjective};
 use crate::model::case::Texture;
-use crate::model::engine_map::MapPoint;
+use crate::model::engine::MapPoint;
 use crate::model::liner_layout::LinerLayout;
 use crate::study::cache::{Cache, Key};
-use crate::study::cycle_cache::CycleAnswer;
+use crate::study::cycle_cache::{CycleAnswer, CycleFailure};
 use crate::time::cycle::CycleMetrics;
 use crate::time::Fidelity;
 
@@ -48,7 +48,7 @@ impl Figures for CycleMetrics {
 /// One liner over the map: per point its run (or why it failed) and the plain liner's on the
 /// same mesh.
 pub struct OverMap<R = Judged> {
-    pub points: Vec<Result<R, String>>,
+    pub points: Vec<Result<R, CycleFailure>>,
     pub plain: Vec<Arc<PlainAt>>,
 }
 
@@ -101,24 +101,25 @@ impl<R: Figures> OverMap<R> {
     }
 
     /// Why it is infeasible: the first point whose run failed, or whose least film falls too
-    /// far (docs/model.md §13).
-    pub fn why_infeasible(&self, map: &[MapPoint], least_um: f64) -> String {
-        for (k, p) in map.iter().enumerate() {
-            let plain = self.plain[k].metrics.h_min_um;
+    /// far (docs/model.md §13); None where it is feasible.
+    pub fn why_infeasible(&self, map: &[MapPoint], least_um: f64) -> Option<Infeasible> {
+        map.iter().enumerate().find_map(|(k, p)| {
+            let plain_um = self.plain[k].metrics.h_min_um;
             match &self.points[k] {
-                Err(e) => return format!("{}: {e}", p.name),
-                Ok(j) if !keeps_film(j.figures().h_min_um, plain, least_um) => {
-                    return format!(
-                        "{}: least film {:.4} µm against the plain liner's {:.4} µm",
-                        p.name,
-                        j.figures().h_min_um,
-                        plain
-                    )
+                Err(why) => Some(Infeasible::Failed {
+                    point: p.name.clone(),
+                    why: why.clone(),
+                }),
+                Ok(j) if !keeps_film(j.figures().h_min_um, plain_um, least_um) => {
+                    Some(Infeasible::ThinFilm {
+                        point: p.name.clone(),
+                        film_um: j.figures().h_min_um,
+                        plain_um,
+                    })
                 }
-                Ok(_) => {}
+                Ok(_) => None,
             }
-        }
-        "feasible".into()
+        })
     }
 
     /// Its cost: mean power over the plain liner's, the search's failed cost where infeasible.
@@ -127,6 +128,29 @@ impl<R: Figures> OverMap<R> {
             Some(p) if self.feasible(least_um) => p / self.plain_mean_power(map),
             _ => FAILED_COST,
         }
+    }
+}
+
+/// Why a liner is infeasible over the map (docs/model.md §13).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum Infeasible {
+    /// Its run at a point failed.
+    #[error("{point}: {why}")]
+    Failed { point: String, why: CycleFailure },
+    /// At a point it thins the film below both the least clearance and the plain liner's
+    /// least film.
+    #[error("{point}: least film {film_um:.4} µm against the plain liner's {plain_um:.4} µm")]
+    ThinFilm {
+        point: String,
+        film_um: f64,
+        plain_um: f64,
+    },
+}
+
+/// A report writes the reason as its words.
+impl Serialize for Infeasible {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
     }
 }
 
@@ -140,7 +164,7 @@ pub struct MapEval {
     pub feasible: bool,
     /// Why it is infeasible: the first point whose run failed, and why, or that thinned the
     /// film too far (None: feasible).
-    pub why: Option<String>,
+    pub why: Option<Infeasible>,
 }
 
 /// Judges liners over the map, a cycle judge per point; the search's runs through the cache
@@ -214,7 +238,13 @@ impl<'a> MapJudge<'a> {
     fn answers(
         &self,
         liners: &[MapLiner],
-    ) -> Result<(Vec<Vec<Result<CycleAnswer, String>>>, Vec<Arc<PlainAt>>), OptimiseError> {
+    ) -> Result<
+        (
+            Vec<Vec<Result<CycleAnswer, CycleFailure>>>,
+            Vec<Arc<PlainAt>>,
+        ),
+        OptimiseError,
+    > {
         let cache = self.cache()?;
         let layouts: Vec<LinerLayout> = liners.iter().map(|l| l.layout(self.stroke_mm())).collect();
         let Some(first) = layouts.first() else {
@@ -233,7 +263,7 @@ impl<'a> MapJudge<'a> {
         for point in 0..self.judges.len() {
             for (liner, k) in keys.iter().enumerate() {
                 let key = &k[point].hash;
-                let held = lock(cache).get_cycle(&k[point]).map_err(cache_error)?;
+                let held = lock(cache).get_cycle(&k[point])?;
                 if held.is_none() && !runs.iter().any(|r| &r.key == key) {
                     runs.push(MapRun {
                         liner,
@@ -287,10 +317,8 @@ impl<'a> MapJudge<'a> {
         zones_cm: &[f64],
     ) -> Result<Vec<OverMap>, OptimiseError> {
         let (answers, plain) = self.answers(liners)?;
-        let judged = |k: usize, a: CycleAnswer| -> Result<Judged, String> {
-            let rows = a
-                .rows
-                .ok_or("the cache holds this run without its cycle (a search's run)")?;
+        let judged = |k: usize, a: CycleAnswer| -> Result<Judged, CycleFailure> {
+            let rows = a.rows.ok_or(CycleFailure::WithoutRows)?;
             let metrics = metrics_over(&rows, self.judges[k].engine(), Some(zones_cm));
             Ok(Judged { metrics, rows })
         };
@@ -326,7 +354,9 @@ impl<'a> MapJudge<'a> {
                     power_ratio: cost,
                     film_ratio,
                     feasible: cost < FAILED_COST,
-                    why: (cost >= FAILED_COST).then(|| over.why_infeasible(&self.map, least)),
+                    why: (cost >= FAILED_COST)
+                        .then(|| over.why_infeasible(&self.map, least))
+                        .flatten(),
                 });
                 cost
             })
@@ -366,6 +396,24 @@ where
 
     fn costs_of(&self, designs: &[Banded]) -> Result<Vec<f64>, OptimiseError> {
         (self.costs)(designs)
+    }
+}
+
+impl BatchJudge for MapJudge<'_> {
+    fn point(&self, k: usize) -> Option<&CycleJudge<'_>> {
+        MapJudge::point(self, k)
+    }
+
+    fn stroke_mm(&self) -> f64 {
+        MapJudge::stroke_mm(self)
+    }
+
+    fn cache(&self) -> Result<&Mutex<Cache>, OptimiseError> {
+        MapJudge::cache(self)
+    }
+
+    fn progress(&self) -> bool {
+        self.s.search.progress
     }
 }
 

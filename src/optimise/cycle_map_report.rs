@@ -17,8 +17,9 @@ use super::design_report::{csv_bytes, json_and_md, Column};
 use super::error::OptimiseError;
 use super::goal::{pareto, FAILED_COST};
 use crate::model::case::Texture;
-use crate::model::engine_map::MapPoint;
+use crate::model::engine::MapPoint;
 use crate::plot::{self, Chart, Scale, Series, Style};
+use crate::study::cycle_cache::CycleFailure;
 use crate::time::cycle::{CycleMetrics, CycleRow};
 
 const LINERS: [&str; 3] = ["plain liner", "uniform best", "banded"];
@@ -52,7 +53,7 @@ pub struct MapLinerRow {
     pub liner: &'static str,
     pub design: String,
     /// Per point its figures, or why its run failed.
-    pub points: Vec<Result<PointFigures, String>>,
+    pub points: Vec<Result<PointFigures, CycleFailure>>,
     /// Time-weighted mean friction power over the map (W/m), and against the plain liner's
     /// (%), at the report's fidelity; the same change at the search's.
     pub mean_power_w_per_m: Option<f64>,
@@ -167,7 +168,7 @@ pub fn assemble(s: &CycleSettings, d: &MapDesigns, l: &MapLiners, wall: f64) -> 
         _ => liners.push(MapLinerRow {
             liner: LINERS[1],
             design: "none: every band texture over the whole stroke failed or thinned the film too far at the search".into(),
-            points: vec![Err("not run".into()); l.map.len()],
+            points: vec![Err(CycleFailure::NotRun); l.map.len()],
             mean_power_w_per_m: None,
             change_pct: None,
             searched_change_pct: None,
@@ -324,7 +325,9 @@ const FRONT_COLUMNS: [Column<MapEval>; 6] = [
     ("power_ratio", |e| e.power_ratio.to_string()),
     ("film_ratio", |e| e.film_ratio.to_string()),
     ("feasible", |e| e.feasible.to_string()),
-    ("why_infeasible", |e| e.why.clone().unwrap_or_default()),
+    ("why_infeasible", |e| {
+        e.why.as_ref().map(ToString::to_string).unwrap_or_default()
+    }),
     ("bands", |e| e.banded.label()),
     ("band_mm", |e| {
         let b: Vec<String> = e

@@ -7,7 +7,7 @@ use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::cycle::{Confirmation, CycleSettings, Designs, LinerRuns};
+use super::cycle::{Confirmation, CycleSettings, Designs, Exclusion, LinerRuns};
 use super::design_report::{csv_bytes, json_and_md, Column};
 use super::error::OptimiseError;
 use crate::model::case::Texture;
@@ -60,7 +60,7 @@ pub struct SampleRow {
     pub stribeck: f64,
     pub d_oil_um: f64,
     /// Why the angle is outside the hydrodynamic model (then no number is reported).
-    pub excluded: Option<super::cycle::Exclusion>,
+    pub excluded: Option<Exclusion>,
     /// Friction force (N/m) and clearance (µm) of the plain, uniform and zoned liners.
     pub force_n_per_m: [Option<f64>; 3],
     pub c_min_um: [Option<f64>; 3],
@@ -312,11 +312,13 @@ fn searched(c: &Confirmation, weighed: bool) -> String {
 /// Why angles are outside the model, counted by kind (the per-angle reasons are in the CSV),
 /// e.g. "30 angles slow near a dead centre, 2 with the Stribeck number out of range".
 pub fn exclusion_summary(samples: &[SampleRow]) -> String {
-    let mut counts: Vec<(&str, usize)> = Vec::new();
+    // Counted by variant, in the order each is first met.
+    let mut counts: Vec<(&Exclusion, usize)> = Vec::new();
     for why in samples.iter().filter_map(|x| x.excluded.as_ref()) {
-        match counts.iter_mut().find(|(k, _)| *k == why.kind()) {
+        let same = |k: &&Exclusion| std::mem::discriminant(*k) == std::mem::discriminant(why);
+        match counts.iter_mut().find(|(k, _)| same(k)) {
             Some((_, n)) => *n += 1,
-            None => counts.push((why.kind(), 1)),
+            None => counts.push((why, 1)),
         }
     }
     if counts.is_empty() {
@@ -324,7 +326,7 @@ pub fn exclusion_summary(samples: &[SampleRow]) -> String {
     }
     counts
         .iter()
-        .map(|(k, n)| format!("{n} angle{} {k}", if *n == 1 { "" } else { "s" }))
+        .map(|(k, n)| format!("{n} angle{} {}", if *n == 1 { "" } else { "s" }, k.kind()))
         .collect::<Vec<_>>()
         .join(", ")
 }

@@ -13,12 +13,12 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::bands::Banded;
-use super::cycle_map::MapJudge;
+use super::cycle_search::CycleJudge;
 use super::error::OptimiseError;
 use crate::model::case::Texture;
 use crate::model::liner_layout::LinerLayout;
 use crate::study::cache::{Cache, Key};
-use crate::study::cycle_cache::CycleAnswer;
+use crate::study::cycle_cache::{CycleAnswer, CycleFailure};
 
 /// A liner the map search judges: banded, or one texture over the whole stroke.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -68,16 +68,27 @@ impl MapBatch {
     }
 }
 
+/// What a runner needs of the judge whose batch it runs (the map search's judge).
+pub trait BatchJudge: Sync {
+    /// The judge of point `k`.
+    fn point(&self, k: usize) -> Option<&CycleJudge<'_>>;
+    fn stroke_mm(&self) -> f64;
+    /// The cache the batch's answers go to.
+    fn cache(&self) -> Result<&Mutex<Cache>, OptimiseError>;
+    /// Whether to say what the runner is doing.
+    fn progress(&self) -> bool;
+}
+
 /// Who runs a batch: every run's answer (or why it failed) stored in the judge's cache.
 pub trait Runner: Sync {
-    fn run(&self, judge: &MapJudge, batch: &MapBatch) -> Result<(), OptimiseError>;
+    fn run(&self, judge: &dyn BatchJudge, batch: &MapBatch) -> Result<(), OptimiseError>;
 }
 
 /// Runs a batch on this machine's threads.
 pub struct Here;
 
 impl Runner for Here {
-    fn run(&self, judge: &MapJudge, batch: &MapBatch) -> Result<(), OptimiseError> {
+    fn run(&self, judge: &dyn BatchJudge, batch: &MapBatch) -> Result<(), OptimiseError> {
         run_here(judge, batch, &batch.runs, judge.cache()?).map(|_| ())
     }
 }
@@ -87,7 +98,7 @@ impl Runner for Here {
 /// key differs from the one this judge gives it (the batch was made with other settings).
 /// Returns how many were run.
 pub fn run_here(
-    judge: &MapJudge,
+    judge: &dyn BatchJudge,
     batch: &MapBatch,
     runs: &[MapRun],
     cache: &Mutex<Cache>,
@@ -111,7 +122,7 @@ pub fn run_here(
                 r.point
             )));
         }
-        if lock(cache).get_cycle(&key).map_err(cache_error)?.is_none() {
+        if lock(cache).get_cycle(&key)?.is_none() {
             todo.push((layout, point, key));
         }
     }
@@ -127,7 +138,9 @@ pub fn run_here(
                     wall_time_s,
                 })
                 .map_err(|e| (e.to_string(), wall_time_s));
-            lock(cache).put_cycle(key, &answer).map_err(cache_error)
+            lock(cache)
+                .put_cycle(key, &answer)
+                .map_err(OptimiseError::Cache)
         })
         .collect::<Result<Vec<()>, _>>()?;
     Ok(todo.len())
@@ -138,16 +151,12 @@ pub fn lock(cache: &Mutex<Cache>) -> std::sync::MutexGuard<'_, Cache> {
     cache.lock().unwrap_or_else(|e| e.into_inner())
 }
 
-pub(super) fn cache_error(e: impl std::fmt::Display) -> OptimiseError {
-    OptimiseError::Cache(e.to_string())
-}
-
 /// The answer the cache holds for `key`, or the error that says it has none.
 pub(super) fn stored(
     cache: &Mutex<Cache>,
     key: &Key,
-) -> Result<Result<CycleAnswer, String>, OptimiseError> {
-    lock(cache).get_cycle(key).map_err(cache_error)?.ok_or_else(|| {
+) -> Result<Result<CycleAnswer, CycleFailure>, OptimiseError> {
+    lock(cache).get_cycle(key)?.ok_or_else(|| {
         OptimiseError::Runs(format!(
             "no answer in the cache for run {} after its batch ran (a task that stopped early? its log says why)",
             &key.hash[..12]

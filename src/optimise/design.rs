@@ -1,6 +1,6 @@
 //! What the optimiser reports of its designs: each design's row against the plain liner, the
 //! roles a row plays on the front, the report itself and the designs merged away. Data, and the order the table lists them in;
-//! the table and the files are written by [`super::design_report`].
+//! the table and the files are written by the design report.
 
 use serde::Serialize;
 
@@ -132,7 +132,7 @@ pub struct Report {
     /// The confirmed Pareto front (plain liner included when on it), by increasing f̄.
     pub front: Vec<Row>,
     /// Front designs left out because a thicker-walled one on the front has the same f̄ and
-    /// C_min within the reported tier's errors ([`super::front_merge`]), and how many.
+    /// C_min within the reported tier's errors (the front's merge rule), and how many.
     pub merged_count: usize,
     pub merged: Vec<Merged>,
     /// Whether a texture beats the plain liner's friction by more than the fidelity error.

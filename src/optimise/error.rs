@@ -3,6 +3,7 @@
 
 use crate::model::case::InputError;
 use crate::output::OutputError;
+use crate::study::cache::CacheError;
 use crate::study::sweep::CaseFailure;
 
 #[derive(Debug, thiserror::Error)]
@@ -15,7 +16,7 @@ pub enum OptimiseError {
     Space(InputError),
     /// The evaluation cache could not be read or written.
     #[error("{0}")]
-    Cache(String),
+    Cache(#[from] CacheError),
     #[error("stopped (Ctrl-C); finished evaluations are in the cache")]
     Stopped,
     #[error("the plain liner failed: {0}")]

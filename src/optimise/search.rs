@@ -82,7 +82,7 @@ impl Evaluator<'_> {
                 })?;
         }
         let (sum, results) = sweep::run(&jobs, self.cache, &self.options, self.stop)
-            .map_err(|e| OptimiseError::Cache(e.to_string()))?;
+            .map_err(OptimiseError::Cache)?;
         let total_sims = {
             let mut n = self.simulations.lock().expect("lock");
             *n += sum.simulations;

@@ -42,6 +42,29 @@ pub struct CycleAnswer {
     pub wall_time_s: f64,
 }
 
+/// Why a cycle run has no answer to give.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum CycleFailure {
+    /// The run failed: the cache keeps its error in the run's own words (the typed error
+    /// does not outlive the process that ran it, a cluster's task among them).
+    #[error("{0}")]
+    Failed(String),
+    /// The cache holds the run without its cycle's rows (a search's run), which a report
+    /// reads.
+    #[error("the cache holds this run without its cycle (a search's run)")]
+    WithoutRows,
+    /// The liner was not run (a report's row for a liner the search did not make).
+    #[error("not run")]
+    NotRun,
+}
+
+/// A report writes a failure as its words.
+impl Serialize for CycleFailure {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
 impl Key {
     /// The key of a cycle run.
     pub fn of_cycle(run: &CycleRunInputs) -> Key {
@@ -61,10 +84,13 @@ impl Cache {
     /// The cycle run stored for `key`: its answer, or why it failed. None where nothing is
     /// stored, or what is stored is damaged or of an older layout (the run is done again and
     /// replaces it).
-    pub fn get_cycle(&self, key: &Key) -> Result<Option<Result<CycleAnswer, String>>, CacheError> {
+    pub fn get_cycle(
+        &self,
+        key: &Key,
+    ) -> Result<Option<Result<CycleAnswer, CycleFailure>>, CacheError> {
         Ok(match self.get_as::<CycleAnswer>(key)? {
             Some(Stored::Done(a)) => Some(Ok(a)),
-            Some(Stored::Failed(why)) => Some(Err(why)),
+            Some(Stored::Failed(why)) => Some(Err(CycleFailure::Failed(why))),
             Some(Stored::Unreadable | Stored::Damaged(_)) | None => None,
         })
     }

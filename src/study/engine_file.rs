@@ -35,10 +35,10 @@ use serde::de::DeserializeOwned;
 use serde::Deserialize;
 
 use crate::model::case::one_line;
+use crate::model::engine::MapPointFile;
 use crate::model::engine::{
     ContactFile, Crank, Engine, EngineError, EngineFile, Gas, Oil, RingFile, Zones,
 };
-use crate::model::engine_map::MapPointFile;
 
 /// An engine file that cannot be used.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

@@ -1,5 +1,5 @@
 //! What a study file may say: the parameters it may vary and the limits on its size, read
-//! by the reader ([`super::file`]) and named in its errors ([`super::file_error`]).
+//! by the study file's reader and named in its errors.
 
 /// The parameters a study may vary, with their units (docs/model.md §1). Texture parameters
 /// first-class; the rest default to the paper's operating point (CaseSpec::paper).

@@ -1,7 +1,8 @@
-//! Time and workflow (docs/model.md §4–6): the coupled transient stepped to its periodic
+//! Time and workflow (docs/model.md §4–6, §12): the coupled transient stepped to its periodic
 //! regime, the steady untextured balance, the numerics and fidelity tiers, what a run
-//! reports. The accelerators (period-old guesses, slow-mode jumps, the coarse approach) sit
-//! beside the step, outside the physics.
+//! reports; and the engine cycle as one transient through the crank angle (`cycle`). The
+//! accelerators (period-old guesses, slow-mode jumps, the coarse approach) sit beside the
+//! step, outside the physics.
 
 mod anderson;
 mod approach;

@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::characteristic::MAX_COURANT;
 use crate::mesh::RimModel;
-use crate::model::case::{bad, positive, CaseSpec, InputError, PAPER_RING_WIDTH};
+use crate::model::case::{bad, positive, CaseSpec, InputError, Texture, PAPER_RING_WIDTH};
 use crate::solve::Method;
 
 /// Numerical fidelity and run control.
@@ -366,45 +366,7 @@ impl Numerics {
         }
         positive("t_max", self.t_max)?;
         if let Some(t) = &case.texture {
-            let period = t.per / case.u;
-            let steps = steps_per_period(period, self.dt);
-            if steps_rule && steps < MIN_STEPS_PER_PERIOD as f64 {
-                return Err(bad(
-                    "dt",
-                    self.dt,
-                    format!(
-                        "gives only {steps} time steps per texture period (per/u = {} ms), where at least {MIN_STEPS_PER_PERIOD} are needed: dt ≤ {}",
-                        short(period),
-                        short(period / MIN_STEPS_PER_PERIOD as f64)
-                    ),
-                ));
-            }
-            let length = case.contact().length_cm;
-            // (axis, semiaxis, cell size, extent the cells divide, name of the count)
-            let axes = [
-                ("l1", t.l1, length / self.n1 as f64, length, "N1"),
-                (
-                    "l2",
-                    t.l2,
-                    0.5 * t.width / self.n2 as f64,
-                    0.5 * t.width,
-                    "N2",
-                ),
-            ];
-            for (axis, l, d, extent, count) in axes {
-                if 2.0 * l < 2.0 * d * (1.0 - 1e-12) {
-                    return Err(bad(
-                        "mesh",
-                        format!("{}x{}", self.n1, self.n2),
-                        format!(
-                            "puts {} cells across the pocket axis 2·{axis} = {} cm (need ≥ 2); raise {count} to at least {}",
-                            short(2.0 * l / d),
-                            short(2.0 * l),
-                            short((extent / l).ceil())
-                        ),
-                    ));
-                }
-            }
+            self.check_texture(case, t, steps_rule)?;
         }
         if let Some(limit) = self.characteristic_dt(case) {
             if self.dt > limit * MAX_COURANT {
@@ -415,6 +377,56 @@ impl Numerics {
                         "moves the film more than one cell a step along the characteristics (u·dt/2 > dx1 on {} cells): dt ≤ 2·dx1/u = {} with this mesh, or more cells along x1",
                         self.n1,
                         short(limit)
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The time steps a texture period needs (with `steps_rule`) and the cells a pocket's
+    /// axes need, for the case's texture `t`.
+    fn check_texture(
+        &self,
+        case: &CaseSpec,
+        t: &Texture,
+        steps_rule: bool,
+    ) -> Result<(), InputError> {
+        let period = t.per / case.u;
+        let steps = steps_per_period(period, self.dt);
+        if steps_rule && steps < MIN_STEPS_PER_PERIOD as f64 {
+            return Err(bad(
+                "dt",
+                self.dt,
+                format!(
+                    "gives only {steps} time steps per texture period (per/u = {} ms), where at least {MIN_STEPS_PER_PERIOD} are needed: dt ≤ {}",
+                    short(period),
+                    short(period / MIN_STEPS_PER_PERIOD as f64)
+                ),
+            ));
+        }
+        let length = case.contact().length_cm;
+        // (axis, semiaxis, cell size, extent the cells divide, name of the count)
+        let axes = [
+            ("l1", t.l1, length / self.n1 as f64, length, "N1"),
+            (
+                "l2",
+                t.l2,
+                0.5 * t.width / self.n2 as f64,
+                0.5 * t.width,
+                "N2",
+            ),
+        ];
+        for (axis, l, d, extent, count) in axes {
+            if 2.0 * l < 2.0 * d * (1.0 - 1e-12) {
+                return Err(bad(
+                    "mesh",
+                    format!("{}x{}", self.n1, self.n2),
+                    format!(
+                        "puts {} cells across the pocket axis 2·{axis} = {} cm (need ≥ 2); raise {count} to at least {}",
+                        short(2.0 * l / d),
+                        short(2.0 * l),
+                        short((extent / l).ceil())
                     ),
                 ));
             }

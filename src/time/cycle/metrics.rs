@@ -2,7 +2,7 @@
 //! per ring and its share of the friction mean effective pressure, the thinnest film and Λ,
 //! where the asperities carry load, and the time spent in each lubrication regime.
 
-use super::run::CycleRow;
+use super::record::{infinite_if_null, CycleRow};
 use crate::model::engine::Engine;
 
 /// The lubrication regimes by the film parameter Λ = h_min/σ (docs/model.md §9).
@@ -27,11 +27,6 @@ impl Regime {
             Regime::Boundary
         }
     }
-}
-
-/// Λ as JSON holds it: serde_json writes +∞ (no contact model) as null.
-pub(super) fn infinite_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    <Option<f64> as serde::Deserialize>::deserialize(d).map(|v| v.unwrap_or(f64::INFINITY))
 }
 
 /// A cycle's figures of merit.

@@ -3,15 +3,14 @@
 
 mod drive;
 mod metrics;
-mod numerics;
 mod oil;
-mod run;
+mod record;
+mod stepping;
+mod tiers;
 
 pub use drive::{crank_steps, Drive, DrivePoint, StepRule};
 pub use metrics::{metrics, CycleMetrics, Regime};
-pub use numerics::{cycle_numerics, CONTACT_SHARE, TEXTURE_CELLS};
 pub use oil::{Ahead, OilMap, Taken};
-pub use run::{
-    CycleNumerics, CycleOutcome, CycleRow, CycleRun, CycleState, CycleSummary, OilBalance,
-    MAX_HALVINGS, SETTLE_CYCLES,
-};
+pub use record::{CycleRow, CycleSummary, OilBalance};
+pub use stepping::{CycleOutcome, CycleRun, CycleState, MAX_HALVINGS, SETTLE_CYCLES};
+pub use tiers::{cycle_numerics, CycleNumerics, CONTACT_SHARE, TEXTURE_CELLS};

@@ -8,8 +8,10 @@
 //! and the boundary data are mirrored, x1 → length − x1. The ring's face is symmetric about
 //! the domain's centre, so the mirrored scene is the same contact seen from the other side.
 
-use super::drive::{crank_steps, Drive, DrivePoint, StepRule};
+use super::drive::{crank_steps, Drive, DrivePoint};
 use super::oil::OilMap;
+use super::record::{CycleRow, CycleSummary, OilBalance};
+use super::tiers::CycleNumerics;
 use crate::mesh::integrals::{boundary_flows, friction};
 use crate::mesh::{FilmState, Grid, Scene};
 use crate::model::case::CaseSpec;
@@ -23,107 +25,6 @@ use crate::time::common::{SolveError, CONTACT_Z, MASS_TOL};
 use crate::time::start::equilibrium_start;
 use crate::time::steady::solve_untextured;
 use crate::time::TimeScheme;
-
-/// How a cycle run is discretised and when it stops.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct CycleNumerics {
-    /// Cells along x1 over the film's domain (2.5 ring widths) and across half a lattice
-    /// width (1 for a plain liner, whose film does not vary across).
-    pub n1: usize,
-    pub n2: usize,
-    pub steps: StepRule,
-    /// The film's storage term: backward Euler, or along the Couette characteristics on the
-    /// steps whose Courant number u·dt/(2·dx1) is at most 1 (backward Euler on the others).
-    pub scheme: TimeScheme,
-    /// Length of the oil map's cells along the liner (cm).
-    pub oil_cell_cm: f64,
-    /// Crank angle the first cycle starts from (degrees): mid-stroke, where the untextured
-    /// force balance is a sound start.
-    pub start_deg: f64,
-    /// Cycles stop repeating when the friction work and the oil map change by less than
-    /// this from one cycle to the next (relative).
-    pub cyclic_tol: f64,
-    /// Most cycles run; a run that has not repeated itself by then says so.
-    pub max_cycles: usize,
-}
-
-/// One step of the cycle, in the engine's units.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct CycleRow {
-    /// Crank angle at the step's end (degrees, in [0, 720)) and the step's length (degrees).
-    pub crank_deg: f64,
-    pub step_deg: f64,
-    /// The ring's distance from its top-dead-centre position (mm).
-    pub position_mm: f64,
-    /// The liner's velocity under the ring over the step (m/s, positive towards the
-    /// crankcase): −(the piston's).
-    pub u_ms: f64,
-    /// The ring's load per unit circumferential length (N/m).
-    pub load_n_per_m: f64,
-    /// Gas pressures above and below the ring (bar).
-    pub p_above_bar: f64,
-    pub p_below_bar: f64,
-    /// Ring position Z and minimum film (µm).
-    pub z_um: f64,
-    pub h_min_um: f64,
-    /// Friction force of the film on the ring per unit circumferential length (N/m), signed
-    /// as the liner's motion: positive towards the crankcase.
-    pub friction_n_per_m: f64,
-    /// Its part carried by the asperities (boundary friction, docs/model.md §11), signed
-    /// alike; the film's is the rest.
-    pub asperity_friction_n_per_m: f64,
-    /// Share of the ring's load the asperities carry, W_a/W.
-    pub asperity_share: f64,
-    /// Film parameter Λ = h_min/σ (infinite without a contact model).
-    #[serde(deserialize_with = "super::metrics::infinite_if_null")]
-    pub lambda: f64,
-    /// Friction power per unit circumferential length, |F·U| (W/m).
-    pub power_w_per_m: f64,
-    /// Oil the leading edge met (µm, the liner's layer) and the trailing edge left.
-    pub oil_met_um: f64,
-    pub oil_left_um: f64,
-}
-
-/// The oil exchanged over a cycle (µm·cm per unit circumferential length) and what film and
-/// liner held at its start and end.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct OilBalance {
-    pub film_start: f64,
-    pub film_end: f64,
-    pub liner_start: f64,
-    pub liner_end: f64,
-    /// Laid by the supply, scraped off by the rings below, thrown off at the leading edge.
-    pub supplied: f64,
-    pub scraped: f64,
-    pub thrown: f64,
-}
-
-impl OilBalance {
-    /// (film + liner) at the end − at the start − (supplied − scraped − thrown), relative to
-    /// the oil held: round-off when conserved.
-    pub fn defect(&self) -> f64 {
-        let change = (self.film_end - self.film_start) + (self.liner_end - self.liner_start);
-        let net = self.supplied - self.scraped - self.thrown;
-        (change - net).abs()
-            / (self.film_end + self.liner_end)
-                .abs()
-                .max(f64::MIN_POSITIVE)
-    }
-}
-
-/// One cycle's summary.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct CycleSummary {
-    /// Which cycle of the run (0: the first).
-    pub index: usize,
-    /// Friction work per unit circumferential length over the cycle (J/m).
-    pub friction_work_j_per_m: f64,
-    /// Its relative change from the cycle before, and the oil map's (infinite for the first).
-    pub work_change: f64,
-    pub oil_change: f64,
-    pub oil: OilBalance,
-    pub steps: usize,
-}
 
 /// What a cycle run found: its last cycle step by step, every cycle's summary, the oil map
 /// at the end, and where the run stands then (for another liner's run to start from).
@@ -604,8 +505,40 @@ impl CycleRun<'_> {
         }
         self.st.film.last_share = share;
         self.st.film.ring = ring.advance(&s, dt, z, stats.w_h + stats.w_a);
-        // Oil in and out over the step: the stencil's flows, and the shifted Couette content.
-        let (inflow, outflow) = self.flows((old.stencil_u, u.abs()), z);
+        let outflow = self.exchange_oil(&old, &ex, (u.abs(), dt, to), z, film_before)?;
+        let f = friction(
+            &self.st.film.scene.grid,
+            &self.st.film.scene.gap,
+            z,
+            &self.st.film.scene.hl,
+            &self.st.film.state,
+            &FrictionModel {
+                u: u.abs(),
+                theta_s: self.case.theta_s,
+                w_ps: b.w,
+                contact,
+            },
+        );
+        let mut row = self.row(&b, u, z, &f, ex.layer_met, outflow / dt);
+        row.step_deg = to - from;
+        row.asperity_share = share;
+        row.lambda = contact.map_or(f64::INFINITY, |c| row.h_min_um / c.sigma_um());
+        Ok(Some(row))
+    }
+
+    /// The oil a solved step exchanged: in and out through the film's ends (the stencil's
+    /// flows at liner speed `u` over `dt`, and the shifted Couette content), the film's
+    /// balance checked, the liner's oil map and the cycle's tally updated, and the film
+    /// kept as the next step's old level. Returns the oil out past the trailing edge.
+    fn exchange_oil(
+        &mut self,
+        old: &OldLevel,
+        ex: &Exchange,
+        (u, dt, to): (f64, f64, f64),
+        z: f64,
+        film_before: f64,
+    ) -> Result<f64, SolveError> {
+        let (inflow, outflow) = self.flows((old.stencil_u, u), z);
         let (inflow, outflow) = (dt * inflow + old.carried.0, dt * outflow + old.carried.1);
         self.check_mass(
             film_before,
@@ -630,24 +563,7 @@ impl CycleRun<'_> {
             .film
             .phi_old
             .copy_from_slice(&self.st.film.state.phi);
-        let f = friction(
-            &self.st.film.scene.grid,
-            &self.st.film.scene.gap,
-            z,
-            &self.st.film.scene.hl,
-            &self.st.film.state,
-            &FrictionModel {
-                u: u.abs(),
-                theta_s: self.case.theta_s,
-                w_ps: b.w,
-                contact,
-            },
-        );
-        let mut row = self.row(&b, u, z, &f, ex.layer_met, outflow / dt);
-        row.step_deg = to - from;
-        row.asperity_share = share;
-        row.lambda = contact.map_or(f64::INFINITY, |c| row.h_min_um / c.sigma_um());
-        Ok(Some(row))
+        Ok(outflow)
     }
 
     /// The old level a step of `dt` at liner speed `u` reads, with inlet film `phi_inlet`.

@@ -3,25 +3,10 @@
 //! and the share of the running time spent there. A liner is textured once and runs at all
 //! of them, so a design is judged by the time-weighted friction work over the map.
 
-use serde::{Deserialize, Serialize};
-
-use super::case::short;
-use super::engine::{Engine, EngineError, EngineFile};
-
-/// One `[[operating]]` point as the engine file gives it; what it leaves out is the engine's.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct MapPointFile {
-    /// Names the point in the reports (letters, digits, '-', '_').
-    pub name: String,
-    /// Its share of the running time: any positive numbers, normalised over the map.
-    pub weight: f64,
-    pub rpm: Option<f64>,
-    /// A factor on the gas pressures above and below the ring (the load), 0 to 10.
-    pub gas_scale: Option<f64>,
-    /// The oil's viscosity there (its temperature), Pa·s.
-    pub viscosity_pa_s: Option<f64>,
-}
+use super::rules::EngineError;
+use super::sections::{EngineFile, MapPointFile};
+use super::Engine;
+use crate::model::case::short;
 
 /// One point of the map, ready to run: its name, its share of the time (the shares sum to
 /// 1) and the engine as it runs there (with no map of its own).

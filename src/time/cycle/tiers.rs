@@ -3,9 +3,31 @@
 //! follow the motion, and the texture moved by at most a set number of cells a step.
 
 use super::drive::StepRule;
-use super::run::CycleNumerics;
 use crate::model::case::{CaseSpec, Texture};
 use crate::time::{resolve, Fidelity, Overrides, TimeScheme};
+
+/// How a cycle run is discretised and when it stops.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct CycleNumerics {
+    /// Cells along x1 over the film's domain (2.5 ring widths) and across half a lattice
+    /// width (1 for a plain liner, whose film does not vary across).
+    pub n1: usize,
+    pub n2: usize,
+    pub steps: StepRule,
+    /// The film's storage term: backward Euler, or along the Couette characteristics on the
+    /// steps whose Courant number u·dt/(2·dx1) is at most 1 (backward Euler on the others).
+    pub scheme: TimeScheme,
+    /// Length of the oil map's cells along the liner (cm).
+    pub oil_cell_cm: f64,
+    /// Crank angle the first cycle starts from (degrees): mid-stroke, where the untextured
+    /// force balance is a sound start.
+    pub start_deg: f64,
+    /// Cycles stop repeating when the friction work and the oil map change by less than
+    /// this from one cycle to the next (relative).
+    pub cyclic_tol: f64,
+    /// Most cycles run; a run that has not repeated itself by then says so.
+    pub max_cycles: usize,
+}
 
 /// A cycle tier's steps and cells.
 struct Tier {
