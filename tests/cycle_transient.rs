@@ -273,7 +273,7 @@ fn film_and_liner_conserve_the_oil_cycle_by_cycle() {
 #[test]
 fn the_plain_cycle_repeats_itself_and_turns_at_the_dead_centres() {
     let (engine, num, out) = plain_cycle();
-    assert!(out.cyclic, "{:?}", out.cycles);
+    assert!(out.cyclic(), "{:?}", out.cycles);
     let last = out.cycles.last().unwrap();
     assert!(out.cycles.len() <= num.max_cycles);
     assert!(
@@ -420,7 +420,7 @@ fn probe_cycle_figures() {
         peak.crank_deg,
         m.asperity_share_max,
         m.contact_time_fraction,
-        out.cyclic
+        out.cyclic()
     );
 }
 
@@ -479,7 +479,7 @@ fn a_textured_zone_started_from_the_plain_cyclic_state_is_settled_in_its_second_
         .unwrap()
         .run(&mut |_| {}, &mut |_| {})
         .unwrap();
-    assert!(cold.cyclic);
+    assert!(cold.cyclic());
     let two = CycleNumerics {
         max_cycles: SETTLE_CYCLES,
         ..num

@@ -17,7 +17,7 @@ use super::slurm::{
 };
 use super::CmdError;
 use crate::optimise::cycle_runs::{lock, BatchJudge, MapBatch, Runner};
-use crate::optimise::error::OptimiseError;
+use crate::optimise::error::{OptimiseError, RunsError};
 
 /// Flags of the driver that its tasks do not take: the cluster's, the cache's (each task has
 /// its own) and the report's (a task writes none). Each takes a value but `--json`.
@@ -146,7 +146,7 @@ impl Runner for SlurmRunner {
         let k = self.batches.fetch_add(1, Ordering::Relaxed) + 1;
         let tasks = self.tasks.min(batch.runs.len()).max(1);
         let dir = Path::new(&self.dir);
-        let runs = |e: String| OptimiseError::Runs(format!("batch {k}: {e}"));
+        let runs = |why: String| OptimiseError::Runs(RunsError::Elsewhere { batch: k, why });
         let json = serde_json::to_string(batch).expect("plain data");
         let file = dir.join(format!("batches/batch-{k}.json"));
         crate::output::write(&file, json).map_err(|e| runs(e.to_string()))?;

@@ -16,7 +16,7 @@ use super::bands::{BandSpace, Banded};
 use super::cycle::CycleSettings;
 use super::cycle_runs::{lock, stored, BatchJudge, Here, MapBatch, MapLiner, MapRun, Runner};
 use super::cycle_search::{keeps_film, metrics_over, CycleJudge, Judged, PlainAt};
-use super::error::OptimiseError;
+use super::error::{OptimiseError, RunsError};
 use super::goal::FAILED_COST;
 use super::search::{swarm, CubeObjective};
 use crate::model::case::Texture;
@@ -219,7 +219,7 @@ impl<'a> MapJudge<'a> {
     pub fn cache(&self) -> Result<&'a Mutex<Cache>, OptimiseError> {
         self.through
             .map(|(c, _)| c)
-            .ok_or_else(|| OptimiseError::Runs("this judge has no cache to run through".into()))
+            .ok_or(OptimiseError::Runs(RunsError::NoCache))
     }
 
     /// The judge of point `k`.

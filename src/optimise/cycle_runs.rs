@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use super::bands::Banded;
 use super::cycle_search::CycleJudge;
-use super::error::OptimiseError;
+use super::error::{OptimiseError, RunsError};
 use crate::model::case::Texture;
 use crate::model::liner_layout::LinerLayout;
 use crate::study::cache::{Cache, Key};
@@ -107,20 +107,21 @@ pub fn run_here(
     let mut todo = Vec::new();
     for r in runs {
         let (Some(liner), Some(point)) = (batch.liners.get(r.liner), judge.point(r.point)) else {
-            return Err(OptimiseError::Runs(format!(
-                "the batch names liner {} at point {}, which it does not hold",
-                r.liner, r.point
-            )));
+            return Err(RunsError::NotInBatch {
+                liner: r.liner,
+                point: r.point,
+            }
+            .into());
         };
         let layout = liner.layout(stroke_mm);
         let key = point.key(&layout);
         if key.hash != r.key {
-            return Err(OptimiseError::Runs(format!(
-                "run {} (liner {} at point {}): this process's settings give it another key than the batch's; run it with the engine file and flags of the search that wrote the batch",
-                &r.key[..12.min(r.key.len())],
-                r.liner,
-                r.point
-            )));
+            return Err(RunsError::OtherKey {
+                key: r.key.chars().take(12).collect(),
+                liner: r.liner,
+                point: r.point,
+            }
+            .into());
         }
         if lock(cache).get_cycle(&key)?.is_none() {
             todo.push((layout, point, key));
@@ -157,10 +158,10 @@ pub(super) fn stored(
     key: &Key,
 ) -> Result<Result<CycleAnswer, CycleFailure>, OptimiseError> {
     lock(cache).get_cycle(key)?.ok_or_else(|| {
-        OptimiseError::Runs(format!(
-            "no answer in the cache for run {} after its batch ran (a task that stopped early? its log says why)",
-            &key.hash[..12]
-        ))
+        RunsError::NoAnswer {
+            key: key.hash[..12].to_string(),
+        }
+        .into()
     })
 }
 

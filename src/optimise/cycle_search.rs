@@ -122,7 +122,7 @@ impl<'a> CycleJudge<'a> {
 
     fn layout(&self, textures: Vec<Option<Texture>>) -> Result<LinerLayout, OptimiseError> {
         let bounds_cm: Vec<f64> = self.s.engine.bounds_mm.iter().map(|b| 0.1 * b).collect();
-        LinerLayout::zoned(bounds_cm, textures).map_err(|e| OptimiseError::Series(e.to_string()))
+        Ok(LinerLayout::zoned(bounds_cm, textures)?)
     }
 
     /// The figures of a cycle's rows, with work per zone of `bounds_cm` (None: the engine's
@@ -174,7 +174,10 @@ impl<'a> CycleJudge<'a> {
         let ring = ring_case(self.s, &self.drive);
         let o = CycleRun::new(&self.drive, ring, layout, numerics.clone())
             .and_then(|r| r.run(&mut |_| {}, &mut |_| {}))
-            .map_err(|e| OptimiseError::Series(format!("plain liner: {e}")))?;
+            .map_err(|source| OptimiseError::RunOf {
+                label: "plain liner".into(),
+                source,
+            })?;
         let p = std::sync::Arc::new(PlainAt {
             metrics: self.metrics(&o.rows, None),
             rows: o.rows,
@@ -207,7 +210,7 @@ impl<'a> CycleJudge<'a> {
                 metrics: self.metrics(&o.rows, zones_cm),
                 rows: o.rows,
             })
-            .map_err(|e| OptimiseError::Series(e.to_string()));
+            .map_err(OptimiseError::Run);
         Ok((judged, plain))
     }
 

@@ -53,15 +53,17 @@ pub fn run_liner(
     let drive = Drive::new(&s.engine);
     let ring = ring_case(s, &drive);
     let bounds_cm: Vec<f64> = s.engine.bounds_mm.iter().map(|b| 0.1 * b).collect();
-    let layout = LinerLayout::zoned(bounds_cm, textures.clone())
-        .map_err(|e| OptimiseError::Series(e.to_string()))?;
+    let layout = LinerLayout::zoned(bounds_cm, textures.clone())?;
     let finest = textures
         .iter()
         .flatten()
         .min_by(|a, b| a.per.total_cmp(&b.per));
     let numerics = cycle_numerics(fidelity, &s.search.overrides, &ring, finest);
-    let run = CycleRun::new(&drive, ring, layout, numerics)
-        .map_err(|e| OptimiseError::Series(format!("{label}: {e}")))?;
+    let run =
+        CycleRun::new(&drive, ring, layout, numerics).map_err(|source| OptimiseError::RunOf {
+            label: label.to_string(),
+            source,
+        })?;
     let progress = s.search.progress;
     let mut on_cycle = |c: &CycleSummary| {
         if progress {
@@ -78,7 +80,10 @@ pub fn run_liner(
     };
     let outcome = run
         .run(&mut on_cycle, &mut |_| {})
-        .map_err(|e| OptimiseError::Series(format!("{label}: {e}")))?;
+        .map_err(|source| OptimiseError::RunOf {
+            label: label.to_string(),
+            source,
+        })?;
     let metrics = metrics(&outcome.rows, &s.engine);
     Ok(LinerCycle {
         textures,

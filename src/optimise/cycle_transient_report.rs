@@ -93,7 +93,7 @@ fn liner_row(k: usize, r: &LinerCycle, plain: f64) -> TransientLinerRow {
         metrics: r.metrics.clone(),
         change_pct: change_pct(r.metrics.work_j_per_m, plain),
         cycles: r.outcome.cycles.len(),
-        cyclic: r.outcome.cyclic,
+        cyclic: r.outcome.cyclic(),
         work_change: last.map_or(f64::NAN, |c| c.work_change),
         oil_change: last.map_or(f64::NAN, |c| c.oil_change),
         oil_defect: r
@@ -359,7 +359,7 @@ fn oil_csv(r: &TransientReport) -> Result<Vec<u8>, OptimiseError> {
         let _ = w.write_record([(10.0 * y).to_string(), cell(0), cell(1), cell(2)]);
     }
     w.into_inner()
-        .map_err(|e| OptimiseError::Files(e.error().to_string()))
+        .map_err(|e| OptimiseError::Csv(e.into_error()))
 }
 
 fn chart<'a>(title: &'a str, x: &'a str, y: &'a str, y_scale: Scale) -> Chart<'a> {

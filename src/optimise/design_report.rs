@@ -197,14 +197,20 @@ pub(super) fn json_and_md<'a>(
     r: &impl Serialize,
     md: String,
 ) -> Result<impl Fn(&str) -> PathBuf + 'a, OptimiseError> {
-    let files = OptimiseError::Files;
-    std::fs::create_dir_all(dir)
-        .map_err(|e| files(format!("cannot create {}: {e}", dir.display())))?;
+    create_dir(dir)?;
     let stem = move |ext: &str| dir.join(format!("{base}{ext}"));
-    let json = serde_json::to_string_pretty(r).map_err(|e| files(e.to_string()))?;
+    let json = serde_json::to_string_pretty(r).map_err(OptimiseError::Json)?;
     crate::output::write(&stem(".json"), json)?;
     crate::output::write(&stem(".md"), md)?;
     Ok(stem)
+}
+
+/// A report's directory, made where missing.
+fn create_dir(dir: &Path) -> Result<(), OptimiseError> {
+    std::fs::create_dir_all(dir).map_err(|source| OptimiseError::CreateDir {
+        dir: dir.to_path_buf(),
+        source,
+    })
 }
 
 /// A CSV column: its header, and its cell of a record.
@@ -221,21 +227,21 @@ pub(super) fn csv_bytes<'a, R: 'a>(
         let _ = w.write_record(columns.iter().map(|c| (c.1)(x)));
     }
     w.into_inner()
-        .map_err(|e| OptimiseError::Files(e.error().to_string()))
+        .map_err(|e| OptimiseError::Csv(e.into_error()))
 }
 
 /// Writes the report's files under `dir`: JSON (everything), CSV (the table), the front, and
 /// Z(t), f(t) over a period of the best design against the plain liner (`ev`: the evaluation
 /// service at the reported fidelity).
 pub(super) fn write(dir: &Path, r: &Report, ev: &Evaluator) -> Result<(), OptimiseError> {
-    let files = OptimiseError::Files;
-    std::fs::create_dir_all(dir)
-        .map_err(|e| files(format!("cannot create {}: {e}", dir.display())))?;
+    create_dir(dir)?;
     let stem = stem(dir, r.r);
     // Not `with_extension`: R = 6.84 would lose its ".84".
     let p = PathBuf::from(format!("{}.json", stem.display()));
-    let json =
-        serde_json::to_string_pretty(r).map_err(|e| files(format!("{}: {e}", p.display())))?;
+    let json = serde_json::to_string_pretty(r).map_err(|source| OptimiseError::JsonAt {
+        path: p.clone(),
+        source,
+    })?;
     crate::output::write(&p, json)?;
     let p = PathBuf::from(format!("{}.csv", stem.display()));
     let mut rows = vec![
@@ -258,8 +264,13 @@ pub(super) fn write(dir: &Path, r: &Report, ev: &Evaluator) -> Result<(), Optimi
             fidelity: &r.report_fidelity,
         })
         .collect();
-    let bytes =
-        csv_bytes(&columns(), &lines).map_err(|e| files(format!("{}: {e}", p.display())))?;
+    let bytes = csv_bytes(&columns(), &lines).map_err(|e| match e {
+        OptimiseError::Csv(source) => OptimiseError::CsvAt {
+            path: p.clone(),
+            source,
+        },
+        e => e,
+    })?;
     crate::output::write(&p, bytes)?;
     super::figures::front(&PathBuf::from(format!("{}_front.png", stem.display())), r)?;
     super::figures::cells(&PathBuf::from(format!("{}_cells.png", stem.display())), r)?;

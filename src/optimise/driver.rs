@@ -46,10 +46,7 @@ pub fn optimise(
     rayon::ThreadPoolBuilder::new()
         .num_threads(jobs.max(1))
         .build()
-        .map_err(|e| OptimiseError::Threads {
-            jobs,
-            why: e.to_string(),
-        })?
+        .map_err(|source| OptimiseError::Threads { jobs, source })?
         .install(|| optimise_on_pool(s, cache, stop))
 }
 

@@ -383,7 +383,7 @@ pub fn table(r: &RobustReport) -> String {
 fn write(dir: &Path, r: &RobustReport) -> Result<(), OptimiseError> {
     let stem = dir.join(&r.name);
     let path = |ext: &str| PathBuf::from(format!("{}.{ext}", stem.display()));
-    let json = serde_json::to_string_pretty(r).map_err(|e| OptimiseError::Files(e.to_string()))?;
+    let json = serde_json::to_string_pretty(r).map_err(OptimiseError::Json)?;
     crate::output::write(&path("json"), json)?;
     crate::output::write(&path("md"), format!("# {}\n\n{}", r.name, table(r)))?;
     let lines: Vec<AtOneRadius> = r

@@ -163,7 +163,7 @@ impl Evaluator<'_> {
             ..RunOptions::default()
         };
         let res = simulate_with(&case, &numerics, &opts, &mut Watch::default())
-            .map_err(|e| OptimiseError::Series(e.to_string()))?;
+            .map_err(OptimiseError::Run)?;
         let rows: Vec<SeriesRow> = res.series.unwrap_or_default();
         let t_end = rows.last().map_or(0.0, |x| x.t);
         let rows: Vec<SeriesRow> = rows
@@ -171,8 +171,10 @@ impl Evaluator<'_> {
             .filter(|x| x.t > t_end - period - 1e-12)
             .collect();
         let kept = Kept { key, rows };
-        let json = serde_json::to_string(&kept)
-            .map_err(|e| OptimiseError::Files(format!("{}: {e}", path.display())))?;
+        let json = serde_json::to_string(&kept).map_err(|source| OptimiseError::JsonAt {
+            path: path.to_path_buf(),
+            source,
+        })?;
         crate::output::write(path, json)?;
         Ok(kept.rows)
     }
@@ -306,7 +308,7 @@ impl<O: CubeObjective + ?Sized> CostFunction for Cost<'_, O> {
 /// An argmin run's error as ours: an objective's own error comes back as it was.
 fn solver_error(e: ArgminError) -> OptimiseError {
     e.downcast::<OptimiseError>()
-        .unwrap_or_else(|e| OptimiseError::Solver(e.to_string()))
+        .unwrap_or_else(OptimiseError::Solver)
 }
 
 /// One ring's search: minimise `goal` relative to the plain liner's outcome.

@@ -519,7 +519,7 @@ fn cycle_row(
         wall_times_s,
         work_j_per_m: metrics(&o.rows, engine).work_j_per_m,
         cycles: o.cycles.len(),
-        cyclic: o.cyclic,
+        cyclic: o.cyclic(),
         last_cycle_steps: o.cycles.last().map_or(0, |s| s.steps),
         ms_per_step: 1e3 * wall_time_s / steps.max(1) as f64,
     }

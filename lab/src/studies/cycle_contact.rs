@@ -68,7 +68,7 @@ fn run(
     let o = CycleRun::new(&drive, ring, layout, num)
         .and_then(|r| r.run(&mut |_| {}, &mut |_| {}))
         .map_err(|e| e.to_string())?;
-    if !o.cyclic {
+    if !o.cyclic() {
         return Err(format!(
             "{viscosity} Pa·s, ς {varsigma}: the cycle did not repeat itself"
         ));

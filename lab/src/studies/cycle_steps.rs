@@ -80,7 +80,7 @@ fn run(r: &Run) -> Result<Row, String> {
         .and_then(|run| run.run(&mut |_| {}, &mut |_| {}))
         .map_err(|e| e.to_string())?;
     let last = o.cycles.last().ok_or("no cycle ran")?;
-    if !o.cyclic {
+    if !o.cyclic() {
         return Err(format!(
             "{n1} cells, {} a step: the cycle did not repeat itself",
             r.travel

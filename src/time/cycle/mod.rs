@@ -13,4 +13,4 @@ pub use metrics::{metrics, CycleMetrics, Regime};
 pub use oil::{Ahead, OilMap, Taken};
 pub use record::{CycleRow, CycleSummary, OilBalance};
 pub use stepping::{CycleOutcome, CycleRun, CycleState, MAX_HALVINGS, SETTLE_CYCLES};
-pub use tiers::{cycle_numerics, CycleNumerics, CONTACT_SHARE, TEXTURE_CELLS};
+pub use tiers::{cycle_numerics, CycleEnd, CycleNumerics, CONTACT_SHARE, TEXTURE_CELLS};

@@ -11,7 +11,7 @@
 use super::drive::{crank_steps, Drive, DrivePoint};
 use super::oil::OilMap;
 use super::record::{CycleRow, CycleSummary, OilBalance};
-use super::tiers::CycleNumerics;
+use super::tiers::{CycleEnd, CycleNumerics};
 use crate::mesh::integrals::{boundary_flows, friction};
 use crate::mesh::{FilmState, Grid, Scene};
 use crate::model::case::CaseSpec;
@@ -19,7 +19,7 @@ use crate::model::film::Boundary;
 use crate::model::friction::{Friction, FrictionModel};
 use crate::model::liner_layout::LinerLayout;
 use crate::model::ring::{Ring, RingState};
-use crate::solve::{FilmMethod, FilmSolver, Method, Step};
+use crate::solve::{FilmMethod, FilmSolver, Step};
 use crate::time::characteristic::{courant, shift, MAX_COURANT};
 use crate::time::common::{SolveError, CONTACT_Z, MASS_TOL};
 use crate::time::start::equilibrium_start;
@@ -32,12 +32,19 @@ use crate::time::TimeScheme;
 pub struct CycleOutcome {
     pub rows: Vec<CycleRow>,
     pub cycles: Vec<CycleSummary>,
-    /// Whether the last cycle repeated the one before within the tolerance.
-    pub cyclic: bool,
+    /// Why the run stopped.
+    pub stopped: CycleEnd,
     /// Liner coordinates (cm) and layers (µm) of the oil map after the last cycle.
     pub oil_y_cm: Vec<f64>,
     pub oil_um: Vec<f64>,
     pub end: CycleState,
+}
+
+impl CycleOutcome {
+    /// Whether the last cycle repeated the one before within the tolerance.
+    pub fn cyclic(&self) -> bool {
+        self.stopped == CycleEnd::Repeated
+    }
 }
 
 /// Cycles after which a run resumed from another liner's cyclic state on the same engine
@@ -144,7 +151,7 @@ impl<'a> CycleRun<'a> {
             layout,
             case,
             st,
-            solver: FilmSolver::new(Method::Direct),
+            solver: numerics.solver(),
             numerics,
             tally: OilBalance::default(),
         };
@@ -177,7 +184,7 @@ impl<'a> CycleRun<'a> {
             layout,
             case: ring,
             st: from.clone(),
-            solver: FilmSolver::new(Method::Direct),
+            solver: numerics.solver(),
             numerics,
             tally: OilBalance::default(),
         };
@@ -275,7 +282,7 @@ impl<'a> CycleRun<'a> {
         for (k, f) in phi.into_iter().enumerate() {
             self.st.film.state.phi[k] = f.min(self.st.film.scene.gap.h(g, k, z));
         }
-        self.solver = FilmSolver::new(Method::Direct);
+        self.solver = self.numerics.solver();
     }
 
     /// At a dead centre, the oil the ring has pushed ahead of itself into the free gap before
@@ -355,6 +362,13 @@ fn cycle_label(drive: &Drive) -> String {
 /// Most halvings of a crank step whose film solve does not converge.
 pub const MAX_HALVINGS: usize = 4;
 
+/// What a crank step came to: its row, or a call to take it again in halves (the
+/// asperities' share changed too much over it).
+enum Stepped {
+    Row(CycleRow),
+    Refine,
+}
+
 /// A run's state before a step, to take the step again in halves.
 struct Saved {
     film: Standing,
@@ -399,15 +413,15 @@ impl CycleRun<'_> {
     ) -> Result<Vec<CycleRow>, SolveError> {
         let saved = self.save();
         match self.try_step(from, to, depth < MAX_HALVINGS) {
-            Ok(Some(row)) => Ok(vec![row]),
-            Ok(None) | Err(SolveError::Film { .. }) if depth < MAX_HALVINGS => {
+            Ok(Stepped::Row(row)) => Ok(vec![row]),
+            Ok(Stepped::Refine) | Err(SolveError::Film { .. }) if depth < MAX_HALVINGS => {
                 self.restore(saved);
                 let mid = 0.5 * (from + to);
                 let mut rows = self.advance_halving(from, mid, depth + 1)?;
                 rows.extend(self.advance_halving(mid, to, depth + 1)?);
                 Ok(rows)
             }
-            Ok(None) => unreachable!("a step is refined only above the least halving"),
+            Ok(Stepped::Refine) => unreachable!("a step is refined only above the least halving"),
             Err(e) => Err(e),
         }
     }
@@ -424,7 +438,7 @@ impl CycleRun<'_> {
         self.st.film = s.film;
         self.tally = s.tally;
         // A failed solve may leave its factors in any state.
-        self.solver = FilmSolver::new(Method::Direct);
+        self.solver = self.numerics.solver();
     }
 
     /// One crank step from `from` to `to` degrees (no dead centre strictly between): the
@@ -432,19 +446,16 @@ impl CycleRun<'_> {
     /// step's mean (its displacement over the step's time, so the texture moves and the oil
     /// is carried exactly as far as the crank moves the ring).
     pub fn step(&mut self, from: f64, to: f64) -> Result<CycleRow, SolveError> {
-        self.try_step(from, to, false)
-            .map(|row| row.expect("a step not allowed to refine gives its row"))
+        self.try_step(from, to, false).map(|s| match s {
+            Stepped::Row(row) => row,
+            Stepped::Refine => unreachable!("a step not allowed to refine gives its row"),
+        })
     }
 
-    /// [`CycleRun::step`], or None where `may_refine` and the asperities' share of the load
+    /// [`CycleRun::step`], or [`Stepped::Refine`] where `may_refine` and the asperities' share of the load
     /// changes by more than the step rule's `contact_share` over the step (the run is then
     /// left mid-step: the caller restores it).
-    fn try_step(
-        &mut self,
-        from: f64,
-        to: f64,
-        may_refine: bool,
-    ) -> Result<Option<CycleRow>, SolveError> {
+    fn try_step(&mut self, from: f64, to: f64, may_refine: bool) -> Result<Stepped, SolveError> {
         let (a, b) = (self.drive.at(from), self.drive.at(to));
         let dt = self.drive.time_of(to - from);
         // The liner's displacement under the ring along x1 is −(the ring's along the stroke).
@@ -501,7 +512,7 @@ impl CycleRun<'_> {
         let share = stats.w_a / b.w;
         if may_refine && (share - self.st.film.last_share).abs() > self.numerics.steps.contact_share
         {
-            return Ok(None);
+            return Ok(Stepped::Refine);
         }
         self.st.film.last_share = share;
         self.st.film.ring = ring.advance(&s, dt, z, stats.w_h + stats.w_a);
@@ -523,7 +534,7 @@ impl CycleRun<'_> {
         row.step_deg = to - from;
         row.asperity_share = share;
         row.lambda = contact.map_or(f64::INFINITY, |c| row.h_min_um / c.sigma_um());
-        Ok(Some(row))
+        Ok(Stepped::Row(row))
     }
 
     /// The oil a solved step exchanged: in and out through the film's ends (the stencil's
@@ -764,8 +775,8 @@ impl CycleRun<'_> {
         );
         let mut cycles: Vec<CycleSummary> = Vec::new();
         let mut last_rows = Vec::new();
-        let mut cyclic = false;
-        while cycles.len() < self.numerics.max_cycles && !cyclic {
+        let mut stopped = self.numerics.stop(&cycles);
+        while stopped.is_none() {
             let before = self.st.oil.clone();
             let (rows, mut summary) = self.cycle(&steps, on_step)?;
             summary.index = cycles.len();
@@ -774,18 +785,17 @@ impl CycleRun<'_> {
                     .abs()
                     / prev.friction_work_j_per_m.abs().max(f64::MIN_POSITIVE);
                 summary.oil_change = self.st.oil.change_from(&before);
-                cyclic = summary.work_change < self.numerics.cyclic_tol
-                    && summary.oil_change < self.numerics.cyclic_tol;
             }
             on_cycle(&summary);
             cycles.push(summary);
             last_rows = rows;
+            stopped = self.numerics.stop(&cycles);
         }
         last_rows.sort_by(|a, b| a.crank_deg.total_cmp(&b.crank_deg));
         Ok(CycleOutcome {
             rows: last_rows,
             cycles,
-            cyclic,
+            stopped: stopped.unwrap_or(CycleEnd::OutOfCycles),
             oil_y_cm: (0..self.st.oil.layer().len())
                 .map(|k| self.st.oil.y(k))
                 .collect(),

@@ -3,7 +3,9 @@
 //! follow the motion, and the texture moved by at most a set number of cells a step.
 
 use super::drive::StepRule;
+use super::record::CycleSummary;
 use crate::model::case::{CaseSpec, Texture};
+use crate::solve::{FilmSolver, Method};
 use crate::time::{resolve, Fidelity, Overrides, TimeScheme};
 
 /// How a cycle run is discretised and when it stops.
@@ -27,6 +29,40 @@ pub struct CycleNumerics {
     pub cyclic_tol: f64,
     /// Most cycles run; a run that has not repeated itself by then says so.
     pub max_cycles: usize,
+}
+
+/// Why a cycle run stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CycleEnd {
+    /// The last cycle repeated the one before: friction work and oil map within the
+    /// tolerance.
+    Repeated,
+    /// The most cycles were run: a run resumed from another liner's cyclic state is settled
+    /// then (its most cycles are the settling's); any other has not repeated itself.
+    OutOfCycles,
+}
+
+impl CycleNumerics {
+    /// The stop rule after `cycles`: None to run another.
+    pub fn stop(&self, cycles: &[CycleSummary]) -> Option<CycleEnd> {
+        let tol = self.cyclic_tol;
+        if cycles
+            .last()
+            .is_some_and(|c| c.work_change < tol && c.oil_change < tol)
+        {
+            Some(CycleEnd::Repeated)
+        } else if cycles.len() >= self.max_cycles {
+            Some(CycleEnd::OutOfCycles)
+        } else {
+            None
+        }
+    }
+
+    /// The film solver of a cycle run: the direct active-set solver (docs/solver.md, "One
+    /// film problem"), whose exact band-LU solves the crank steps' changing loads need.
+    pub fn solver(&self) -> FilmSolver {
+        FilmSolver::new(Method::Direct)
+    }
 }
 
 /// A cycle tier's steps and cells.
