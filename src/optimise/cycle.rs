@@ -127,7 +127,7 @@ pub type Forces = Vec<Result<(Outcome, f64), CaseFailure>>;
 /// of operating conditions excluded before anything is run.
 pub fn points(s: &CycleSettings, step: f64) -> Vec<Point> {
     let e = &s.engine;
-    let omega = e.file.engine.rpm * std::f64::consts::PI / 30.0;
+    let omega = e.omega_rad_s();
     let dt = (720.0 / (720.0 / step).round()).to_radians() / omega;
     e.samples(step)
         .into_iter()
@@ -179,13 +179,11 @@ fn excluded_before(
         });
     }
     // Relative rates of change per second, by central differences over ±0.05° of crank.
-    let (h, omega) = (0.05f64, crank.rpm * std::f64::consts::PI / 30.0);
+    let (h, omega) = (0.05f64, e.omega_rad_s());
     let dt = 2.0 * h.to_radians() / omega;
     let at = |d: f64| {
         let a = sample.crank_deg + d;
-        let load =
-            e.file.ring.elastic_load_n_per_m + e.gas_bar(a) * 1e5 * e.file.ring.width_mm * 1e-3;
-        (e.velocity_ms(a).abs(), load)
+        (e.velocity_ms(a).abs(), e.load_n_per_m(a))
     };
     let ((u0, w0), (u1, w1)) = (at(-h), at(h));
     let rate = ((u1 - u0) / dt / op.speed_ms)

@@ -4,14 +4,15 @@
 use super::Engine;
 
 impl Engine {
+    /// The crank's angular speed ω = π·rpm/30 (rad/s).
+    pub fn omega_rad_s(&self) -> f64 {
+        self.file.engine.rpm * std::f64::consts::PI / 30.0
+    }
+
     /// Crank radius and rod length (mm), and the crank's angular speed (rad/s).
     fn crank(&self) -> (f64, f64, f64) {
         let e = &self.file.engine;
-        (
-            0.5 * e.stroke_mm,
-            e.rod_mm,
-            e.rpm * std::f64::consts::PI / 30.0,
-        )
+        (0.5 * e.stroke_mm, e.rod_mm, self.omega_rad_s())
     }
 
     /// The piston's (and ring's) distance from top dead centre (mm) at crank angle θ:

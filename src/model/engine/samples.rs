@@ -25,18 +25,15 @@ impl Engine {
     pub fn samples(&self, step_deg: f64) -> Vec<Sample> {
         let n = (720.0 / step_deg).round().max(1.0) as usize;
         let step = 720.0 / n as f64;
-        let ring = &self.file.ring;
         (0..n)
             .map(|k| {
                 let crank_deg = (k as f64 + 0.5) * step;
                 let position_mm = self.position_mm(crank_deg);
-                // 1 bar on the ring's back, over its width: 1e5 Pa × width (m) per metre.
-                let gas = self.gas_bar(crank_deg) * 1e5 * ring.width_mm * 1e-3;
                 Sample {
                     crank_deg,
                     position_mm,
                     speed_ms: self.velocity_ms(crank_deg).abs(),
-                    load_n_per_m: ring.elastic_load_n_per_m + gas,
+                    load_n_per_m: self.load_n_per_m(crank_deg),
                     d_oil_um: self.d_oil_um(position_mm),
                     zone: self.zone(position_mm),
                 }

@@ -118,6 +118,14 @@ impl Engine {
         periodic_table(&g.crank_deg, &g.pressure_bar, crank_deg)
     }
 
+    /// The ring's load per unit circumferential length at a crank angle (N/m): its elastic
+    /// load and the gas pressure behind it over its width, 1 bar giving 1e5 Pa × width (m)
+    /// per metre (docs/model.md §10).
+    pub fn load_n_per_m(&self, crank_deg: f64) -> f64 {
+        let ring = &self.file.ring;
+        ring.elastic_load_n_per_m + self.gas_bar(crank_deg) * 1e5 * ring.width_mm * 1e-3
+    }
+
     /// The gas pressure below the ring (bar): its table, or ambient (0) without one.
     pub fn below_bar(&self, crank_deg: f64) -> f64 {
         let g = &self.file.gas;

@@ -57,7 +57,7 @@ impl Drive {
             speed_ms,
             viscosity_pas: engine.file.oil.viscosity_pa_s,
         };
-        let omega = e.rpm * std::f64::consts::PI / 30.0 * 1e-3 * scales.time_ms();
+        let omega = engine.omega_rad_s() * 1e-3 * scales.time_ms();
         Drive {
             engine: engine.clone(),
             scales,
@@ -152,10 +152,9 @@ impl Drive {
             };
         }
         let e = &self.engine;
-        let ring = &e.file.ring;
         let p_unit = self.scales.pressure_pa();
         let p_above = e.gas_bar(deg) * 1e5;
-        let load = ring.elastic_load_n_per_m + p_above * ring.width_mm * 1e-3;
+        let load = e.load_n_per_m(deg);
         DrivePoint {
             crank_deg: deg,
             u: -e.velocity_ms(deg) / self.scales.speed_ms,
