@@ -223,6 +223,36 @@ fn the_transient_cycle_reports_three_liners_and_the_plain_ones_work_is_a_direct_
 
     // The plain liner run directly, on the command's --mesh.
     assert_eq!(work[0], common::plain_cycle_work(&engine_text(), (192, 8)));
+
+    // The zones' search through the cache: run again over it, it runs nothing and finds the
+    // same liners (the report's runs are made again).
+    let ran = |log: &str| -> Option<(usize, usize)> {
+        let line = log
+            .lines()
+            .rev()
+            .find(|l| l.contains(" runs from the cache, "))?;
+        let (_, tail) = line.rsplit_once(" (")?;
+        let (held, rest) = tail.split_once(" runs from the cache, ")?;
+        Some((
+            held.parse().ok()?,
+            rest.strip_suffix(" run)")?.parse().ok()?,
+        ))
+    };
+    let (held, made) = ran(&err).expect("the search's cache counts");
+    assert!(made > 0, "{err}");
+    // Every number but the wall times (the report's and each liner's).
+    let timeless = |mut r: serde_json::Value| {
+        r.as_object_mut().unwrap().remove("wall_time_s");
+        for l in r["liners"].as_array_mut().unwrap() {
+            l.as_object_mut().unwrap().remove("wall_s");
+        }
+        r
+    };
+    let first = timeless(common::report_files(&out, "cycle_t", &[]));
+    let (code, _, again, _) = common::cycle(&dir, &file, &extra);
+    assert_eq!(code, 0, "{again}");
+    assert_eq!(ran(&again), Some((held + made, 0)), "{again}");
+    assert_eq!(timeless(common::report_files(&out, "cycle_t", &[])), first);
     let _ = std::fs::remove_dir_all(dir);
 }
 

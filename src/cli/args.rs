@@ -49,8 +49,8 @@ pub struct CycleArgs {
     pub design_step: Option<f64>,
     #[command(flatten)]
     pub search: SearchArgs,
-    /// Cache file, with --quasi-steady and with --bands (whose runs go through it) [default:
-    /// $TEXOPT_CACHE or .texopt/cache.sqlite].
+    /// Cache file: the searches' runs go through it, so a search repeated over it runs
+    /// nothing [default: $TEXOPT_CACHE or .texopt/cache.sqlite].
     #[arg(long, value_name = "FILE")]
     pub cache: Option<PathBuf>,
     /// Directory of the report \[default: results/cycle_NAME, NAME the engine's\].

@@ -106,7 +106,8 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
 /// then the plain, uniform and zoned liners judged over it at the report's fidelity.
 fn run_transient(a: &CycleArgs, s: &CycleSettings) -> Result<i32, CmdError> {
     let t0 = std::time::Instant::now();
-    let designs = design_over_cycle(s).map_err(|e| CmdError::Other(e.to_string()))?;
+    let cache = Mutex::new(open_cache(a.cache.as_deref())?);
+    let designs = design_over_cycle(s, Some(&cache)).map_err(|e| CmdError::Other(e.to_string()))?;
     if s.search.progress {
         eprintln!(
             "[{:6.1} s] the liners through the cycle at {} …",

@@ -147,10 +147,7 @@ pub fn run_here(
     Ok(todo.len())
 }
 
-/// The cache, whichever thread panicked while holding it (its entries are each one write).
-pub fn lock(cache: &Mutex<Cache>) -> std::sync::MutexGuard<'_, Cache> {
-    cache.lock().unwrap_or_else(|e| e.into_inner())
-}
+pub use crate::study::cache::lock;
 
 /// The answer the cache holds for `key`, or the error that says it has none.
 pub(super) fn stored(

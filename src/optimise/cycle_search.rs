@@ -19,8 +19,8 @@ use super::space::Space;
 use crate::model::case::Texture;
 use crate::model::engine::Engine;
 use crate::model::liner_layout::LinerLayout;
-use crate::study::cache::Key;
-use crate::study::cycle_cache::CycleRunInputs;
+use crate::study::cache::{lock, Cache, Key};
+use crate::study::cycle_cache::{CycleAnswer, CycleRunInputs};
 use crate::time::cycle::{
     cycle_numerics, metrics, CycleMetrics, CycleNumerics, CycleRow, CycleRun, CycleState, Drive,
     SETTLE_CYCLES,
@@ -80,6 +80,10 @@ pub struct CycleJudge<'a> {
     /// itself, as the plain liner does).
     settle: Option<usize>,
     plain: Mutex<Option<std::sync::Arc<PlainAt>>>,
+    /// The cache the search's liners go through (none: each is run), and the runs it
+    /// answered and those run so far.
+    cache: Option<&'a Mutex<Cache>>,
+    counts: Mutex<(usize, usize)>,
 }
 
 impl<'a> CycleJudge<'a> {
@@ -98,7 +102,23 @@ impl<'a> CycleJudge<'a> {
             fidelity: s.search.search_fidelity,
             settle: Some(SETTLE_CYCLES),
             plain: Mutex::new(None),
+            cache: None,
+            counts: Mutex::new((0, 0)),
         }
+    }
+
+    /// The same judge, its liners' runs looked up in `cache` first and stored there once
+    /// run (keyed as the map search keys them: [`CycleJudge::key`]).
+    pub fn through_cache(self, cache: &'a Mutex<Cache>) -> Self {
+        CycleJudge {
+            cache: Some(cache),
+            ..self
+        }
+    }
+
+    /// Runs answered by the cache and runs made, so far.
+    pub fn counts(&self) -> (usize, usize) {
+        *self.counts.lock().unwrap_or_else(|e| e.into_inner())
     }
 
     /// The same judge at the report's fidelity, each liner run until it repeats itself.
@@ -217,16 +237,45 @@ impl<'a> CycleJudge<'a> {
     /// A liner's cost: its work over the plain liner's, or [`FAILED_COST`] where its run
     /// fails or its least film does not [`keeps_film`].
     fn cost(&self, textures: Vec<Option<Texture>>) -> Result<f64, OptimiseError> {
-        let (judged, p) = self.judge_layout(self.layout(textures)?, None)?;
+        let (judged, p) = self.figures(self.layout(textures)?)?;
         let p = &p.metrics;
         Ok(match judged {
-            Ok(Judged { metrics: t, .. })
-                if keeps_film(t.h_min_um, p.h_min_um, self.s.min_clearance_um) =>
-            {
+            Some(t) if keeps_film(t.h_min_um, p.h_min_um, self.s.min_clearance_um) => {
                 t.work_j_per_m / p.work_j_per_m
             }
             _ => FAILED_COST,
         })
+    }
+
+    /// `layout`'s figures (None where its run failed) and the plain liner's: from the cache
+    /// where it holds them, else run (and stored there when there is a cache).
+    fn figures(
+        &self,
+        layout: LinerLayout,
+    ) -> Result<(Option<CycleMetrics>, std::sync::Arc<PlainAt>), OptimiseError> {
+        let Some(cache) = self.cache else {
+            let (judged, plain) = self.judge_layout(layout, None)?;
+            return Ok((judged.ok().map(|j| j.metrics), plain));
+        };
+        let plain = self.plain_of(&layout)?;
+        let key = self.key(&layout);
+        if let Some(held) = lock(cache).get_cycle(&key)? {
+            self.counts.lock().unwrap_or_else(|e| e.into_inner()).0 += 1;
+            return Ok((held.ok().map(|a| a.metrics), plain));
+        }
+        let t0 = std::time::Instant::now();
+        let (judged, plain) = self.judge_layout(layout, None)?;
+        let wall_time_s = t0.elapsed().as_secs_f64();
+        let answer = judged
+            .map(|j| CycleAnswer {
+                metrics: j.metrics,
+                rows: None,
+                wall_time_s,
+            })
+            .map_err(|e| (e.to_string(), wall_time_s));
+        lock(cache).put_cycle(&key, &answer)?;
+        self.counts.lock().unwrap_or_else(|e| e.into_inner()).1 += 1;
+        Ok((answer.ok().map(|a| a.metrics), plain))
     }
 }
 
@@ -255,11 +304,25 @@ impl Objective for ZoneOverCycle<'_, '_> {
 }
 
 /// Every zone's texture searched over the cycle as one transient; the uniform candidate is
-/// the zones' best textures laid over the whole stroke, the one of least work.
-pub fn design_over_cycle(s: &CycleSettings) -> Result<Designs, OptimiseError> {
+/// the zones' best textures laid over the whole stroke, the one of least work. Each liner's
+/// run goes through `cache` where one is given: a search repeated over it runs nothing.
+pub fn design_over_cycle(
+    s: &CycleSettings,
+    cache: Option<&Mutex<Cache>>,
+) -> Result<Designs, OptimiseError> {
     let t0 = std::time::Instant::now();
     let say = s.search.say_since(t0);
-    let judge = CycleJudge::new(s);
+    let judge = match cache {
+        Some(c) => CycleJudge::new(s).through_cache(c),
+        None => CycleJudge::new(s),
+    };
+    let held = |j: &CycleJudge| match j.cache {
+        Some(_) => {
+            let (held, ran) = j.counts();
+            format!(" ({held} runs from the cache, {ran} run)")
+        }
+        None => String::new(),
+    };
     let zones = s.engine.bounds_mm.len() - 1;
     let (mut found, mut candidates) = (Vec::new(), Vec::new());
     for zone in 0..zones {
@@ -288,14 +351,15 @@ pub fn design_over_cycle(s: &CycleSettings) -> Result<Designs, OptimiseError> {
         }
         let t = s.search.space.decode(&u);
         say(format!(
-            "zone {}: {}, work ratio {ratio:.5}{}",
+            "zone {}: {}, work ratio {ratio:.5}{}{}",
             zone + 1,
             t.rounded_label(),
             if ratio < 1.0 {
                 ""
             } else {
                 " (no better than plain)"
-            }
+            },
+            held(&judge)
         ));
         found.push((ratio < 1.0).then(|| t.clone()));
         candidates.push(Some(t));
@@ -321,9 +385,10 @@ pub fn design_over_cycle(s: &CycleSettings) -> Result<Designs, OptimiseError> {
     let uniform_candidate = best.map(|k| distinct[k].clone());
     if let Some(k) = best {
         say(format!(
-            "uniform: {}, work ratio {:.5}",
+            "uniform: {}, work ratio {:.5}{}",
             distinct[k].rounded_label(),
-            costs[k]
+            costs[k],
+            held(&judge)
         ));
     }
     Ok(Designs {

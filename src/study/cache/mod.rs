@@ -76,6 +76,12 @@ pub(super) enum Stored<T> {
     Damaged(String),
 }
 
+/// The cache behind `cache`, whichever thread panicked while holding it (its entries are
+/// each one write).
+pub fn lock(cache: &std::sync::Mutex<Cache>) -> std::sync::MutexGuard<'_, Cache> {
+    cache.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// Counts for `texopt cache stats`.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Stats {
