@@ -12,7 +12,7 @@ use std::sync::Mutex;
 use texopt::model::case::CaseSpec;
 use texopt::model::engine::Engine;
 use texopt::model::operating::{Scales, Validity};
-use texopt::optimise::cycle::{design, evaluate, CycleSettings, Point};
+use texopt::optimise::cycle::angles::{design, evaluate, CycleSettings, Point};
 use texopt::optimise::goal::Goal;
 use texopt::optimise::search::{swarm_and_refine, GoalSearch, SearchSettings, SwarmSettings};
 use texopt::optimise::space::{Bounds, Constraints, Space};

@@ -177,7 +177,7 @@ fn at_mid_stroke_the_cycles_friction_is_the_quasi_steady_one() {
         .filter(|r| r.u_ms.abs() > 0.9 * peak)
     {
         assert_eq!((r.p_above_bar, r.p_below_bar), (0.0, 0.0), "{r:?}");
-        // The case as optimise::cycle::points builds it at this speed, load and supply.
+        // The case as optimise::cycle::angles::points builds it at this speed, load and supply.
         let op = Operating {
             speed_ms: r.u_ms.abs(),
             load_n_per_m: r.load_n_per_m,
@@ -452,7 +452,7 @@ fn resuming_the_plain_liners_cyclic_state_repeats_its_cycle() {
 #[test]
 fn a_textured_zone_started_from_the_plain_cyclic_state_is_settled_in_its_second_cycle() {
     // The design searches judge a candidate by the second cycle of a run started from the
-    // plain liner's cyclic state (optimise/cycle_search.rs): that cycle's work is the
+    // plain liner's cyclic state (optimise/cycle/transient_search.rs): that cycle's work is the
     // converged one within the cyclic tolerance. A coarse mesh (192×8) keeps it quick; the
     // top-dead-centre zone textured (the paper's Case I pocket).
     let engine = example_engine(None);

@@ -14,15 +14,17 @@ use super::{install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::case::short;
 use crate::model::engine::{three_digits, zone_label, Engine, STEP_RANGE_DEG};
 use crate::model::operating::Validity;
-use crate::optimise::bands::BandSpace;
-use crate::optimise::cycle::{design_all, evaluate_liners, no_angle_inside, points, CycleSettings};
-use crate::optimise::cycle_map::{design_over_map, evaluate_over_map, MapJudge};
-use crate::optimise::cycle_map_report as map_report;
-use crate::optimise::cycle_report::{assemble, non_finite, table, write};
-use crate::optimise::cycle_runs::{lock, run_here, Here, MapBatch, Runner};
-use crate::optimise::cycle_search::design_over_cycle;
-use crate::optimise::cycle_transient::evaluate_transient;
-use crate::optimise::cycle_transient_report as transient_report;
+use crate::optimise::cycle::angles::{
+    design_all, evaluate_liners, no_angle_inside, points, CycleSettings,
+};
+use crate::optimise::cycle::angles_report::{assemble, non_finite, table, write};
+use crate::optimise::cycle::bands::BandSpace;
+use crate::optimise::cycle::map_report;
+use crate::optimise::cycle::map_runs::{lock, run_here, Here, MapBatch, Runner};
+use crate::optimise::cycle::map_search::{design_over_map, evaluate_over_map, MapJudge};
+use crate::optimise::cycle::transient_liners::evaluate_transient;
+use crate::optimise::cycle::transient_report;
+use crate::optimise::cycle::transient_search::design_over_cycle;
 use crate::optimise::error::OptimiseError;
 use crate::optimise::space::Space;
 use crate::study::engine_file;

@@ -16,7 +16,7 @@ use super::slurm::{
     check_cluster, sbatch, sbatch_quote, script_head, script_path, shell_quote, slurm_dir,
 };
 use super::CmdError;
-use crate::optimise::cycle_runs::{lock, BatchJudge, MapBatch, Runner};
+use crate::optimise::cycle::map_runs::{lock, BatchJudge, MapBatch, Runner};
 use crate::optimise::error::{OptimiseError, RunsError};
 
 /// Flags of the driver that its tasks do not take: the cluster's, the cache's (each task has

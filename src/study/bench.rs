@@ -319,7 +319,7 @@ pub struct CycleBenchRow {
     pub work_error: Option<f64>,
 }
 
-/// A textured liner judged as the cycle's design searches judge it (optimise/cycle_search.rs).
+/// A textured liner judged as the cycle's design searches judge it (optimise/cycle/transient_search.rs).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct SettledRow {
     /// The shortest of the repeats' wall times (s), plain liner included, and every repeat's.

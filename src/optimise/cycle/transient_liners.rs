@@ -6,10 +6,10 @@
 
 use rayon::prelude::*;
 
-use super::cycle::{CycleSettings, Designs};
-use super::error::OptimiseError;
+use super::angles::{CycleSettings, Designs};
 use crate::model::case::{CaseSpec, Texture};
 use crate::model::liner_layout::LinerLayout;
+use crate::optimise::error::OptimiseError;
 use crate::time::cycle::{
     cycle_numerics, metrics, CycleMetrics, CycleOutcome, CycleRun, CycleSummary, Drive,
 };

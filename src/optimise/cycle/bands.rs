@@ -5,9 +5,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::space::Space;
 use crate::model::case::Texture;
 use crate::model::liner_layout::LinerLayout;
+use crate::optimise::space::Space;
 
 /// Which dead centre a band lies next to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -13,10 +13,10 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::bands::Banded;
-use super::cycle_search::CycleJudge;
-use super::error::{OptimiseError, RunsError};
+use super::transient_search::CycleJudge;
 use crate::model::case::Texture;
 use crate::model::liner_layout::LinerLayout;
+use crate::optimise::error::{OptimiseError, RunsError};
 use crate::study::cache::{Cache, Key};
 use crate::study::cycle_cache::{CycleAnswer, CycleFailure};
 

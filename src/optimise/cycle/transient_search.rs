@@ -10,15 +10,15 @@ use std::sync::Mutex;
 
 use rayon::prelude::*;
 
-use super::cycle::{CycleSettings, Designs};
-use super::cycle_transient::ring_case;
-use super::error::OptimiseError;
-use super::goal::FAILED_COST;
-use super::search::{swarm, Objective};
-use super::space::Space;
+use super::angles::{CycleSettings, Designs};
+use super::transient_liners::ring_case;
 use crate::model::case::Texture;
 use crate::model::engine::Engine;
 use crate::model::liner_layout::LinerLayout;
+use crate::optimise::error::OptimiseError;
+use crate::optimise::goal::FAILED_COST;
+use crate::optimise::search::{swarm, Objective};
+use crate::optimise::space::Space;
 use crate::study::cache::{lock, Cache, Key};
 use crate::study::cycle_cache::{CycleAnswer, CycleRunInputs};
 use crate::time::cycle::{

@@ -7,13 +7,13 @@ use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::cycle::{CycleSettings, Designs};
-use super::cycle_transient::{LinerCycle, TransientLiners};
-use super::design_report::{csv_bytes, json_and_md, Column};
-use super::error::OptimiseError;
+use super::angles::{CycleSettings, Designs};
+use super::transient_liners::{LinerCycle, TransientLiners};
 use crate::model::case::Texture;
 use crate::model::engine::zone_label;
 use crate::model::flow_factors::{film_label, FlowFactors};
+use crate::optimise::design_report::{csv_bytes, json_and_md, Column};
+use crate::optimise::error::OptimiseError;
 use crate::plot::{self, Chart, Scale, Series, Style};
 use crate::time::cycle::{CycleMetrics, CycleRow, CycleSummary, Drive, Regime, SETTLE_CYCLES};
 
@@ -145,7 +145,7 @@ pub fn assemble(s: &CycleSettings, d: &Designs, t: &TransientLiners, wall: f64) 
         particles: s.search.swarm.particles,
         iterations: s.search.swarm.iterations,
         excluded_cycle_fraction: 0.0,
-        flow_factors: super::cycle_transient::ring_case(s, &Drive::new(&s.engine)).flow,
+        flow_factors: super::transient_liners::ring_case(s, &Drive::new(&s.engine)).flow,
         uniform: d.uniform.clone(),
         uniform_searched: d.uniform_candidate.clone(),
         zones,

@@ -9,13 +9,13 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 use std::time::Instant;
 
-use super::error::OptimiseError;
-use super::goal::FAILED_COST;
-use super::search::{swarm_and_refine, Objective, SearchSettings};
-use super::space::Space;
 use crate::model::case::{CaseSpec, Texture};
 use crate::model::engine::{Engine, Sample};
 use crate::model::operating::{Scales, VALIDATED_STRIBECK};
+use crate::optimise::error::OptimiseError;
+use crate::optimise::goal::FAILED_COST;
+use crate::optimise::search::{swarm_and_refine, Objective, SearchSettings};
+use crate::optimise::space::Space;
 use crate::study::cache::Cache;
 use crate::study::sweep::{self, CaseFailure};
 use crate::study::Job;

@@ -7,11 +7,11 @@ use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::cycle::{Confirmation, CycleSettings, Designs, Exclusion, LinerRuns};
-use super::design_report::{csv_bytes, json_and_md, Column};
-use super::error::OptimiseError;
+use super::angles::{Confirmation, CycleSettings, Designs, Exclusion, LinerRuns};
 use crate::model::case::Texture;
 use crate::model::engine::zone_label;
+use crate::optimise::design_report::{csv_bytes, json_and_md, Column};
+use crate::optimise::error::OptimiseError;
 use crate::plot::{self, Chart, Scale, Series, Style};
 
 #[derive(Clone, Debug, Serialize)]

@@ -1,6 +1,6 @@
 //! Where to texture the liner (docs/model.md §13): banded liners searched over the engine's
 //! operating map. A liner is judged at every point of the map by the transient cycle (the
-//! zones' judge of `cycle_search`, one per point), and costs the time-weighted mean friction
+//! zones' judge of `transient_search`, one per point), and costs the time-weighted mean friction
 //! power over the map relative to the plain liner's; a liner that thins the film below both
 //! the least clearance and the plain liner's least film at any point is infeasible. The
 //! swarm searches the band space; the uniform candidates are the best liner's band textures
@@ -12,16 +12,16 @@ use std::sync::{Arc, Mutex};
 use rayon::prelude::*;
 use serde::Serialize;
 
+use super::angles::CycleSettings;
 use super::bands::{BandSpace, Banded};
-use super::cycle::CycleSettings;
-use super::cycle_runs::{lock, stored, BatchJudge, Here, MapBatch, MapLiner, MapRun, Runner};
-use super::cycle_search::{keeps_film, metrics_over, CycleJudge, Judged, PlainAt};
-use super::error::{OptimiseError, RunsError};
-use super::goal::FAILED_COST;
-use super::search::{swarm, CubeObjective};
+use super::map_runs::{lock, stored, BatchJudge, Here, MapBatch, MapLiner, MapRun, Runner};
+use super::transient_search::{keeps_film, metrics_over, CycleJudge, Judged, PlainAt};
 use crate::model::case::Texture;
 use crate::model::engine::MapPoint;
 use crate::model::liner_layout::LinerLayout;
+use crate::optimise::error::{OptimiseError, RunsError};
+use crate::optimise::goal::FAILED_COST;
+use crate::optimise::search::{swarm, CubeObjective};
 use crate::study::cache::{Cache, Key};
 use crate::study::cycle_cache::{CycleAnswer, CycleFailure};
 use crate::time::cycle::CycleMetrics;

@@ -1,0 +1,24 @@
+//! Liners designed over an engine's cycle (docs/model.md §10, §12, §13). Three designs share
+//! the engine and search settings ([`CycleSettings`]):
+//!
+//! - the zones' textures searched over the whole cycle as one transient
+//!   (`transient_search`: each candidate from the plain liner's cyclic state, through the
+//!   cache), then the plain, uniform and zoned liners run to their cyclic state
+//!   (`transient_liners`) and reported (`transient_report`);
+//! - bands next to the dead centres searched over the engine's operating map (`bands`: the
+//!   liner and its space; `map_search`: the search and its judge; `map_runs`: its runs
+//!   through the cache, handed to a runner here or on a cluster; `map_report`);
+//! - the angle-by-angle (quasi-steady) evaluation, each angle a periodic regime
+//!   (`angles`, `angles_report`).
+
+pub mod angles;
+pub mod angles_report;
+pub mod bands;
+pub mod map_report;
+pub mod map_runs;
+pub mod map_search;
+pub mod transient_liners;
+pub mod transient_report;
+pub mod transient_search;
+
+pub use angles::CycleSettings;
