@@ -18,7 +18,7 @@ pub use samples::Sample;
 pub use sections::{
     ContactFile, Crank, EngineFile, Gas, MapPointFile, Oil, OilSupply, RingFile, Zones,
 };
-pub use zones::{three_digits, zone_decimals, zone_label, MAX_ZONES, STEP_RANGE_DEG};
+pub use zones::{three_digits, zone_decimals, zone_label, zone_of, MAX_ZONES, STEP_RANGE_DEG};
 
 use crate::model::case::{face_spans_ring, short};
 use rules::{err, in_range};

@@ -127,10 +127,15 @@ impl Engine {
 
     /// The zone over `position_mm` (the last one owns the stroke's end).
     pub fn zone(&self, position_mm: f64) -> usize {
-        let b = &self.bounds_mm;
-        (1..b.len())
-            .find(|&k| position_mm < b[k])
-            .unwrap_or(b.len() - 1)
-            - 1
+        zone_of(&self.bounds_mm, position_mm)
     }
+}
+
+/// The zone of `bounds` (mm, increasing from 0 to the stroke) over `position_mm`, the last one
+/// owning the stroke's end.
+pub fn zone_of(bounds: &[f64], position_mm: f64) -> usize {
+    (1..bounds.len())
+        .find(|&k| position_mm < bounds[k])
+        .unwrap_or(bounds.len() - 1)
+        - 1
 }

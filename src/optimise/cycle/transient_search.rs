@@ -22,8 +22,8 @@ use crate::optimise::space::Space;
 use crate::study::cache::{lock, Cache, Key};
 use crate::study::cycle_cache::{CycleAnswer, CycleRunInputs};
 use crate::time::cycle::{
-    cycle_numerics, metrics, CycleMetrics, CycleNumerics, CycleRow, CycleRun, CycleState, Drive,
-    SETTLE_CYCLES,
+    cycle_numerics, metrics, metrics_in_zones, CycleMetrics, CycleNumerics, CycleRow, CycleRun,
+    CycleState, Drive, SETTLE_CYCLES,
 };
 use crate::time::Fidelity;
 
@@ -48,9 +48,8 @@ pub fn metrics_over(rows: &[CycleRow], engine: &Engine, bounds_cm: Option<&[f64]
     match bounds_cm {
         None => metrics(rows, engine),
         Some(b) => {
-            let mut e = engine.clone();
-            e.bounds_mm = b.iter().map(|x| 10.0 * x).collect();
-            metrics(rows, &e)
+            let bounds_mm: Vec<f64> = b.iter().map(|x| 10.0 * x).collect();
+            metrics_in_zones(rows, engine, &bounds_mm)
         }
     }
 }

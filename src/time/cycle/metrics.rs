@@ -3,7 +3,7 @@
 //! where the asperities carry load, and the time spent in each lubrication regime.
 
 use super::record::{infinite_if_null, CycleRow};
-use crate::model::engine::Engine;
+use crate::model::engine::{zone_of, Engine};
 
 /// The lubrication regimes by the film parameter Λ = h_min/σ (docs/model.md §9).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -59,13 +59,19 @@ pub struct CycleMetrics {
 }
 
 /// The figures of a cycle's `rows` (one cycle, every step) on `engine`, whose crank turns at
-/// its rpm.
+/// its rpm, the work split by the engine's zones.
 pub fn metrics(rows: &[CycleRow], engine: &Engine) -> CycleMetrics {
+    metrics_in_zones(rows, engine, &engine.bounds_mm)
+}
+
+/// The same, the work split by the zones of `bounds_mm` (mm from top dead centre, from 0 to
+/// the stroke): a liner's own layout, where it is not the engine's.
+pub fn metrics_in_zones(rows: &[CycleRow], engine: &Engine, bounds_mm: &[f64]) -> CycleMetrics {
     let e = &engine.file.engine;
     // Seconds per degree of crank angle.
     let s_per_deg = 60.0 / (e.rpm * 360.0);
     let cycle_s = 720.0 * s_per_deg;
-    let zones = engine.bounds_mm.len() - 1;
+    let zones = bounds_mm.len() - 1;
     let mut m = CycleMetrics {
         work_j_per_m: 0.0,
         asperity_work_j_per_m: 0.0,
@@ -85,7 +91,7 @@ pub fn metrics(rows: &[CycleRow], engine: &Engine) -> CycleMetrics {
         let work = r.power_w_per_m * dt;
         m.work_j_per_m += work;
         m.asperity_work_j_per_m += (r.asperity_friction_n_per_m * r.u_ms).abs() * dt;
-        m.zone_work_j_per_m[engine.zone(r.position_mm.clamp(0.0, e.stroke_mm))] += work;
+        m.zone_work_j_per_m[zone_of(bounds_mm, r.position_mm.clamp(0.0, e.stroke_mm))] += work;
         if r.h_min_um < m.h_min_um {
             (m.h_min_um, m.h_min_deg) = (r.h_min_um, r.crank_deg);
         }

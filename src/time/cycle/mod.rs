@@ -9,7 +9,7 @@ mod stepping;
 mod tiers;
 
 pub use drive::{crank_steps, Drive, DrivePoint, StepRule};
-pub use metrics::{metrics, CycleMetrics, Regime};
+pub use metrics::{metrics, metrics_in_zones, CycleMetrics, Regime};
 pub use oil::{Ahead, OilMap, Taken};
 pub use record::{CycleRow, CycleSummary, OilBalance};
 pub use stepping::{CycleOutcome, CycleRun, CycleState, MAX_HALVINGS, SETTLE_CYCLES};
