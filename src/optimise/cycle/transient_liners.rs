@@ -31,8 +31,31 @@ pub struct TransientLiners {
     pub plain: LinerCycle,
     pub uniform: LinerCycle,
     pub zoned: LinerCycle,
-    /// Per zone, which liner's texture it keeps: 0 plain, 1 uniform, 2 its own design.
-    pub kept: Vec<usize>,
+    /// Per zone, which liner's texture it keeps.
+    pub kept: Vec<Kept>,
+}
+
+/// Which of the three liners' textures a zone of the zoned liner keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kept {
+    Plain,
+    Uniform,
+    /// The zone's own design.
+    Own,
+}
+
+impl Kept {
+    /// The three, in the order the report lists the liners (a tie goes to the earlier).
+    pub const ALL: [Kept; 3] = [Kept::Plain, Kept::Uniform, Kept::Own];
+
+    /// Its words in the report.
+    pub fn label(self) -> &'static str {
+        match self {
+            Kept::Plain => "plain",
+            Kept::Uniform => "uniform",
+            Kept::Own => "zone design",
+        }
+    }
 }
 
 /// The engine's ring with the engine file's contact and the settings' roughness
@@ -141,15 +164,20 @@ pub fn evaluate_transient(
     };
     let (plain, uniform, own) = (find(0), find(1), find(2));
     // Per zone the least work of the three (ties to the plainer liner).
-    let kept: Vec<usize> = (0..zones)
+    let liner = |k: Kept| match k {
+        Kept::Plain => (&plain, &plain_t),
+        Kept::Uniform => (&uniform, &uniform_t),
+        Kept::Own => (&own, &own_t),
+    };
+    let kept: Vec<Kept> = (0..zones)
         .map(|z| {
-            let w = [&plain, &uniform, &own].map(|r| r.metrics.zone_work_j_per_m[z]);
-            (0..3).fold(0, |best, k| if w[k] < w[best] { k } else { best })
+            let w = |k: Kept| liner(k).0.metrics.zone_work_j_per_m[z];
+            Kept::ALL
+                .into_iter()
+                .fold(Kept::Plain, |best, k| if w(k) < w(best) { k } else { best })
         })
         .collect();
-    let chosen: Vec<Option<Texture>> = (0..zones)
-        .map(|z| [&plain_t, &uniform_t, &own_t][kept[z]][z].clone())
-        .collect();
+    let chosen: Vec<Option<Texture>> = (0..zones).map(|z| liner(kept[z]).1[z].clone()).collect();
     let zoned = match layouts.iter().position(|l| l.0 == chosen) {
         Some(k) => find(k),
         None => run_liner(s, chosen.clone(), fidelity, "zoned liner")?,

@@ -18,7 +18,6 @@ use crate::plot::{self, Chart, Scale, Series, Style};
 use crate::time::cycle::{CycleMetrics, CycleRow, CycleSummary, Drive, Regime, SETTLE_CYCLES};
 
 const LINERS: [&str; 3] = ["plain liner", "uniform best", "zoned"];
-const KEPT: [&str; 3] = ["plain", "uniform", "zone design"];
 
 #[derive(Clone, Debug, Serialize)]
 pub struct TransientZone {
@@ -119,7 +118,7 @@ pub fn assemble(s: &CycleSettings, d: &Designs, t: &TransientLiners, wall: f64) 
                 from_mm: b[z],
                 to_mm: b[z + 1],
                 texture: d.zones[z].clone(),
-                kept: KEPT[t.kept[z]],
+                kept: t.kept[z].label(),
                 searched: d.candidates.get(z).cloned().flatten(),
                 work_j_per_m: work,
                 change_pct: change_pct(work[2], work[0]),
