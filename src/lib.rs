@@ -16,6 +16,7 @@
 //! ```
 
 pub mod cli;
+pub mod finite;
 pub mod mesh;
 pub mod model;
 pub mod optimise;

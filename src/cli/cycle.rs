@@ -10,14 +10,14 @@ use super::cycle_slurm::SlurmRunner;
 use super::optimise::{
     check_design_space, search_settings, space_error_named, SearchKeys, SpaceKeys,
 };
-use super::{install_ctrl_c, open_cache, CmdError, STOP};
+use super::{checked, install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::case::short;
 use crate::model::engine::{three_digits, zone_label, Engine, STEP_RANGE_DEG};
 use crate::model::operating::Validity;
 use crate::optimise::cycle::angles::{
-    design_all, evaluate_liners, no_angle_inside, points, CycleSettings,
+    design_all, evaluate_liners, points, CycleSettings, NoAngleInside,
 };
-use crate::optimise::cycle::angles_report::{assemble, non_finite, table, write};
+use crate::optimise::cycle::angles_report::{assemble, table, write};
 use crate::optimise::cycle::bands::BandSpace;
 use crate::optimise::cycle::map_report;
 use crate::optimise::cycle::map_runs::{lock, run_here, Here, MapBatch, Runner};
@@ -56,7 +56,7 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     // far too fast or too loaded for the validated Stribeck range) is an input error.
     let design_points = points(&s, s.design_step_deg);
     if design_points.iter().all(|p| p.excluded.is_some()) {
-        return Err(input(&a.file, no_angle_inside(&design_points)));
+        return Err(input(&a.file, NoAngleInside::of(&design_points)));
     }
     // The design space on the first point inside the model (u = 1 and the ring's width in
     // every scaled case: one case stands for all).
@@ -86,11 +86,7 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     let (d, ev) = evaluate_liners(&s, &searched, &cache, &STOP)
         .map_err(|e| CmdError::Other(e.to_string()))?;
     let r = assemble(&s, &d, &ev, t0.elapsed().as_secs_f64());
-    if let Some(bad) = non_finite(&r) {
-        return Err(CmdError::Other(format!(
-            "the report's {bad} is not a finite number; nothing printed or written"
-        )));
-    }
+    checked(&r)?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
     } else {
@@ -120,6 +116,7 @@ fn run_transient(a: &CycleArgs, s: &CycleSettings) -> Result<i32, CmdError> {
     let (d, liners) =
         evaluate_transient(s, &designs).map_err(|e| CmdError::Other(e.to_string()))?;
     let r = transient_report::assemble(s, &d, &liners, t0.elapsed().as_secs_f64());
+    checked(&r)?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
     } else {
@@ -159,6 +156,7 @@ fn run_bands(a: &CycleArgs, s: &CycleSettings, space: &BandSpace) -> Result<i32,
     let designs = design_over_map(s, space, &cache, runner).map_err(other)?;
     let liners = evaluate_over_map(s, &designs, &cache, runner).map_err(other)?;
     let r = map_report::assemble(s, &designs, &liners, t0.elapsed().as_secs_f64());
+    checked(&r)?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
     } else {

@@ -66,6 +66,16 @@ impl From<InputError> for CmdError {
     }
 }
 
+/// The one guard over a report before anything of it is printed or written: every number
+/// finite, or marked as an answer where it is not (crate::finite).
+pub(super) fn checked<T: serde::Serialize>(report: &T) -> Result<(), CmdError> {
+    crate::finite::check(report).map_err(|bad| {
+        CmdError::Other(format!(
+            "the report's {bad} is not a finite number; nothing printed or written"
+        ))
+    })
+}
+
 /// The flag of a case's or numerics' field: `--` and its name with '-' for '_' (`R`: `--R`).
 pub(super) fn flag(param: &str) -> String {
     format!("--{}", param.replace('_', "-"))

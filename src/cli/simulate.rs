@@ -5,6 +5,7 @@ use std::io::{IsTerminal, Write};
 use super::{flag, input_message, CmdError, ContactArgs, SimulateArgs};
 use crate::model::asperity::{self, Asperity};
 use crate::model::case::{bad, short, CaseSpec, InputError, Texture};
+use crate::model::operating::Outside;
 use crate::model::operating::{regime, Operating, Physical, Validity};
 use crate::model::units::H_M;
 use crate::snapshot::Recording;
@@ -367,7 +368,7 @@ pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     let RunResult {
         outcome, series, ..
     } = result;
-    print_result(a, &case, &num, &op, &validity, &outcome);
+    print_result(a, &case, &num, &op, &validity, &outcome)?;
     if let Some(t) = case.texture.as_ref() {
         deep_pocket_note(t.depth, &outcome);
     }
@@ -473,11 +474,12 @@ fn print_result(
     op: &Operating,
     validity: &Validity,
     outcome: &Outcome,
-) {
+) -> Result<(), CmdError> {
     let physical = op.scales().physical(case, outcome.f_mean, outcome.c_min);
     let outside = validity.outside(case, outcome.c_min);
+    let lambda = outcome.c_min / validity.roughness_um;
+    super::checked(&(&physical, lambda, outcome))?;
     if a.json {
-        let lambda = outcome.c_min / validity.roughness_um;
         let report = serde_json::json!({
             "inputs": { "case": case, "numerics": num, "mesh": mesh_name(outcome.mesh((num.n1, num.n2))),
                         "operating": op, "roughness_um": validity.roughness_um },
@@ -498,8 +500,9 @@ fn print_result(
         // Times are in units of L/U, U the run's speed: 1 ms at 10 m/s (docs/model.md §1).
         print_summary(case, num, outcome, op.scales().time_ms());
         print_contact(case, validity, outcome);
-        print_physical(op, &physical, outside.as_deref());
+        print_physical(op, &physical, outside);
     }
+    Ok(())
 }
 
 /// The film parameter Λ = C_min/σ and its regime (docs/model.md §9), and what the asperities
@@ -578,7 +581,7 @@ fn write_series(path: &std::path::Path, rows: &[SeriesRow], ms_per_t: f64) -> Re
 
 /// The operating point and the outcomes in physical units; a run outside the hydrodynamic
 /// model says so beside them.
-fn print_physical(op: &Operating, p: &Physical, outside: Option<&str>) {
+fn print_physical(op: &Operating, p: &Physical, outside: Option<Outside>) {
     println!(
         "  operating point: {} m/s, load {} N/m, {} Pa·s, ring {} mm wide of {} kg/m, oil supply {} µm: Stribeck number {:.3e}",
         op.speed_ms, op.load_n_per_m, op.viscosity_pas, op.ring_width_mm, op.ring_mass_kg_per_m, op.d_oil_um, p.stribeck

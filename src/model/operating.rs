@@ -221,25 +221,70 @@ impl Validity {
 
     /// Why an outcome is outside the hydrodynamic model, if it is: a minimum clearance below
     /// [`Self::clearance_limit_um`], or a Stribeck number outside [`VALIDATED_STRIBECK`].
-    pub fn outside(&self, case: &CaseSpec, c_min_um: f64) -> Option<String> {
-        let limit = self.clearance_limit_um();
-        if c_min_um.is_nan() || c_min_um < limit {
-            return Some(format!(
-                "C_min {c_min_um:.3} µm < {limit:.2} µm ({FULL_FILM_LAMBDA} × composite roughness {} µm): mixed lubrication: the asperities carry part of the load (docs/model.md §11) on a film without roughness flow factors",
-                short(self.roughness_um)
-            ));
+    pub fn outside(&self, case: &CaseSpec, c_min_um: f64) -> Option<Outside> {
+        let limit_um = self.clearance_limit_um();
+        if c_min_um.is_nan() || c_min_um < limit_um {
+            return Some(Outside::BelowClearance {
+                c_min_um,
+                limit_um,
+                roughness_um: self.roughness_um,
+            });
         }
-        let s = stribeck(case.u, case.w_ps);
+        let stribeck = stribeck(case.u, case.w_ps);
         let (lo, hi) = VALIDATED_STRIBECK;
-        if !(lo * (1.0 - 1e-9)..=hi * (1.0 + 1e-9)).contains(&s) {
-            return Some(format!(
-                "Stribeck number {} outside the validated {}..{}",
-                short(s),
-                short(lo),
-                short(hi)
-            ));
+        if !(lo * (1.0 - 1e-9)..=hi * (1.0 + 1e-9)).contains(&stribeck) {
+            return Some(Outside::Stribeck { stribeck });
         }
         None
+    }
+}
+
+/// Why an answer is not a prediction of the hydrodynamic model. Its words (`Display`) are what
+/// the reports print and the JSON/CSV rows hold.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Outside {
+    /// The least clearance below Λ·σ (docs/model.md §11): the asperities carry part of the load.
+    BelowClearance {
+        c_min_um: f64,
+        limit_um: f64,
+        roughness_um: f64,
+    },
+    /// A Stribeck number outside [`VALIDATED_STRIBECK`].
+    Stribeck { stribeck: f64 },
+    /// No outcome to judge: the run failed.
+    NoOutcome,
+}
+
+impl std::fmt::Display for Outside {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Outside::BelowClearance {
+                c_min_um,
+                limit_um,
+                roughness_um,
+            } => write!(
+                f,
+                "C_min {c_min_um:.3} µm < {limit_um:.2} µm ({FULL_FILM_LAMBDA} × composite roughness {} µm): mixed lubrication: the asperities carry part of the load (docs/model.md §11) on a film without roughness flow factors",
+                short(roughness_um)
+            ),
+            Outside::Stribeck { stribeck } => {
+                let (lo, hi) = VALIDATED_STRIBECK;
+                write!(
+                    f,
+                    "Stribeck number {} outside the validated {}..{}",
+                    short(stribeck),
+                    short(lo),
+                    short(hi)
+                )
+            }
+            Outside::NoOutcome => write!(f, "the run failed"),
+        }
+    }
+}
+
+impl serde::Serialize for Outside {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
     }
 }
 
@@ -338,6 +383,9 @@ mod tests {
         assert!(v.outside(&c, 2.0).is_none());
         assert!(v.outside(&c, f64::NAN).is_some());
         let light = CaseSpec { w_ps: 1e-8, ..c };
-        assert!(v.outside(&light, 20.0).unwrap().contains("Stribeck"));
+        assert!(matches!(
+            v.outside(&light, 20.0),
+            Some(Outside::Stribeck { .. })
+        ));
     }
 }

@@ -6,6 +6,7 @@ use serde::Serialize;
 
 use super::space::Space;
 use crate::model::case::Texture;
+use crate::model::operating::Outside;
 
 /// What a reported design is on the front, in the order a label names them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,7 +97,10 @@ pub struct Row {
     pub f_change_pct: f64,
     pub c_min_change_pct: f64,
     pub area_fraction: f64,
+    /// The pockets' walls (NaN for the plain liner, written as null).
+    #[serde(serialize_with = "crate::finite::absent")]
     pub wall_x1_cm: f64,
+    #[serde(serialize_with = "crate::finite::absent")]
     pub wall_x2_cm: f64,
     pub depth_ratio: f64,
     pub active_constraints: Vec<String>,
@@ -105,7 +109,7 @@ pub struct Row {
     pub friction_n_per_m: f64,
     pub power_w_per_m: f64,
     /// Why the design is outside the hydrodynamic model (docs/model.md §9), if it is.
-    pub outside_model: Option<String>,
+    pub outside_model: Option<Outside>,
 }
 
 /// The result of `optimise`.

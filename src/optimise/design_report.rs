@@ -92,7 +92,7 @@ pub fn table(r: &Report) -> String {
         let _ = writeln!(
             s,
             "‡ outside the hydrodynamic model, not a prediction: {}",
-            x.outside_model.as_deref().unwrap_or_default()
+            x.outside_model.map(|o| o.to_string()).unwrap_or_default()
         );
     }
     let _ = writeln!(
@@ -177,7 +177,10 @@ fn columns<'a>() -> [Column<Line<'a>>; 18] {
         ("friction_n_per_m", |x| x.row.friction_n_per_m.to_string()),
         ("power_w_per_m", |x| x.row.power_w_per_m.to_string()),
         ("outside_model", |x| {
-            x.row.outside_model.clone().unwrap_or_default()
+            x.row
+                .outside_model
+                .map(|o| o.to_string())
+                .unwrap_or_default()
         }),
     ]
 }
@@ -197,6 +200,7 @@ pub(super) fn json_and_md<'a>(
     r: &impl Serialize,
     md: String,
 ) -> Result<impl Fn(&str) -> PathBuf + 'a, OptimiseError> {
+    crate::finite::check(r)?;
     create_dir(dir)?;
     let stem = move |ext: &str| dir.join(format!("{base}{ext}"));
     let json = serde_json::to_string_pretty(r).map_err(OptimiseError::Json)?;
@@ -234,6 +238,7 @@ pub(super) fn csv_bytes<'a, R: 'a>(
 /// Z(t), f(t) over a period of the best design against the plain liner (`ev`: the evaluation
 /// service at the reported fidelity).
 pub(super) fn write(dir: &Path, r: &Report, ev: &Evaluator) -> Result<(), OptimiseError> {
+    crate::finite::check(r)?;
     create_dir(dir)?;
     let stem = stem(dir, r.r);
     // Not `with_extension`: R = 6.84 would lose its ".84".

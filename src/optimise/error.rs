@@ -3,8 +3,10 @@
 
 use std::path::PathBuf;
 
+use crate::finite::NonFinite;
 use crate::model::case::InputError;
 use crate::model::liner_layout::LayoutError;
+use crate::optimise::cycle::angles::NoAngleInside;
 use crate::output::OutputError;
 use crate::study::cache::CacheError;
 use crate::study::sweep::CaseFailure;
@@ -39,9 +41,9 @@ pub enum OptimiseError {
     /// Nothing to report: no design (it names the list that was empty).
     #[error("no {0}")]
     Nothing(&'static str),
-    /// No crank angle of the cycle lies inside the model (the message names the first ones).
+    /// No crank angle of the cycle lies inside the model (it names the first ones).
     #[error("{0}")]
-    NoAngleInside(String),
+    NoAngleInside(NoAngleInside),
     /// A run the search or its report needs failed (a report's time series, a liner's cycle).
     #[error("{0}")]
     Run(SolveError),
@@ -77,6 +79,9 @@ pub enum OptimiseError {
         path: PathBuf,
         source: std::io::Error,
     },
+    /// A report holds a number that is not finite (nothing of it is written).
+    #[error("the report's {0} is not a finite number; nothing printed or written")]
+    NonFinite(#[from] NonFinite),
     /// A report file could not be written (the output layer's error).
     #[error("{0}")]
     Output(#[from] OutputError),

@@ -21,6 +21,7 @@ use super::goal::FAILED_COST;
 use super::search::{swarm_and_refine, Evaluator, Objective, SwarmSettings};
 use super::space::Space;
 use crate::model::case::{CaseSpec, Texture};
+use crate::model::operating::Outside;
 use crate::plot::{self, Chart, Scale, Series, Style};
 use crate::study::cache::Cache;
 use crate::time::Outcome;
@@ -31,14 +32,19 @@ pub struct Candidate {
     /// "robust search", or "optimum at R = …".
     pub origin: String,
     pub texture: Texture,
-    /// Per R (in the report's order): f̄, and f̄ over the plain liner's (NaN where it failed).
+    /// Per R (in the report's order): f̄, and f̄ over the plain liner's (NaN where it failed,
+    /// written as null).
+    #[serde(serialize_with = "crate::finite::absent_each")]
     pub f_mean: Vec<f64>,
+    #[serde(serialize_with = "crate::finite::absent_each")]
     pub ratio: Vec<f64>,
-    /// Worst and mean ratio over the range.
+    /// Worst and mean ratio over the range: +∞ and NaN where a run failed.
+    #[serde(serialize_with = "crate::finite::unbounded")]
     pub worst: f64,
+    #[serde(serialize_with = "crate::finite::absent")]
     pub mean: f64,
     /// Per R: why the design is outside the hydrodynamic model there, if it is.
-    pub outside_model: Vec<Option<String>>,
+    pub outside_model: Vec<Option<Outside>>,
 }
 
 /// One R of the range: the plain liner, R's own optimum and the robust design.
@@ -248,7 +254,7 @@ fn confirm(
                     };
                     match o {
                         Some(o) => s.search.validity.outside(&case, o.c_min),
-                        None => Some("the run failed".into()),
+                        None => Some(Outside::NoOutcome),
                     }
                 })
                 .collect();
@@ -381,6 +387,7 @@ pub fn table(r: &RobustReport) -> String {
 
 /// JSON, CSV (every candidate at every R), the table as Markdown, and f̄ against R.
 fn write(dir: &Path, r: &RobustReport) -> Result<(), OptimiseError> {
+    crate::finite::check(r)?;
     let stem = dir.join(&r.name);
     let path = |ext: &str| PathBuf::from(format!("{}.{ext}", stem.display()));
     let json = serde_json::to_string_pretty(r).map_err(OptimiseError::Json)?;
@@ -418,7 +425,9 @@ fn columns<'a>() -> [Column<AtOneRadius<'a>>; 11] {
         ("f_mean", |x| x.c.f_mean[x.i].to_string()),
         ("f_over_plain", |x| x.c.ratio[x.i].to_string()),
         ("outside_model", |x| {
-            x.c.outside_model[x.i].clone().unwrap_or_default()
+            x.c.outside_model[x.i]
+                .map(|o| o.to_string())
+                .unwrap_or_default()
         }),
     ]
 }

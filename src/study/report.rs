@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::model::case::{CaseSpec, Texture};
+use crate::model::operating::Outside;
 use crate::model::operating::Physical;
 use crate::output::OutputError;
 use crate::plot::{self, Chart, Note, Scale, Series, Style};
@@ -25,7 +26,7 @@ struct Row<'a> {
     plain: Option<&'a Outcome>,
     /// Why the outcome is outside the hydrodynamic model (docs/model.md §9), if it is; and
     /// whether the plain liner's is (then the ratios are not predictions either).
-    outside: Option<String>,
+    outside: Option<Outside>,
     plain_outside: bool,
 }
 
@@ -496,7 +497,7 @@ const CSV_COLUMNS: [(&str, Cell); 40] = [
         num(l.row.out.map(|_| l.physical.power_w_per_m))
     }),
     ("outside_model", |l| {
-        l.row.outside.clone().unwrap_or_default()
+        l.row.outside.map(|o| o.to_string()).unwrap_or_default()
     }),
 ];
 

@@ -9,9 +9,9 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 use std::time::Instant;
 
-use crate::model::case::{CaseSpec, Texture};
+use crate::model::case::{CaseSpec, InputError, Texture};
 use crate::model::engine::{Engine, Sample};
-use crate::model::operating::{Scales, VALIDATED_STRIBECK};
+use crate::model::operating::{Outside, Scales, VALIDATED_STRIBECK};
 use crate::optimise::error::OptimiseError;
 use crate::optimise::goal::FAILED_COST;
 use crate::optimise::search::{swarm_and_refine, Objective, SearchSettings};
@@ -59,11 +59,11 @@ pub enum Exclusion {
         load_n_per_m: f64,
     },
     /// An operating input out of its range.
-    Inputs(String),
-    /// The plain liner runs below the least clearance there.
-    PlainBelowLimit(String),
+    Inputs(InputError),
+    /// The plain liner's answer there is outside the model (below the least clearance).
+    PlainBelowLimit(Outside),
     /// The plain liner's run failed there.
-    PlainFailed(String),
+    PlainFailed(CaseFailure),
 }
 
 impl std::fmt::Display for Exclusion {
@@ -204,7 +204,7 @@ fn excluded_before(
             load_n_per_m: op.load_n_per_m,
         });
     }
-    op.check().err().map(|e| Exclusion::Inputs(format!("{e}")))
+    op.check().err().map(Exclusion::Inputs)
 }
 
 /// Evaluates a liner (`texture` per point: None is the plain liner) at the points that are
@@ -270,10 +270,10 @@ fn plain_and_exclude(
     for (&k, r) in idx.iter().zip(plain) {
         match r {
             Ok((o, f)) => match s.search.validity.outside(&pts[k].base, o.c_min) {
-                Some(why) => pts[k].excluded = Some(Exclusion::PlainBelowLimit(why.to_string())),
+                Some(why) => pts[k].excluded = Some(Exclusion::PlainBelowLimit(why)),
                 None => force[k] = Some(f),
             },
-            Err(why) => pts[k].excluded = Some(Exclusion::PlainFailed(why.to_string())),
+            Err(why) => pts[k].excluded = Some(Exclusion::PlainFailed(why)),
         }
     }
     Ok(force)
@@ -382,21 +382,35 @@ fn winner(d: &Option<(Texture, f64)>) -> Option<Texture> {
     d.as_ref().filter(|x| x.1 < 1.0).map(|x| x.0.clone())
 }
 
-/// The error of a cycle none of whose angles lies inside the model: nothing can be weighed,
-/// and the first angles' reasons say which input to look at.
-pub fn no_angle_inside(pts: &[Point]) -> String {
-    let reasons: Vec<String> = pts
-        .iter()
-        .filter_map(|p| {
-            let why = p.excluded.as_ref()?;
-            Some(format!("{:.0}°: {why}", p.sample.crank_deg))
-        })
-        .take(3)
-        .collect();
-    format!(
-        "no crank angle of the cycle lies inside the hydrodynamic model, so no liner can be weighed; check the engine file's speed (rpm, stroke), loads, oil and ring. The first angles: {}",
-        reasons.join("; ")
-    )
+/// Why no liner can be weighed: no angle of the cycle inside the model; it holds the first
+/// (up to three) excluded angles (degrees) and their reasons.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NoAngleInside(pub Vec<(f64, Exclusion)>);
+
+impl NoAngleInside {
+    pub fn of(pts: &[Point]) -> Self {
+        NoAngleInside(
+            pts.iter()
+                .filter_map(|p| Some((p.sample.crank_deg, p.excluded.clone()?)))
+                .take(3)
+                .collect(),
+        )
+    }
+}
+
+impl std::fmt::Display for NoAngleInside {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let reasons: Vec<String> = self
+            .0
+            .iter()
+            .map(|(deg, why)| format!("{deg:.0}°: {why}"))
+            .collect();
+        write!(
+            f,
+            "no crank angle of the cycle lies inside the hydrodynamic model, so no liner can be weighed; check the engine file's speed (rpm, stroke), loads, oil and ring. The first angles: {}",
+            reasons.join("; ")
+        )
+    }
 }
 
 /// Designs every zone and the uniform liner at the design step.
@@ -416,7 +430,7 @@ pub fn design_all(
     let plain = plain_and_exclude(s, &mut pts, s.search.search_fidelity, cache, stop)?;
     let inside: Vec<usize> = (0..pts.len()).filter(|&k| plain[k].is_some()).collect();
     if inside.is_empty() {
-        return Err(OptimiseError::NoAngleInside(no_angle_inside(&pts)));
+        return Err(OptimiseError::NoAngleInside(NoAngleInside::of(&pts)));
     }
     say(format!(
         "{} of {} design angles inside the model",
@@ -559,7 +573,7 @@ pub fn evaluate_liners(
     let mut pts = points(s, s.step_deg);
     plain_and_exclude(s, &mut pts, fidelity, cache, stop)?;
     if pts.iter().all(|p| p.excluded.is_some()) {
-        return Err(OptimiseError::NoAngleInside(no_angle_inside(&pts)));
+        return Err(OptimiseError::NoAngleInside(NoAngleInside::of(&pts)));
     }
     let run = |pick: &dyn Fn(usize) -> Option<Texture>| -> Result<Runs, OptimiseError> {
         let inside: Vec<&Point> = pts.iter().filter(|p| p.excluded.is_none()).collect();

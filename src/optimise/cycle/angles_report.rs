@@ -209,75 +209,6 @@ fn change_pct(w: f64, reference: f64) -> Option<f64> {
     (reference > 0.0).then(|| 100.0 * (w / reference - 1.0))
 }
 
-/// The first number of the report that is not finite, named (`zones[2].change_pct`): none
-/// may reach a table or a file (JSON would write it as null, a table as NaN).
-pub fn non_finite(r: &CycleReport) -> Option<String> {
-    let mut named: Vec<(String, f64)> = vec![
-        ("rpm".into(), r.rpm),
-        ("stroke_mm".into(), r.stroke_mm),
-        ("bore_mm".into(), r.bore_mm),
-        ("min_clearance_um".into(), r.min_clearance_um),
-        ("excluded_cycle_fraction".into(), r.excluded_cycle_fraction),
-        (
-            "excluded_sliding_fraction".into(),
-            r.excluded_sliding_fraction,
-        ),
-        ("wall_time_s".into(), r.wall_time_s),
-    ];
-    let opt = |v: &mut Vec<(String, f64)>, name: String, x: Option<f64>| {
-        if let Some(x) = x {
-            v.push((name, x));
-        }
-    };
-    let confirmed = |v: &mut Vec<(String, f64)>, name: String, c: &Confirmation| {
-        opt(v, format!("{name}.change_pct"), c.change_pct);
-    };
-    confirmed(&mut named, "uniform_searched".into(), &r.uniform_searched);
-    for (k, z) in r.zones.iter().enumerate() {
-        let n = |f: &str| format!("zones[{k}].{f}");
-        named.push((n("from_mm"), z.from_mm));
-        named.push((n("to_mm"), z.to_mm));
-        opt(&mut named, n("work_plain_j_per_m"), z.work_plain_j_per_m);
-        opt(&mut named, n("work_zoned_j_per_m"), z.work_zoned_j_per_m);
-        opt(&mut named, n("change_pct"), z.change_pct);
-        opt(&mut named, n("c_min_um"), z.c_min_um);
-        confirmed(&mut named, n("searched"), &z.searched);
-    }
-    for (k, l) in r.liners.iter().enumerate() {
-        let n = |f: &str| format!("liners[{k}].{f}");
-        named.push((n("work_j_per_m"), l.work_j_per_m));
-        named.push((n("mean_power_w_per_m"), l.mean_power_w_per_m));
-        named.push((n("ring_power_w"), l.ring_power_w));
-        opt(&mut named, n("change_pct"), l.change_pct);
-        opt(&mut named, n("c_min_um"), l.c_min_um);
-    }
-    for (k, x) in r.samples.iter().enumerate() {
-        let n = |f: &str| format!("samples[{k}].{f}");
-        for (f, v) in [
-            ("crank_deg", x.crank_deg),
-            ("position_mm", x.position_mm),
-            ("speed_ms", x.speed_ms),
-            ("load_n_per_m", x.load_n_per_m),
-            ("stribeck", x.stribeck),
-            ("d_oil_um", x.d_oil_um),
-        ] {
-            named.push((n(f), v));
-        }
-        for i in 0..3 {
-            opt(
-                &mut named,
-                n(&format!("force_n_per_m[{i}]")),
-                x.force_n_per_m[i],
-            );
-            opt(&mut named, n(&format!("c_min_um[{i}]")), x.c_min_um[i]);
-        }
-    }
-    named
-        .into_iter()
-        .find(|(_, x)| !x.is_finite())
-        .map(|(name, x)| format!("{name} = {x}"))
-}
-
 /// An optional number in a table, or a dash.
 fn or_dash(x: Option<f64>, f: impl Fn(f64) -> String) -> String {
     x.map_or("—".into(), f)
@@ -570,6 +501,7 @@ fn liner_plot(path: &Path, r: &CycleReport) -> Result<(), OptimiseError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::finite::first_non_finite;
 
     #[test]
     fn a_number_that_is_not_finite_is_named_before_anything_is_printed() {
@@ -610,14 +542,20 @@ mod tests {
             samples: vec![],
             wall_time_s: 1.0,
         };
-        assert_eq!(non_finite(&r), None);
+        assert_eq!(first_non_finite(&r), None);
         let t = table(&r);
         assert!(!t.contains("NaN") && !t.contains("inf"), "{t}");
         r.zones[0].change_pct = Some(f64::NAN);
-        assert_eq!(non_finite(&r).as_deref(), Some("zones[0].change_pct = NaN"));
+        assert_eq!(
+            first_non_finite(&r).unwrap().to_string(),
+            "zones[0].change_pct = NaN"
+        );
         r.zones[0].change_pct = None;
         r.zones[0].c_min_um = Some(f64::INFINITY);
-        assert_eq!(non_finite(&r).as_deref(), Some("zones[0].c_min_um = inf"));
+        assert_eq!(
+            first_non_finite(&r).unwrap().to_string(),
+            "zones[0].c_min_um = inf"
+        );
         // The change of a liner or zone with nothing to compare with is none, not NaN.
         assert_eq!(change_pct(0.0, 0.0), None);
         assert_eq!(change_pct(1.5, 1.0), Some(50.0));

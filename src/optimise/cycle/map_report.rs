@@ -41,6 +41,8 @@ pub struct PointFigures {
     pub work_j_per_m: f64,
     pub mean_power_w_per_m: f64,
     pub h_min_um: f64,
+    /// +∞ without contact (written as null).
+    #[serde(serialize_with = "crate::finite::unbounded")]
     pub lambda_min: f64,
     pub asperity_share_max: f64,
     pub asperity_work_j_per_m: f64,

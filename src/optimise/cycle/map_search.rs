@@ -160,6 +160,8 @@ impl Serialize for Infeasible {
 pub struct MapEval {
     pub banded: Banded,
     pub power_ratio: f64,
+    /// NaN where a run failed (written as null).
+    #[serde(serialize_with = "crate::finite::absent")]
     pub film_ratio: f64,
     pub feasible: bool,
     /// Why it is infeasible: the first point whose run failed, and why, or that thinned the

@@ -46,7 +46,10 @@ pub struct TransientLinerRow {
     /// Cycles run, whether the last repeated the one before, and its changes.
     pub cycles: usize,
     pub cyclic: bool,
+    /// The last cycle's changes (NaN without a cycle, written as null).
+    #[serde(serialize_with = "crate::finite::absent")]
     pub work_change: f64,
+    #[serde(serialize_with = "crate::finite::absent")]
     pub oil_change: f64,
     /// Largest relative oil defect of a cycle (film + liner − supply + scraped + thrown).
     pub oil_defect: f64,

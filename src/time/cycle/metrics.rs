@@ -46,7 +46,11 @@ pub struct CycleMetrics {
     /// The thinnest film over the cycle (µm), where (crank angle), and the least Λ.
     pub h_min_um: f64,
     pub h_min_deg: f64,
-    #[serde(deserialize_with = "infinite_if_null")]
+    /// +∞ without contact: an answer, written as null (crate::finite).
+    #[serde(
+        deserialize_with = "infinite_if_null",
+        serialize_with = "crate::finite::unbounded"
+    )]
     pub lambda_min: f64,
     /// Largest share of the load the asperities carry, and the share of the cycle's time
     /// during which they carry any.
@@ -107,4 +111,53 @@ pub fn metrics_in_zones(rows: &[CycleRow], engine: &Engine, bounds_mm: &[f64]) -
     m.ring_power_w = m.mean_power_w_per_m * std::f64::consts::PI * bore;
     m.fmep_kpa = 4.0 * m.work_j_per_m / (bore * stroke) * 1e-3;
     m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::finite::first_non_finite;
+
+    fn no_contact() -> CycleMetrics {
+        CycleMetrics {
+            work_j_per_m: 1.0,
+            asperity_work_j_per_m: 0.0,
+            mean_power_w_per_m: 2.0,
+            ring_power_w: 3.0,
+            fmep_kpa: 4.0,
+            h_min_um: 1.5,
+            h_min_deg: 180.0,
+            lambda_min: f64::INFINITY,
+            asperity_share_max: 0.0,
+            contact_time_fraction: 0.0,
+            regime_time_fraction: [1.0, 0.0, 0.0],
+            zone_work_j_per_m: vec![1.0],
+        }
+    }
+
+    #[test]
+    fn an_unbounded_lambda_is_an_answer_written_as_null_and_nan_is_not() {
+        let m = no_contact();
+        assert_eq!(first_non_finite(&m), None);
+        let json = serde_json::to_string(&m).unwrap();
+        assert!(json.contains(r#""lambda_min":null"#), "{json}");
+        let back: CycleMetrics = serde_json::from_str(&json).unwrap();
+        assert_eq!(back.lambda_min, f64::INFINITY);
+        let nan = CycleMetrics {
+            lambda_min: f64::NAN,
+            ..no_contact()
+        };
+        assert_eq!(
+            first_non_finite(&nan).unwrap().to_string(),
+            "lambda_min = NaN"
+        );
+        let nan = CycleMetrics {
+            zone_work_j_per_m: vec![1.0, f64::NAN],
+            ..no_contact()
+        };
+        assert_eq!(
+            first_non_finite(&nan).unwrap().to_string(),
+            "zone_work_j_per_m[1] = NaN"
+        );
+    }
 }
