@@ -377,3 +377,32 @@ fn the_angle_by_angle_steps_are_refused_without_quasi_steady() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn the_transient_cycle_modes_are_held_to_the_run_limits_before_anything_runs() {
+    let dir = scratch("cycle-limits");
+    let file = dir.join("e.toml");
+    std::fs::write(&file, engine_text()).unwrap();
+    // The plain liner's crank steps over its most cycles already pass 100 steps, and its
+    // film of 96×4 cells a few kilobytes; both searches refuse before a run, naming the mesh,
+    // the liner and the limit to raise.
+    for (limit, value, bands) in [
+        ("--max-steps", "100", false),
+        ("--max-steps", "100", true),
+        ("--max-memory", "1e-6", false),
+    ] {
+        let mut args = vec!["--mesh", "96x4", limit, value];
+        if bands {
+            args.push("--bands");
+        }
+        let (code, _, err, wrote) = common::cycle(&dir, &file, &args);
+        assert_eq!(code, 2, "{limit}: {err}");
+        assert_eq!(err.lines().count(), 1, "{limit}: {err}");
+        assert!(
+            err.contains("--mesh = 96x4") && err.contains(limit) && err.contains("plain liner"),
+            "{err}"
+        );
+        assert!(!wrote, "{limit}: something was written");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -10,7 +10,7 @@ use super::cycle_slurm::SlurmRunner;
 use super::optimise::{
     check_design_space, search_settings, space_error_named, SearchKeys, SpaceKeys,
 };
-use super::{checked, install_ctrl_c, open_cache, CmdError, STOP};
+use super::{checked, flag, input_message, install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::case::short;
 use crate::model::engine::{three_digits, zone_label, Engine, STEP_RANGE_DEG};
 use crate::model::operating::Validity;
@@ -22,12 +22,13 @@ use crate::optimise::cycle::bands::BandSpace;
 use crate::optimise::cycle::map_report;
 use crate::optimise::cycle::map_runs::{lock, run_here, Here, MapBatch, Runner};
 use crate::optimise::cycle::map_search::{design_over_map, evaluate_over_map, MapJudge};
-use crate::optimise::cycle::transient_liners::evaluate_transient;
+use crate::optimise::cycle::transient_liners::{evaluate_transient, ring_case};
 use crate::optimise::cycle::transient_report;
 use crate::optimise::cycle::transient_search::design_over_cycle;
 use crate::optimise::error::OptimiseError;
 use crate::optimise::space::Space;
 use crate::study::engine_file;
+use crate::time::cycle::{cycle_numerics, Drive};
 
 pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     let (s, band_min_file) = settings(a)?;
@@ -47,9 +48,11 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     }
     if a.bands {
         let space = band_space(a, &s, band_min_file)?;
+        check_cycle_limits(&s)?;
         return run_bands(a, &s, &space);
     }
     if !a.quasi_steady {
+        check_cycle_limits(&s)?;
         return run_transient(a, &s);
     }
     // A cycle whose every design angle is outside the model before anything runs (an engine
@@ -98,6 +101,38 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
         }
     }
     Ok(0)
+}
+
+/// Every transient cycle run a search may make, against the run limits before anything runs:
+/// the plain liner and the design space's corners (its finest textures) at the search's and
+/// the report's fidelity, each bounded by its crank steps with pockets under the ring all
+/// the way.
+fn check_cycle_limits(s: &CycleSettings) -> Result<(), CmdError> {
+    let ss = &s.search;
+    let drive = Drive::new(&s.engine);
+    let ring = ring_case(s, &drive);
+    let n = ss.space.dim();
+    let corners = (0..1usize << n).map(|c| {
+        let u: Vec<f64> = (0..n).map(|k| ((c >> k) & 1) as f64).collect();
+        Some(ss.space.decode(&u))
+    });
+    for texture in std::iter::once(None).chain(corners) {
+        for fidelity in [ss.search_fidelity, ss.report_fidelity] {
+            let num = cycle_numerics(fidelity, &ss.overrides, &ring, texture.as_ref());
+            num.check(&drive, &ss.limits).map_err(|e| {
+                let liner = match &texture {
+                    None => "the plain liner".to_string(),
+                    Some(t) => format!("the design space reaches {}", t.rounded_label()),
+                };
+                CmdError::Input(format!(
+                    "{liner} (at fidelity {}): {}",
+                    fidelity.name(),
+                    input_message(&e, flag)
+                ))
+            })?;
+        }
+    }
+    Ok(())
 }
 
 /// The transient cycle: the zones' designs searched over the whole cycle as one transient,

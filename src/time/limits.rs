@@ -65,7 +65,7 @@ pub struct Cost {
 pub fn estimate(case: &CaseSpec, num: &Numerics) -> Cost {
     let cells = num.n1 as f64 * num.n2 as f64;
     let n2 = num.n2 as f64;
-    let per_cell = 8.0 * (4.0 * n2 + 2.0 + 40.0);
+    let per_cell = film_bytes_per_cell(num.n2);
     let kept = match &case.texture {
         Some(t) => {
             let spp = steps_per_period(t.per / case.u, num.dt);
@@ -86,6 +86,11 @@ pub fn estimate(case: &CaseSpec, num: &Numerics) -> Cost {
         memory: cells * per_cell + kept,
         steps: (num.t_max / num.dt).ceil(),
     }
+}
+
+/// Bytes a film of `n2` cells across takes per cell: its fields and its banded matrix.
+fn film_bytes_per_cell(n2: usize) -> f64 {
+    8.0 * (4.0 * n2 as f64 + 2.0 + 40.0)
 }
 
 /// Memory an observer of a run keeps beside it (a recording, a time series), named by the
@@ -144,16 +149,14 @@ fn gib(bytes: f64) -> String {
     short((x / unit).ceil() * unit)
 }
 
-/// Checks a run's estimated cost against `limits`: the mesh (memory) and the time step
-/// (steps), each error waivable by raising its limit.
-pub fn check(case: &CaseSpec, num: &Numerics, limits: &Limits) -> Result<(), InputError> {
-    let cost = estimate(case, num);
+/// The mesh's memory against the limit.
+fn check_memory((n1, n2): (usize, usize), cost: &Cost, limits: &Limits) -> Result<(), InputError> {
     if cost.memory.is_nan() || cost.memory > limits.memory {
         return Err(InputError {
             waiver: Some(Waiver::MemoryLimit),
             ..bad(
                 "mesh",
-                format!("{}x{}", num.n1, num.n2),
+                format!("{n1}x{n2}"),
                 format!(
                     "needs ≈ {} GiB of memory ({} cells), over the limit of {} GiB; use fewer cells",
                     gib(cost.memory),
@@ -163,6 +166,48 @@ pub fn check(case: &CaseSpec, num: &Numerics, limits: &Limits) -> Result<(), Inp
             )
         });
     }
+    Ok(())
+}
+
+/// Checks a cycle run's cost against `limits` before it runs: its film of `n1`×`n2` cells
+/// (memory, as a run's without what a period keeps) and its crank steps, `per_cycle` in each
+/// of at most `cycles` cycles. The crank steps follow the mesh (the texture moves at most
+/// two cells a step), so the mesh is the input named.
+pub fn check_cycle(
+    (n1, n2): (usize, usize),
+    per_cycle: usize,
+    cycles: usize,
+    limits: &Limits,
+) -> Result<(), InputError> {
+    let cells = n1 as f64 * n2 as f64;
+    let cost = Cost {
+        cells,
+        memory: cells * film_bytes_per_cell(n2),
+        steps: (per_cycle * cycles) as f64,
+    };
+    check_memory((n1, n2), &cost, limits)?;
+    if cost.steps > limits.steps {
+        return Err(InputError {
+            waiver: Some(Waiver::StepLimit),
+            ..bad(
+                "mesh",
+                format!("{n1}x{n2}"),
+                format!(
+                    "gives up to {} crank steps ({per_cycle} a cycle over at most {cycles} cycles), over the limit of {}; use fewer cells along x1 or a lower fidelity",
+                    short(cost.steps),
+                    short(limits.steps)
+                ),
+            )
+        });
+    }
+    Ok(())
+}
+
+/// Checks a run's estimated cost against `limits`: the mesh (memory) and the time step
+/// (steps), each error waivable by raising its limit.
+pub fn check(case: &CaseSpec, num: &Numerics, limits: &Limits) -> Result<(), InputError> {
+    let cost = estimate(case, num);
+    check_memory((num.n1, num.n2), &cost, limits)?;
     if cost.steps.is_nan() || cost.steps > limits.steps {
         return Err(InputError {
             waiver: Some(Waiver::StepLimit),

@@ -2,11 +2,12 @@
 //! cycle"): the tier's mesh (through the one resolver, `time::resolve`), crank steps that
 //! follow the motion, and the texture moved by at most a set number of cells a step.
 
-use super::drive::StepRule;
+use super::drive::{crank_steps, Drive, StepRule};
 use super::record::CycleSummary;
-use crate::model::case::{CaseSpec, Texture};
+use crate::model::case::{CaseSpec, InputError, Texture};
 use crate::solve::{FilmSolver, Method};
-use crate::time::{resolve, Fidelity, Overrides, TimeScheme};
+use crate::time::limits::check_cycle;
+use crate::time::{resolve, Fidelity, Limits, Overrides, TimeScheme};
 
 /// How a cycle run is discretised and when it stops.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -56,6 +57,14 @@ impl CycleNumerics {
         } else {
             None
         }
+    }
+
+    /// A run of these numerics under `drive` against `limits`, before it runs: its film's
+    /// memory, and its crank steps with pockets under the ring all the way over its most
+    /// cycles (a bound: a liner textured in part, or one that repeats sooner, takes fewer).
+    pub fn check(&self, drive: &Drive, limits: &Limits) -> Result<(), InputError> {
+        let per_cycle = crank_steps(drive, self.start_deg, &self.steps, &|_| true).len() - 1;
+        check_cycle((self.n1, self.n2), per_cycle, self.max_cycles, limits)
     }
 
     /// The film solver of a cycle run: the direct active-set solver (docs/solver.md, "One
