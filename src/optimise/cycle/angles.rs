@@ -12,6 +12,7 @@ use std::time::Instant;
 use crate::model::case::{CaseSpec, InputError, Texture};
 use crate::model::engine::{Engine, Sample};
 use crate::model::operating::{Outside, Scales, VALIDATED_STRIBECK};
+use crate::optimise::cycle::liner::Trio;
 use crate::optimise::error::OptimiseError;
 use crate::optimise::goal::FAILED_COST;
 use crate::optimise::search::{swarm_and_refine, Objective, SearchSettings};
@@ -488,7 +489,7 @@ pub fn design_all(
 pub struct LinerRuns {
     pub points: Vec<Point>,
     /// Per liner (plain, uniform, zoned), per point: the outcome and force, or none.
-    pub liners: [Vec<Option<(Outcome, f64)>>; 3],
+    pub liners: Trio<Runs>,
     /// Each zone's searched design, then the uniform one, as the report's fidelity and step
     /// found them.
     pub confirmed: Vec<Confirmation>,
@@ -503,7 +504,7 @@ pub struct Confirmation {
     pub kept: bool,
 }
 
-type Runs = Vec<Option<(Outcome, f64)>>;
+pub type Runs = Vec<Option<(Outcome, f64)>>;
 
 /// The work of `runs` over the points of `zone` (all zones: None) if every point inside the
 /// model has a run that keeps the least clearance; None otherwise.
@@ -535,8 +536,13 @@ fn choose<'a>(
     s: &CycleSettings,
     pts: &[Point],
     d: &Designs,
-    [plain, uniform, own]: [&'a Runs; 3],
+    runs: Trio<&'a Runs>,
 ) -> Vec<(Option<Texture>, &'a Runs)> {
+    let Trio {
+        plain,
+        uniform,
+        designed: own,
+    } = runs;
     (0..d.zones.len())
         .map(|z| {
             let weighed = pts
@@ -591,7 +597,16 @@ pub fn evaluate_liners(
     let uniform = run(&|_| d.uniform.clone())?;
     let own = run(&|z| d.zones[z].clone())?;
     let zones = d.zones.len();
-    let choice = choose(s, &pts, d, [&plain, &uniform, &own]);
+    let choice = choose(
+        s,
+        &pts,
+        d,
+        Trio {
+            plain: &plain,
+            uniform: &uniform,
+            designed: &own,
+        },
+    );
     let zoned: Runs = pts
         .iter()
         .enumerate()
@@ -640,7 +655,11 @@ pub fn evaluate_liners(
         designs,
         LinerRuns {
             points: pts,
-            liners: [plain, uniform, zoned],
+            liners: Trio {
+                plain,
+                uniform,
+                designed: zoned,
+            },
             confirmed,
         },
     ))

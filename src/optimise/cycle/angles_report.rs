@@ -7,7 +7,8 @@ use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::angles::{Confirmation, CycleSettings, Designs, Exclusion, LinerRuns};
+use super::angles::{Confirmation, CycleSettings, Designs, Exclusion, LinerRuns, Runs};
+use super::liner::{Liner, Trio};
 use crate::model::case::Texture;
 use crate::model::engine::zone_label;
 use crate::optimise::design_report::{csv_bytes, json_and_md, Column};
@@ -62,8 +63,8 @@ pub struct SampleRow {
     /// Why the angle is outside the hydrodynamic model (then no number is reported).
     pub excluded: Option<Exclusion>,
     /// Friction force (N/m) and clearance (µm) of the plain, uniform and zoned liners.
-    pub force_n_per_m: [Option<f64>; 3],
-    pub c_min_um: [Option<f64>; 3],
+    pub force_n_per_m: Trio<Option<f64>>,
+    pub c_min_um: Trio<Option<f64>>,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -91,8 +92,6 @@ pub struct CycleReport {
     pub wall_time_s: f64,
 }
 
-const LINERS: [&str; 3] = ["plain liner", "uniform best", "zoned"];
-
 /// Every crank angle: its operating point, its exclusion or the three liners' forces and
 /// clearances.
 fn samples(s: &CycleSettings, ev: &LinerRuns) -> Vec<SampleRow> {
@@ -108,8 +107,8 @@ fn samples(s: &CycleSettings, ev: &LinerRuns) -> Vec<SampleRow> {
             stribeck: s.engine.file.oil.viscosity_pa_s * p.sample.speed_ms / p.sample.load_n_per_m,
             d_oil_um: p.sample.d_oil_um,
             excluded: p.excluded.clone(),
-            force_n_per_m: [0, 1, 2].map(|i| ev.liners[i][k].as_ref().map(|x| x.1)),
-            c_min_um: [0, 1, 2].map(|i| ev.liners[i][k].as_ref().map(|x| x.0.c_min)),
+            force_n_per_m: ev.liners.as_ref().map(|l| l[k].as_ref().map(|x| x.1)),
+            c_min_um: ev.liners.as_ref().map(|l| l[k].as_ref().map(|x| x.0.c_min)),
         })
         .collect()
 }
@@ -119,17 +118,17 @@ pub fn assemble(s: &CycleSettings, d: &Designs, ev: &LinerRuns, wall: f64) -> Cy
     let e = &s.engine.file.engine;
     let pts = &ev.points;
     // (+ 0.0: an empty sum is -0.0, which would print as "-0.0".)
-    let work = |i: usize, zone: Option<usize>| -> f64 {
+    let work = |runs: &Runs, zone: Option<usize>| -> f64 {
         pts.iter()
-            .zip(&ev.liners[i])
+            .zip(runs)
             .filter(|(p, _)| zone.is_none_or(|z| p.sample.zone == z))
             .filter_map(|(p, r)| r.as_ref().map(|(_, f)| f * p.distance_m))
             .sum::<f64>()
             + 0.0
     };
-    let least = |i: usize, zone: Option<usize>| -> Option<f64> {
+    let least = |runs: &Runs, zone: Option<usize>| -> Option<f64> {
         pts.iter()
-            .zip(&ev.liners[i])
+            .zip(runs)
             .filter(|(p, _)| zone.is_none_or(|z| p.sample.zone == z))
             .filter_map(|(_, r)| r.as_ref().map(|(o, _)| o.c_min))
             .min_by(f64::total_cmp)
@@ -141,7 +140,10 @@ pub fn assemble(s: &CycleSettings, d: &Designs, ev: &LinerRuns, wall: f64) -> Cy
                 .filter(|p| p.sample.zone == z && p.excluded.is_none())
                 .count();
             let all = pts.iter().filter(|p| p.sample.zone == z).count();
-            let (wp, wz) = (work(0, Some(z)), work(2, Some(z)));
+            let (wp, wz) = (
+                work(&ev.liners.plain, Some(z)),
+                work(&ev.liners.designed, Some(z)),
+            );
             let weighed = inside > 0;
             ZoneRow {
                 zone: z + 1,
@@ -153,27 +155,30 @@ pub fn assemble(s: &CycleSettings, d: &Designs, ev: &LinerRuns, wall: f64) -> Cy
                 work_plain_j_per_m: weighed.then_some(wp),
                 work_zoned_j_per_m: weighed.then_some(wz),
                 change_pct: change_pct(wz, wp).filter(|_| weighed),
-                c_min_um: least(2, Some(z)),
+                c_min_um: least(&ev.liners.designed, Some(z)),
                 searched: ev.confirmed[z].clone(),
             }
         })
         .collect();
     let cycle_s = 120.0 / e.rpm;
     let circumference = std::f64::consts::PI * e.bore_mm * 1e-3;
-    let w0 = work(0, None);
-    let liners = (0..3)
-        .map(|i| {
-            let w = work(i, None);
+    let w0 = work(&ev.liners.plain, None);
+    let liners = ev
+        .liners
+        .named(Liner::Zoned)
+        .into_iter()
+        .map(|(liner, runs)| {
+            let w = work(runs, None);
             LinerRow {
-                liner: LINERS[i].into(),
+                liner: liner.name().into(),
                 work_j_per_m: w,
                 mean_power_w_per_m: w / cycle_s,
                 ring_power_w: w / cycle_s * circumference,
                 change_pct: change_pct(w, w0),
-                c_min_um: least(i, None),
+                c_min_um: least(runs, None),
                 failed_angles: pts
                     .iter()
-                    .zip(&ev.liners[i])
+                    .zip(runs)
                     .filter(|(p, r)| p.excluded.is_none() && r.is_none())
                     .count(),
             }
@@ -389,12 +394,12 @@ const COLUMNS: [Column<SampleRow>; 14] = [
             .map(ToString::to_string)
             .unwrap_or_default()
     }),
-    ("force_plain_n_m", |x| cell(x.force_n_per_m[0])),
-    ("force_uniform_n_m", |x| cell(x.force_n_per_m[1])),
-    ("force_zoned_n_m", |x| cell(x.force_n_per_m[2])),
-    ("c_min_plain_um", |x| cell(x.c_min_um[0])),
-    ("c_min_uniform_um", |x| cell(x.c_min_um[1])),
-    ("c_min_zoned_um", |x| cell(x.c_min_um[2])),
+    ("force_plain_n_m", |x| cell(x.force_n_per_m.plain)),
+    ("force_uniform_n_m", |x| cell(x.force_n_per_m.uniform)),
+    ("force_zoned_n_m", |x| cell(x.force_n_per_m.designed)),
+    ("c_min_plain_um", |x| cell(x.c_min_um.plain)),
+    ("c_min_uniform_um", |x| cell(x.c_min_um.uniform)),
+    ("c_min_zoned_um", |x| cell(x.c_min_um.designed)),
 ];
 
 fn cell(x: Option<f64>) -> String {
@@ -408,7 +413,7 @@ fn force_plot(path: &Path, r: &CycleReport) -> Result<(), OptimiseError> {
     for i in 0..3 {
         let mut cur: Vec<(f64, f64)> = Vec::new();
         for x in &r.samples {
-            match x.force_n_per_m[i] {
+            match *x.force_n_per_m.each()[i] {
                 Some(f) => cur.push((x.crank_deg, f)),
                 None if !cur.is_empty() => runs.push((i, std::mem::take(&mut cur))),
                 None => {}
@@ -431,7 +436,9 @@ fn force_plot(path: &Path, r: &CycleReport) -> Result<(), OptimiseError> {
             name: if std::mem::replace(&mut named[*i], true) {
                 String::new()
             } else {
-                LINERS[*i].to_string()
+                [Liner::Plain, Liner::Uniform, Liner::Zoned][*i]
+                    .name()
+                    .to_string()
             },
             points: pts,
             style: if *i == 0 { Style::Thick } else { Style::Line },

@@ -4,6 +4,7 @@
 //! work in each band and between them; the search's front of friction against least film;
 //! the figures (front, bands along the stroke, friction force per point).
 
+use super::liner::{Liner, Trio};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -22,7 +23,8 @@ use crate::plot::{self, Chart, Scale, Series, Style};
 use crate::study::cycle_cache::CycleFailure;
 use crate::time::cycle::{CycleMetrics, CycleRow};
 
-const LINERS: [&str; 3] = ["plain liner", "uniform best", "banded"];
+/// The liners in the report's order.
+const LINERS: [Liner; 3] = [Liner::Plain, Liner::Uniform, Liner::Banded];
 
 /// One point of the map as it runs.
 #[derive(Clone, Debug, Serialize)]
@@ -79,7 +81,7 @@ pub struct MapReport {
     pub uniform: Option<Texture>,
     /// Zone boundaries of the banded liner (mm).
     pub zones_mm: Vec<f64>,
-    pub liners: Vec<MapLinerRow>,
+    pub liners: Trio<MapLinerRow>,
     /// Banded liners the search judged, feasible ones, and those on its front.
     pub evaluations: usize,
     pub feasible: usize,
@@ -113,7 +115,7 @@ fn change(p: Option<f64>, plain: f64) -> Option<f64> {
 }
 
 fn liner_row(
-    k: usize,
+    liner: Liner,
     design: String,
     over: &OverMap,
     l: &MapLiners,
@@ -129,7 +131,7 @@ fn liner_row(
         .collect();
     let power = over.mean_power(&l.map);
     MapLinerRow {
-        liner: LINERS[k],
+        liner: liner.name(),
         design,
         points,
         mean_power_w_per_m: power,
@@ -156,7 +158,7 @@ pub fn assemble(s: &CycleSettings, d: &MapDesigns, l: &MapLiners, wall: f64) -> 
     let plain_points = (0..l.map.len()).map(|k| Ok(plain_figures(l, k))).collect();
     let plain_power = l.banded.plain_mean_power(&l.map);
     let plain = MapLinerRow {
-        liner: LINERS[0],
+        liner: Liner::Plain.name(),
         design: "plain".into(),
         points: plain_points,
         mean_power_w_per_m: Some(plain_power),
@@ -164,19 +166,20 @@ pub fn assemble(s: &CycleSettings, d: &MapDesigns, l: &MapLiners, wall: f64) -> 
         searched_change_pct: Some(0.0),
         worst_film_um: Some(l.banded.plain_worst_film()),
     };
-    let mut liners = vec![plain];
-    match (&l.uniform, &d.uniform) {
-        (Some(u), Some((t, c))) => liners.push(liner_row(1, t.rounded_label(), u, l, Some(*c))),
-        _ => liners.push(MapLinerRow {
-            liner: LINERS[1],
+    let uniform = match (&l.uniform, &d.uniform) {
+        (Some(u), Some((t, c))) => {
+            liner_row(Liner::Uniform, t.rounded_label(), u, l, Some(*c))
+        }
+        _ => MapLinerRow {
+            liner: Liner::Uniform.name(),
             design: "none: every band texture over the whole stroke failed or thinned the film too far at the search".into(),
             points: vec![Err(CycleFailure::NotRun); l.map.len()],
             mean_power_w_per_m: None,
             change_pct: None,
             searched_change_pct: None,
             worst_film_um: None,
-        }),
-    }
+        },
+    };
     let label = match d.banded_cost < FAILED_COST {
         true => d.banded.label(),
         false => format!(
@@ -184,7 +187,11 @@ pub fn assemble(s: &CycleSettings, d: &MapDesigns, l: &MapLiners, wall: f64) -> 
             d.banded.label()
         ),
     };
-    liners.push(liner_row(2, label, &l.banded, l, Some(d.banded_cost)));
+    let liners = Trio {
+        plain,
+        uniform,
+        designed: liner_row(Liner::Banded, label, &l.banded, l, Some(d.banded_cost)),
+    };
     let points = l
         .map
         .iter()
@@ -257,7 +264,7 @@ pub fn table(r: &MapReport) -> String {
         heads.join(" | "),
         "---|".repeat(heads.len())
     );
-    for l in &r.liners {
+    for l in r.liners.each() {
         let cells: Vec<String> = l
             .points
             .iter()
@@ -310,7 +317,7 @@ fn zone_table(t: &mut String, r: &MapReport) {
         "---|".repeat(spans.len())
     );
     for (k, p) in r.points.iter().enumerate() {
-        for l in &r.liners {
+        for l in r.liners.each() {
             if let Ok(f) = &l.points[k] {
                 let w: Vec<String> = f
                     .zone_work_j_per_m
@@ -372,13 +379,13 @@ const STEP_COLUMNS: [Column<PointStep>; 8] = [
 ];
 
 /// Per point, each liner's last cycle (None where it failed or is not reported).
-fn runs<'a>(l: &'a MapLiners, k: usize) -> [Option<&'a [CycleRow]>; 3] {
+fn runs<'a>(l: &'a MapLiners, k: usize) -> Trio<Option<&'a [CycleRow]>> {
     let of = |o: &'a OverMap| o.points[k].as_ref().ok().map(|j| j.rows.as_slice());
-    [
-        Some(l.plain(k).rows.as_slice()),
-        l.uniform.as_ref().and_then(of),
-        of(&l.banded),
-    ]
+    Trio {
+        plain: Some(l.plain(k).rows.as_slice()),
+        uniform: l.uniform.as_ref().and_then(of),
+        designed: of(&l.banded),
+    }
 }
 
 /// Writes the report's files into `dir`: `cycle_NAME_bands` .md, .json, _front.csv,
@@ -394,11 +401,11 @@ pub fn write(dir: &Path, r: &MapReport, l: &MapLiners) -> Result<Vec<PathBuf>, O
     crate::output::write(&stem("_front.csv"), csv_bytes(&FRONT_COLUMNS, &r.all)?)?;
     let mut steps: Vec<PointStep> = Vec::new();
     for k in 0..l.map.len() {
-        for (i, rows) in runs(l, k).into_iter().enumerate() {
+        for (liner, rows) in runs(l, k).named(Liner::Banded) {
             let rows = rows.unwrap_or_default();
             steps.extend(thinned(rows).map(|row| PointStep {
                 point: l.map[k].name.clone(),
-                liner: LINERS[i],
+                liner: liner.name(),
                 row: *row,
             }));
         }
@@ -435,9 +442,9 @@ fn front_plot(path: &Path, r: &MapReport) -> Result<(), OptimiseError> {
     let pct = |e: &MapEval| (100.0 * (e.power_ratio - 1.0), 100.0 * (e.film_ratio - 1.0));
     let all: Vec<(f64, f64)> = r.all.iter().filter(|e| e.feasible).map(pct).collect();
     let front: Vec<(f64, f64)> = r.front.iter().map(pct).collect();
-    let plain_film = r.liners[0].worst_film_um.unwrap_or(f64::NAN);
-    let reported: Vec<(f64, f64)> = r.liners[1..]
-        .iter()
+    let plain_film = r.liners.plain.worst_film_um.unwrap_or(f64::NAN);
+    let reported: Vec<(f64, f64)> = [&r.liners.uniform, &r.liners.designed]
+        .into_iter()
         .filter_map(|l| Some((l.change_pct?, 100.0 * (l.worst_film_um? / plain_film - 1.0))))
         .collect();
     let origin = [(0.0, 0.0)];
@@ -535,10 +542,11 @@ type Curve = Vec<(f64, f64)>;
 /// Friction force against crank angle at point k: each liner's, and its asperities' part.
 fn force_plot(path: &Path, r: &MapReport, l: &MapLiners, k: usize) -> Result<(), OptimiseError> {
     let curves: Vec<(usize, Curve, Curve)> = runs(l, k)
+        .each()
         .into_iter()
         .enumerate()
         .filter_map(|(i, rows)| {
-            let rows = rows?;
+            let rows = (*rows)?;
             let f = thinned(rows)
                 .map(|x| (x.crank_deg, x.friction_n_per_m))
                 .collect();
@@ -552,13 +560,13 @@ fn force_plot(path: &Path, r: &MapReport, l: &MapLiners, k: usize) -> Result<(),
     for (i, f, a) in &curves {
         let colour = [1, 0, 2][*i];
         series.push(Series {
-            name: LINERS[*i].into(),
+            name: LINERS[*i].name().into(),
             points: f,
             style: if *i == 0 { Style::Thick } else { Style::Line },
             colour,
         });
         series.push(Series {
-            name: format!("{}: asperities' part", LINERS[*i]),
+            name: format!("{}: asperities' part", LINERS[*i].name()),
             points: a,
             style: Style::Faint,
             colour,

@@ -10,10 +10,14 @@
 //!   through the cache, handed to a runner here or on a cluster; `map_report`);
 //! - the angle-by-angle (quasi-steady) evaluation, each angle a periodic regime
 //!   (`angles`, `angles_report`).
+//!
+//! Every report weighs the plain liner, the best uniform texture and the design, by name
+//! (`liner`: `Liner`, `Trio`).
 
 pub mod angles;
 pub mod angles_report;
 pub mod bands;
+pub mod liner;
 pub mod map_report;
 pub mod map_runs;
 pub mod map_search;

@@ -4,6 +4,7 @@
 //! the three does least friction work while the ring is over it, and the liner so assembled
 //! is run in its turn.
 
+use super::liner::Trio;
 use rayon::prelude::*;
 
 use super::angles::{CycleSettings, Designs};
@@ -28,9 +29,8 @@ pub struct LinerCycle {
 
 /// The three liners of the report (plain, uniform best, zoned) and the designs they carry.
 pub struct TransientLiners {
-    pub plain: LinerCycle,
-    pub uniform: LinerCycle,
-    pub zoned: LinerCycle,
+    /// The plain, uniform and zoned liners' cycles.
+    pub runs: Trio<LinerCycle>,
     /// Per zone, which liner's texture it keeps.
     pub kept: Vec<Kept>,
 }
@@ -193,9 +193,11 @@ pub fn evaluate_transient(
     Ok((
         designs,
         TransientLiners {
-            plain,
-            uniform,
-            zoned,
+            runs: Trio {
+                plain,
+                uniform,
+                designed: zoned,
+            },
             kept,
         },
     ))

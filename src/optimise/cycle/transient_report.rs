@@ -3,6 +3,7 @@
 //! of each liner and the texture kept; every step of the last cycle, the oil map and the
 //! cycle-to-cycle convergence as CSV; the figures an engine engineer reads.
 
+use super::liner::{Liner, Trio};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -17,7 +18,8 @@ use crate::optimise::error::OptimiseError;
 use crate::plot::{self, Chart, Scale, Series, Style};
 use crate::time::cycle::{CycleMetrics, CycleRow, CycleSummary, Drive, Regime, SETTLE_CYCLES};
 
-const LINERS: [&str; 3] = ["plain liner", "uniform best", "zoned"];
+/// The liners in the report's order.
+const LINERS: [Liner; 3] = [Liner::Plain, Liner::Uniform, Liner::Zoned];
 
 #[derive(Clone, Debug, Serialize)]
 pub struct TransientZone {
@@ -31,7 +33,7 @@ pub struct TransientZone {
     pub kept: &'static str,
     pub searched: Option<Texture>,
     /// Friction work while the ring's centre is over the zone (J/m): plain, uniform, zoned.
-    pub work_j_per_m: [f64; 3],
+    pub work_j_per_m: Trio<f64>,
     /// The zoned liner's against the plain liner's there (%).
     pub change_pct: Option<f64>,
 }
@@ -81,7 +83,7 @@ pub struct TransientReport {
     pub liners: Vec<TransientLinerRow>,
     pub wall_time_s: f64,
     #[serde(skip)]
-    runs: [LinerCycle; 3],
+    runs: Trio<LinerCycle>,
 }
 
 fn change_pct(w: f64, plain: f64) -> Option<f64> {
@@ -91,7 +93,7 @@ fn change_pct(w: f64, plain: f64) -> Option<f64> {
 fn liner_row(k: usize, r: &LinerCycle, plain: f64) -> TransientLinerRow {
     let last = r.outcome.cycles.last();
     TransientLinerRow {
-        liner: LINERS[k],
+        liner: LINERS[k].name(),
         metrics: r.metrics.clone(),
         change_pct: change_pct(r.metrics.work_j_per_m, plain),
         cycles: r.outcome.cycles.len(),
@@ -110,12 +112,12 @@ fn liner_row(k: usize, r: &LinerCycle, plain: f64) -> TransientLinerRow {
 
 /// The report of the three liners.
 pub fn assemble(s: &CycleSettings, d: &Designs, t: &TransientLiners, wall: f64) -> TransientReport {
-    let runs = [t.plain.clone(), t.uniform.clone(), t.zoned.clone()];
-    let plain = runs[0].metrics.work_j_per_m;
+    let runs = t.runs.clone();
+    let plain = runs.plain.metrics.work_j_per_m;
     let b = &s.engine.bounds_mm;
     let zones = (0..b.len() - 1)
         .map(|z| {
-            let work = [0, 1, 2].map(|k| runs[k].metrics.zone_work_j_per_m[z]);
+            let work = runs.as_ref().map(|r| r.metrics.zone_work_j_per_m[z]);
             TransientZone {
                 zone: z + 1,
                 from_mm: b[z],
@@ -123,8 +125,8 @@ pub fn assemble(s: &CycleSettings, d: &Designs, t: &TransientLiners, wall: f64) 
                 texture: d.zones[z].clone(),
                 kept: t.kept[z].label(),
                 searched: d.candidates.get(z).cloned().flatten(),
+                change_pct: change_pct(work.designed, work.plain),
                 work_j_per_m: work,
-                change_pct: change_pct(work[2], work[0]),
             }
         })
         .collect();
@@ -151,7 +153,9 @@ pub fn assemble(s: &CycleSettings, d: &Designs, t: &TransientLiners, wall: f64) 
         uniform: d.uniform.clone(),
         uniform_searched: d.uniform_candidate.clone(),
         zones,
-        liners: (0..3).map(|k| liner_row(k, &runs[k], plain)).collect(),
+        liners: (0..3)
+            .map(|k| liner_row(k, runs.each()[k], plain))
+            .collect(),
         wall_time_s: wall,
         runs,
     }
@@ -220,9 +224,9 @@ pub fn table(r: &TransientReport) -> String {
             z.kept,
             texture_label(&z.texture),
             texture_label(&z.searched),
-            z.work_j_per_m[0],
-            z.work_j_per_m[1],
-            z.work_j_per_m[2],
+            z.work_j_per_m.plain,
+            z.work_j_per_m.uniform,
+            z.work_j_per_m.designed,
             opt(z.change_pct, 2)
         );
     }
@@ -292,8 +296,8 @@ pub fn write(dir: &Path, r: &TransientReport) -> Result<Vec<PathBuf>, OptimiseEr
     let stem = json_and_md(dir, &base, r, md)?;
     let steps: Vec<LinerStep> = (0..3)
         .flat_map(|k| {
-            thinned(&r.runs[k].outcome.rows).map(move |row| LinerStep {
-                liner: LINERS[k],
+            thinned(&r.runs.each()[k].outcome.rows).map(move |row| LinerStep {
+                liner: LINERS[k].name(),
                 row: *row,
             })
         })
@@ -301,10 +305,14 @@ pub fn write(dir: &Path, r: &TransientReport) -> Result<Vec<PathBuf>, OptimiseEr
     crate::output::write(&stem("_steps.csv"), csv_bytes(&STEP_COLUMNS, &steps)?)?;
     let cycles: Vec<CycleLine> = (0..3)
         .flat_map(|k| {
-            r.runs[k].outcome.cycles.iter().map(move |c| CycleLine {
-                liner: LINERS[k],
-                c: c.clone(),
-            })
+            r.runs.each()[k]
+                .outcome
+                .cycles
+                .iter()
+                .map(move |c| CycleLine {
+                    liner: LINERS[k].name(),
+                    c: c.clone(),
+                })
         })
         .collect();
     crate::output::write(&stem("_cycles.csv"), csv_bytes(&CYCLE_COLUMNS, &cycles)?)?;
@@ -349,10 +357,10 @@ pub(super) fn thinned(rows: &[CycleRow]) -> impl Iterator<Item = &CycleRow> {
 fn oil_csv(r: &TransientReport) -> Result<Vec<u8>, OptimiseError> {
     let mut w = csv::Writer::from_writer(Vec::new());
     let _ = w.write_record(["y_mm", "plain_um", "uniform_um", "zoned_um"]);
-    let o = &r.runs[0].outcome;
+    let o = &r.runs.plain.outcome;
     for (k, y) in o.oil_y_cm.iter().enumerate() {
         let cell = |i: usize| {
-            r.runs[i]
+            r.runs.each()[i]
                 .outcome
                 .oil_um
                 .get(k)
@@ -379,7 +387,8 @@ const CRANK: &str = "crank angle from firing top dead centre (°)";
 /// One series per liner of `f(row)` against crank angle (the rows the CSV keeps).
 fn per_liner(r: &TransientReport, f: impl Fn(&CycleRow) -> f64) -> Vec<Vec<(f64, f64)>> {
     r.runs
-        .iter()
+        .each()
+        .into_iter()
         .map(|l| {
             thinned(&l.outcome.rows)
                 .map(|x| (x.crank_deg, f(x)))
@@ -392,7 +401,7 @@ fn liner_series<'a>(pts: &'a [Vec<(f64, f64)>], what: &str) -> Vec<Series<'a>> {
     pts.iter()
         .enumerate()
         .map(|(k, p)| Series {
-            name: format!("{}{what}", LINERS[k]),
+            name: format!("{}{what}", LINERS[k].name()),
             points: p,
             style: if k == 0 { Style::Thick } else { Style::Line },
             colour: [1, 0, 2][k],
@@ -406,7 +415,7 @@ fn force_plot(path: &Path, r: &TransientReport) -> Result<(), OptimiseError> {
     let mut series = liner_series(&total, "");
     for (k, p) in asperity.iter().enumerate() {
         series.push(Series {
-            name: format!("{}: asperities' part", LINERS[k]),
+            name: format!("{}: asperities' part", LINERS[k].name()),
             points: p,
             style: Style::Faint,
             colour: [1, 0, 2][k],
@@ -477,7 +486,8 @@ fn asperity_plot(path: &Path, r: &TransientReport) -> Result<(), OptimiseError> 
 fn oil_plot(path: &Path, r: &TransientReport) -> Result<(), OptimiseError> {
     let pts: Vec<Vec<(f64, f64)>> = r
         .runs
-        .iter()
+        .each()
+        .into_iter()
         .map(|l| {
             l.outcome
                 .oil_y_cm
@@ -505,7 +515,8 @@ fn oil_plot(path: &Path, r: &TransientReport) -> Result<(), OptimiseError> {
 fn convergence_plot(path: &Path, r: &TransientReport) -> Result<(), OptimiseError> {
     let per_cycle = |f: fn(&CycleSummary) -> f64| -> Vec<Vec<(f64, f64)>> {
         r.runs
-            .iter()
+            .each()
+            .into_iter()
             .map(|l| {
                 let c = &l.outcome.cycles;
                 c.iter().map(|c| ((c.index + 1) as f64, f(c))).collect()
@@ -516,7 +527,7 @@ fn convergence_plot(path: &Path, r: &TransientReport) -> Result<(), OptimiseErro
     let mut series = liner_series(&work, ": friction work");
     for (k, p) in oil.iter().enumerate() {
         series.push(Series {
-            name: format!("{}: oil map", LINERS[k]),
+            name: format!("{}: oil map", LINERS[k].name()),
             points: p,
             style: Style::Markers,
             colour: [1, 0, 2][k],
