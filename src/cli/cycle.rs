@@ -89,14 +89,26 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     let (d, ev) = evaluate_liners(&s, &searched, &cache, &STOP)
         .map_err(|e| CmdError::Other(e.to_string()))?;
     let r = assemble(&s, &d, &ev, t0.elapsed().as_secs_f64());
-    checked(&r)?;
+    report_out(a, &s, &r, table, |dir| write(dir, &r))
+}
+
+/// A cycle report out, the same for the three modes: checked (crate::finite), printed (its
+/// JSON with --json, else its table), then its files written under the output directory.
+fn report_out<R: serde::Serialize>(
+    a: &CycleArgs,
+    s: &CycleSettings,
+    r: &R,
+    table: fn(&R) -> String,
+    write: impl FnOnce(&Path) -> Result<Vec<PathBuf>, OptimiseError>,
+) -> Result<i32, CmdError> {
+    checked(r)?;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
+        println!("{}", serde_json::to_string_pretty(r).unwrap_or_default());
     } else {
-        print!("{}", table(&r));
+        print!("{}", table(r));
     }
     if let Some(dir) = &s.search.out_dir {
-        for f in write(dir, &r).map_err(|e| CmdError::Other(e.to_string()))? {
+        for f in write(dir).map_err(|e| CmdError::Other(e.to_string()))? {
             eprintln!("wrote {}", f.display());
         }
     }
@@ -151,18 +163,9 @@ fn run_transient(a: &CycleArgs, s: &CycleSettings) -> Result<i32, CmdError> {
     let (d, liners) =
         evaluate_transient(s, &designs).map_err(|e| CmdError::Other(e.to_string()))?;
     let r = transient_report::assemble(s, &d, &liners, t0.elapsed().as_secs_f64());
-    checked(&r)?;
-    if a.json {
-        println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
-    } else {
-        print!("{}", transient_report::table(&r));
-    }
-    if let Some(dir) = &s.search.out_dir {
-        for f in transient_report::write(dir, &r).map_err(|e| CmdError::Other(e.to_string()))? {
-            eprintln!("wrote {}", f.display());
-        }
-    }
-    Ok(0)
+    report_out(a, s, &r, transient_report::table, |dir| {
+        transient_report::write(dir, &r)
+    })
 }
 
 /// The liner in bands: searched over the map, then plain, uniform and banded at the report's
@@ -191,18 +194,9 @@ fn run_bands(a: &CycleArgs, s: &CycleSettings, space: &BandSpace) -> Result<i32,
     let designs = design_over_map(s, space, &cache, runner).map_err(other)?;
     let liners = evaluate_over_map(s, &designs, &cache, runner).map_err(other)?;
     let r = map_report::assemble(s, &designs, &liners, t0.elapsed().as_secs_f64());
-    checked(&r)?;
-    if a.json {
-        println!("{}", serde_json::to_string_pretty(&r).unwrap_or_default());
-    } else {
-        print!("{}", map_report::table(&r));
-    }
-    if let Some(dir) = &s.search.out_dir {
-        for f in map_report::write(dir, &r, &liners).map_err(other)? {
-            eprintln!("wrote {}", f.display());
-        }
-    }
-    Ok(0)
+    report_out(a, s, &r, map_report::table, |dir| {
+        map_report::write(dir, &r, &liners)
+    })
 }
 
 /// A Slurm task of `--slurm`: its share of a batch's runs into its cache.

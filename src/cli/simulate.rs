@@ -465,6 +465,15 @@ fn progress(redraw: bool, every_s: f64, ms_per_t: f64) -> impl FnMut(&Progress) 
     }
 }
 
+/// What `simulate` answers, as the guard over reports sees it.
+#[derive(serde::Serialize)]
+struct Answer<'a> {
+    physical: &'a Physical,
+    lambda_min: f64,
+    #[serde(flatten)]
+    outcome: &'a Outcome,
+}
+
 /// The run's answer on stdout: one JSON object with --json, else the summary and its
 /// physical values.
 fn print_result(
@@ -478,7 +487,11 @@ fn print_result(
     let physical = op.scales().physical(case, outcome.f_mean, outcome.c_min);
     let outside = validity.outside(case, outcome.c_min);
     let lambda = outcome.c_min / validity.roughness_um;
-    super::checked(&(&physical, lambda, outcome))?;
+    super::checked(&Answer {
+        physical: &physical,
+        lambda_min: lambda,
+        outcome,
+    })?;
     if a.json {
         let report = serde_json::json!({
             "inputs": { "case": case, "numerics": num, "mesh": mesh_name(outcome.mesh((num.n1, num.n2))),

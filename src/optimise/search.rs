@@ -33,6 +33,24 @@ pub struct Evaluation {
     pub outcome: sweep::CaseEvaluation,
 }
 
+/// Study jobs through the cache, in parallel: the sweep's summary and each job's evaluation
+/// (not run where the sweep stopped first: the summary says it stopped). The one path from
+/// jobs to evaluations of every search, one operating point ([`Evaluator`]) or many (the
+/// angles of a cycle).
+pub fn run_jobs(
+    jobs: &[Job],
+    cache: &Mutex<Cache>,
+    options: &sweep::Options,
+    stop: &AtomicBool,
+) -> Result<(sweep::Summary, Vec<sweep::CaseEvaluation>), OptimiseError> {
+    let (sum, results) = sweep::run(jobs, cache, options, stop).map_err(OptimiseError::Cache)?;
+    let out = results
+        .into_iter()
+        .map(|r| r.unwrap_or(Err(CaseFailure::NotRun)))
+        .collect();
+    Ok((sum, out))
+}
+
 /// The evaluation service shared by every search: designs → jobs → cache/simulation.
 pub struct Evaluator<'a> {
     pub base: CaseSpec,
@@ -81,8 +99,7 @@ impl Evaluator<'_> {
                     error,
                 })?;
         }
-        let (sum, results) = sweep::run(&jobs, self.cache, &self.options, self.stop)
-            .map_err(OptimiseError::Cache)?;
+        let (sum, out) = run_jobs(&jobs, self.cache, &self.options, self.stop)?;
         let total_sims = {
             let mut n = self.simulations.lock().expect("lock");
             *n += sum.simulations;
@@ -102,10 +119,6 @@ impl Evaluator<'_> {
         if sum.stopped {
             return Err(OptimiseError::Stopped);
         }
-        let out: Vec<sweep::CaseEvaluation> = results
-            .into_iter()
-            .map(|r| r.unwrap_or(Err(CaseFailure::NotRun)))
-            .collect();
         let mut log = self.log.lock().expect("lock");
         for (t, o) in designs.iter().zip(&out) {
             if let Some(t) = t {

@@ -34,7 +34,9 @@ pub struct Outcome {
     pub steps: usize,
     /// Whether the periodic regime (or the steady force balance) was reached.
     pub converged: bool,
-    /// Estimated relative distance of f̄ and Z̄ from their periodic limits at the end.
+    /// Estimated relative distance of f̄ and Z̄ from their periodic limits at the end: +∞
+    /// where too few periods ran to tell (an answer, written as null).
+    #[serde(serialize_with = "crate::finite::unbounded")]
     pub periodic_error: f64,
     /// "steady-1d" or "transient-2d".
     pub method: String,

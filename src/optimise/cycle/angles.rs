@@ -15,10 +15,10 @@ use crate::model::operating::{Outside, Scales, VALIDATED_STRIBECK};
 use crate::optimise::cycle::liner::Trio;
 use crate::optimise::error::OptimiseError;
 use crate::optimise::goal::FAILED_COST;
-use crate::optimise::search::{swarm_and_refine, Objective, SearchSettings};
+use crate::optimise::search::{run_jobs, swarm_and_refine, Objective, SearchSettings};
 use crate::optimise::space::Space;
 use crate::study::cache::Cache;
-use crate::study::sweep::{self, CaseFailure};
+use crate::study::sweep::CaseFailure;
 use crate::study::Job;
 use crate::time::{Fidelity, Outcome};
 
@@ -234,8 +234,7 @@ pub fn evaluate(
             }
         })
         .collect();
-    let (sum, results) =
-        sweep::run(&jobs, cache, &s.search.sweep_options(), stop).map_err(OptimiseError::Cache)?;
+    let (sum, results) = run_jobs(&jobs, cache, &s.search.sweep_options(), stop)?;
     if sum.stopped {
         return Err(OptimiseError::Stopped);
     }
@@ -243,7 +242,7 @@ pub fn evaluate(
         .into_iter()
         .zip(&jobs)
         .map(|(r, j)| {
-            let o = r.unwrap_or(Err(CaseFailure::NotRun))?;
+            let o = r?;
             let force = j
                 .scales
                 .physical(&j.case, o.f_mean, o.c_min)
