@@ -416,3 +416,45 @@ fn a_band_search_through_slurm_finds_what_it_finds_here_bit_for_bit() {
     assert_ne!(code, 0);
     assert!(err.contains("another key than the batch's"), "{err}");
 }
+
+/// The report of `texopt cycle FILE` (the zones) with the least search, into `cache` and
+/// `out`, and `more`; wall times (the report's liners run where the command runs) removed.
+fn zone_search(dir: &Path, cache: &Path, out: &Path, more: &[&str]) -> serde_json::Value {
+    let mut args = vec!["cycle", "e.toml", "--mesh", "96x4"];
+    args.extend(common::QUICK_SEARCH);
+    args.extend([
+        "--cache",
+        cache.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    args.extend(more);
+    let (code, _, err) = texopt_in(dir, &args);
+    assert_eq!(code, 0, "{err}");
+    let mut r = common::report_without_wall_time(out, "cycle_t");
+    for l in r["liners"].as_array_mut().unwrap() {
+        l.as_object_mut().unwrap().remove("wall_s");
+    }
+    r
+}
+
+#[test]
+fn a_zone_search_through_slurm_finds_what_it_finds_here_bit_for_bit() {
+    if !slurm_up() {
+        return;
+    }
+    let dir = scratch("slurm-zones");
+    std::fs::write(dir.join("e.toml"), common::engine("count = 2")).unwrap();
+    let (local, here) = (dir.join("local.sqlite"), dir.join("here"));
+    let report_here = zone_search(&dir, &local, &here, &[]);
+    let (merged, there) = (dir.join("merged.sqlite"), dir.join("there"));
+    let run = dir.join("run");
+    let slurm = ["--slurm", run.to_str().unwrap(), "--tasks", "2"];
+    let report_there = zone_search(&dir, &merged, &there, &slurm);
+    assert_eq!(report_here, report_there);
+    // Every run of the search, in both caches, alike to the last bit.
+    let runs = entries(&local);
+    assert!(runs.len() >= 5, "{} runs", runs.len());
+    assert_eq!(runs, entries(&merged));
+    assert!(run.join("logs/batch-1-task-2.log").is_file());
+}

@@ -74,23 +74,18 @@ pub struct CycleArgs {
     /// Least band length with --bands (mm) \[default: the file's \[design\] band_min_mm, else 4\].
     #[arg(long = "band-min", value_name = "MM")]
     pub band_min: Option<f64>,
-    /// With --bands: each search step's cycle runs, and the report's, as a Slurm array of
-    /// --tasks shares, each task into a cache of its own in DIR/caches, merged into --cache
-    /// once the array is done; this command waits for each array (sbatch --wait, so run it
-    /// where sbatch works) and writes the report itself. Scripts and logs in DIR.
-    #[arg(long, value_name = "DIR", requires = "bands")]
+    /// Each search step's cycle runs (the zones' or, with --bands, the bands' and its
+    /// report's) as a Slurm array of --tasks shares, each task into a cache of its own in
+    /// DIR/caches, merged into --cache once the array is done; this command waits for each
+    /// array (sbatch --wait, so run it where sbatch works) and writes the report itself.
+    /// Scripts and logs in DIR. Not with --quasi-steady.
+    #[arg(long, value_name = "DIR")]
     pub slurm: Option<PathBuf>,
     #[command(flatten)]
     pub cluster: ClusterArgs,
     /// A Slurm task's work (--slurm writes it): share --share of the runs in batch FILE, into
     /// --cache; nothing else is searched or written.
-    #[arg(
-        long,
-        value_name = "FILE",
-        hide = true,
-        requires = "bands",
-        conflicts_with = "slurm"
-    )]
+    #[arg(long, value_name = "FILE", hide = true, conflicts_with = "slurm")]
     pub answer: Option<PathBuf>,
     #[arg(long, value_name = "I/N", hide = true, requires = "answer", value_parser = parse_shard)]
     pub share: Option<(usize, usize)>,

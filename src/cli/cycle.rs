@@ -45,6 +45,13 @@ pub(super) fn run(a: &CycleArgs) -> Result<i32, CmdError> {
     }
     if !a.quasi_steady {
         refuse_angle_by_angle_flags(a)?;
+    } else if a.slurm.is_some() || a.answer.is_some() {
+        return Err(CmdError::Input(
+            "--slurm: the transient searches' runs (the zones' and --bands'); the angle-by-angle evaluation runs here. Drop --quasi-steady, or drop --slurm".into(),
+        ));
+    }
+    if let Some(batch) = &a.answer {
+        return answer_share(a, &s, batch);
     }
     if a.bands {
         let space = band_space(a, &s, band_min_file)?;
@@ -152,7 +159,13 @@ fn check_cycle_limits(s: &CycleSettings) -> Result<(), CmdError> {
 fn run_transient(a: &CycleArgs, s: &CycleSettings) -> Result<i32, CmdError> {
     let t0 = std::time::Instant::now();
     let cache = Mutex::new(open_cache(a.cache.as_deref())?);
-    let designs = design_over_cycle(s, Some(&cache)).map_err(|e| CmdError::Other(e.to_string()))?;
+    let slurm = slurm_runner(a, s)?;
+    let runner: &dyn Runner = match &slurm {
+        Some(r) => r,
+        None => &Here,
+    };
+    let judge = MapJudge::new(s).through(&cache, runner);
+    let designs = design_over_cycle(s, &judge).map_err(|e| CmdError::Other(e.to_string()))?;
     if s.search.progress {
         eprintln!(
             "[{:6.1} s] the liners through the cycle at {} …",
@@ -173,20 +186,8 @@ fn run_transient(a: &CycleArgs, s: &CycleSettings) -> Result<i32, CmdError> {
 fn run_bands(a: &CycleArgs, s: &CycleSettings, space: &BandSpace) -> Result<i32, CmdError> {
     let t0 = std::time::Instant::now();
     let other = |e: OptimiseError| CmdError::Other(e.to_string());
-    if let Some(batch) = &a.answer {
-        return answer_share(a, s, batch);
-    }
     let cache = Mutex::new(open_cache(a.cache.as_deref())?);
-    let slurm = match &a.slurm {
-        Some(dir) => {
-            let runner = SlurmRunner::new(dir, &a.cluster, &s.engine.file.engine.name)?;
-            if s.search.progress {
-                eprintln!("the map's runs as {}", runner.describe());
-            }
-            Some(runner)
-        }
-        None => None,
-    };
+    let slurm = slurm_runner(a, s)?;
     let runner: &dyn Runner = match &slurm {
         Some(r) => r,
         None => &Here,
@@ -197,6 +198,18 @@ fn run_bands(a: &CycleArgs, s: &CycleSettings, space: &BandSpace) -> Result<i32,
     report_out(a, s, &r, map_report::table, |dir| {
         map_report::write(dir, &r, &liners)
     })
+}
+
+/// The Slurm runner `--slurm DIR` asks for, if it does.
+fn slurm_runner(a: &CycleArgs, s: &CycleSettings) -> Result<Option<SlurmRunner>, CmdError> {
+    let Some(dir) = &a.slurm else {
+        return Ok(None);
+    };
+    let runner = SlurmRunner::new(dir, &a.cluster, &s.engine.file.engine.name)?;
+    if s.search.progress {
+        eprintln!("the searches' runs as {}", runner.describe());
+    }
+    Ok(Some(runner))
 }
 
 /// A Slurm task of `--slurm`: its share of a batch's runs into its cache.

@@ -1,6 +1,6 @@
-//! `texopt cycle ENGINE --bands --slurm DIR`: the band search's cycle runs, and its report's,
-//! as Slurm jobs. Each search step's runs that the cache does not hold (then the report's)
-//! form a batch (DIR/batches/batch-K.json);
+//! `texopt cycle ENGINE [--bands] --slurm DIR`: the zone or band search's cycle runs (and the
+//! band report's) as Slurm jobs. Each search step's runs that the cache does not hold form a
+//! batch (DIR/batches/batch-K.json);
 //! an sbatch array of --tasks shares runs it, each task this same command with `--answer`
 //! and `--share I/N` into a cache of its own (DIR/caches/share-I.sqlite: SQLite's locking is
 //! not safe over network file systems); this process waits for the array (`sbatch --wait`),

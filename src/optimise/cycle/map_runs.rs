@@ -15,25 +15,34 @@ use serde::{Deserialize, Serialize};
 use super::bands::Banded;
 use super::transient_search::CycleJudge;
 use crate::model::case::Texture;
-use crate::model::liner_layout::LinerLayout;
+use crate::model::liner_layout::{LayoutError, LinerLayout};
 use crate::optimise::error::{OptimiseError, RunsError};
 use crate::study::cache::{Cache, Key};
 use crate::study::cycle_cache::{CycleAnswer, CycleFailure};
 
-/// A liner the map search judges: banded, or one texture over the whole stroke.
+/// A liner a batch runs: banded, one texture over the whole stroke, or a texture per zone
+/// (the zone search's; `bounds_cm` from top dead centre, one more than `textures`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MapLiner {
     Banded(Banded),
     Uniform(Texture),
+    Zoned {
+        bounds_cm: Vec<f64>,
+        textures: Vec<Option<Texture>>,
+    },
 }
 
 impl MapLiner {
-    pub fn layout(&self, stroke_mm: f64) -> LinerLayout {
-        match self {
+    pub fn layout(&self, stroke_mm: f64) -> Result<LinerLayout, LayoutError> {
+        Ok(match self {
             MapLiner::Banded(b) => b.layout(stroke_mm),
             MapLiner::Uniform(t) => LinerLayout::uniform(0.1 * stroke_mm, Some(t.clone())),
-        }
+            MapLiner::Zoned {
+                bounds_cm,
+                textures,
+            } => LinerLayout::zoned(bounds_cm.clone(), textures.clone())?,
+        })
     }
 }
 
@@ -113,7 +122,7 @@ pub fn run_here(
             }
             .into());
         };
-        let layout = liner.layout(stroke_mm);
+        let layout = liner.layout(stroke_mm)?;
         let key = point.key(&layout);
         if key.hash != r.key {
             return Err(RunsError::OtherKey {

@@ -15,7 +15,9 @@ use serde::Serialize;
 use super::angles::CycleSettings;
 use super::bands::{BandSpace, Banded};
 use super::map_runs::{lock, stored, BatchJudge, Here, MapBatch, MapLiner, MapRun, Runner};
-use super::transient_search::{keeps_film, metrics_over, CycleJudge, Judged, PlainAt};
+use super::transient_search::{
+    keeps_film, metrics_over, zoned_cost, CycleJudge, Judged, PlainAt, ZonedCosts,
+};
 use crate::model::case::Texture;
 use crate::model::engine::MapPoint;
 use crate::model::liner_layout::LinerLayout;
@@ -248,7 +250,10 @@ impl<'a> MapJudge<'a> {
         OptimiseError,
     > {
         let cache = self.cache()?;
-        let layouts: Vec<LinerLayout> = liners.iter().map(|l| l.layout(self.stroke_mm())).collect();
+        let layouts: Vec<LinerLayout> = liners
+            .iter()
+            .map(|l| l.layout(self.stroke_mm()))
+            .collect::<Result<_, _>>()?;
         let Some(first) = layouts.first() else {
             return Ok((Vec::new(), Vec::new()));
         };
@@ -335,6 +340,11 @@ impl<'a> MapJudge<'a> {
                 plain: plain.clone(),
             })
             .collect())
+    }
+
+    /// Runs answered by the cache and runs handed to the runner, so far.
+    pub fn counts(&self) -> (usize, usize) {
+        *self.counts.lock().unwrap_or_else(|e| e.into_inner())
     }
 
     /// Banded liners' costs over the map, each logged.
@@ -582,6 +592,32 @@ pub fn evaluate_over_map(
         uniform,
         banded,
     })
+}
+
+/// The zone search's liners through the cache and the runner, on the engine's own point
+/// (an engine without a map: the judge's one point).
+impl ZonedCosts for MapJudge<'_> {
+    fn costs(&self, liners: &[Vec<Option<Texture>>]) -> Result<Vec<f64>, OptimiseError> {
+        let bounds_cm: Vec<f64> = self.s.engine.bounds_mm.iter().map(|b| 0.1 * b).collect();
+        let liners: Vec<MapLiner> = liners
+            .iter()
+            .map(|textures| MapLiner::Zoned {
+                bounds_cm: bounds_cm.clone(),
+                textures: textures.clone(),
+            })
+            .collect();
+        let least = self.s.min_clearance_um;
+        Ok(self
+            .figures(&liners)?
+            .iter()
+            .map(|over| zoned_cost(over.points[0].as_ref().ok(), &over.plain[0].metrics, least))
+            .collect())
+    }
+
+    fn held(&self) -> String {
+        let (held, ran) = self.counts();
+        format!(" ({held} runs from the cache, {ran} run)")
+    }
 }
 
 #[cfg(test)]

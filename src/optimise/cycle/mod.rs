@@ -3,7 +3,7 @@
 //!
 //! - the zones' textures searched over the whole cycle as one transient
 //!   (`transient_search`: each candidate from the plain liner's cyclic state, through the
-//!   cache), then the plain, uniform and zoned liners run to their cyclic state
+//!   cache and the map search's runner), then the plain, uniform and zoned liners run to their cyclic state
 //!   (`transient_liners`) and reported (`transient_report`);
 //! - bands next to the dead centres searched over the engine's operating map (`bands`: the
 //!   liner and its space; `map_search`: the search and its judge; `map_runs`: its runs

@@ -8,8 +8,6 @@
 
 use std::sync::Mutex;
 
-use rayon::prelude::*;
-
 use super::angles::{CycleSettings, Designs};
 use super::transient_liners::ring_case;
 use crate::model::case::Texture;
@@ -19,8 +17,8 @@ use crate::optimise::error::OptimiseError;
 use crate::optimise::goal::FAILED_COST;
 use crate::optimise::search::{swarm, Objective};
 use crate::optimise::space::Space;
-use crate::study::cache::{lock, Cache, Key};
-use crate::study::cycle_cache::{CycleAnswer, CycleRunInputs};
+use crate::study::cache::Key;
+use crate::study::cycle_cache::CycleRunInputs;
 use crate::time::cycle::{
     cycle_numerics, metrics, metrics_in_zones, CycleMetrics, CycleNumerics, CycleRow, CycleRun,
     CycleState, Drive, SETTLE_CYCLES,
@@ -79,10 +77,6 @@ pub struct CycleJudge<'a> {
     /// itself, as the plain liner does).
     settle: Option<usize>,
     plain: Mutex<Option<std::sync::Arc<PlainAt>>>,
-    /// The cache the search's liners go through (none: each is run), and the runs it
-    /// answered and those run so far.
-    cache: Option<&'a Mutex<Cache>>,
-    counts: Mutex<(usize, usize)>,
 }
 
 impl<'a> CycleJudge<'a> {
@@ -101,23 +95,7 @@ impl<'a> CycleJudge<'a> {
             fidelity: s.search.search_fidelity,
             settle: Some(SETTLE_CYCLES),
             plain: Mutex::new(None),
-            cache: None,
-            counts: Mutex::new((0, 0)),
         }
-    }
-
-    /// The same judge, its liners' runs looked up in `cache` first and stored there once
-    /// run (keyed as the map search keys them: [`CycleJudge::key`]).
-    pub fn through_cache(self, cache: &'a Mutex<Cache>) -> Self {
-        CycleJudge {
-            cache: Some(cache),
-            ..self
-        }
-    }
-
-    /// Runs answered by the cache and runs made, so far.
-    pub fn counts(&self) -> (usize, usize) {
-        *self.counts.lock().unwrap_or_else(|e| e.into_inner())
     }
 
     /// The same judge at the report's fidelity, each liner run until it repeats itself.
@@ -232,108 +210,73 @@ impl<'a> CycleJudge<'a> {
             .map_err(OptimiseError::Run);
         Ok((judged, plain))
     }
+}
 
-    /// A liner's cost: its work over the plain liner's, or [`FAILED_COST`] where its run
-    /// fails or its least film does not [`keeps_film`].
-    fn cost(&self, textures: Vec<Option<Texture>>) -> Result<f64, OptimiseError> {
-        let (judged, p) = self.figures(self.layout(textures)?)?;
-        let p = &p.metrics;
-        Ok(match judged {
-            Some(t) if keeps_film(t.h_min_um, p.h_min_um, self.s.min_clearance_um) => {
-                t.work_j_per_m / p.work_j_per_m
-            }
-            _ => FAILED_COST,
-        })
-    }
-
-    /// `layout`'s figures (None where its run failed) and the plain liner's: from the cache
-    /// where it holds them, else run (and stored there when there is a cache).
-    fn figures(
-        &self,
-        layout: LinerLayout,
-    ) -> Result<(Option<CycleMetrics>, std::sync::Arc<PlainAt>), OptimiseError> {
-        let Some(cache) = self.cache else {
-            let (judged, plain) = self.judge_layout(layout, None)?;
-            return Ok((judged.ok().map(|j| j.metrics), plain));
-        };
-        let plain = self.plain_of(&layout)?;
-        let key = self.key(&layout);
-        if let Some(held) = lock(cache).get_cycle(&key)? {
-            self.counts.lock().unwrap_or_else(|e| e.into_inner()).0 += 1;
-            return Ok((held.ok().map(|a| a.metrics), plain));
+/// A zoned liner's cost: its work over the plain liner's, or [`FAILED_COST`] where its run
+/// failed (`judged` None) or its least film does not [`keeps_film`].
+pub fn zoned_cost(judged: Option<&CycleMetrics>, plain: &CycleMetrics, least_um: f64) -> f64 {
+    match judged {
+        Some(t) if keeps_film(t.h_min_um, plain.h_min_um, least_um) => {
+            t.work_j_per_m / plain.work_j_per_m
         }
-        let t0 = std::time::Instant::now();
-        let (judged, plain) = self.judge_layout(layout, None)?;
-        let wall_time_s = t0.elapsed().as_secs_f64();
-        let answer = judged
-            .map(|j| CycleAnswer {
-                metrics: j.metrics,
-                rows: None,
-                wall_time_s,
-            })
-            .map_err(|e| (e.to_string(), wall_time_s));
-        lock(cache).put_cycle(&key, &answer)?;
-        self.counts.lock().unwrap_or_else(|e| e.into_inner()).1 += 1;
-        Ok((answer.ok().map(|a| a.metrics), plain))
+        _ => FAILED_COST,
     }
+}
+
+/// Who weighs the zone search's liners (a texture per zone, None: plain): each one's
+/// [`zoned_cost`], its runs looked up in the evaluation cache and the missing ones run
+/// (the map search's judge, through its runner: here or a cluster's tasks).
+pub trait ZonedCosts: Sync {
+    fn costs(&self, liners: &[Vec<Option<Texture>>]) -> Result<Vec<f64>, OptimiseError>;
+    /// What a progress line adds: runs answered by the cache and runs made, so far.
+    fn held(&self) -> String;
 }
 
 /// One zone's search: the liner with that zone textured, the others plain.
-struct ZoneOverCycle<'a, 'b> {
-    judge: &'b CycleJudge<'a>,
+struct ZoneOverCycle<'a> {
+    s: &'a CycleSettings,
+    judge: &'a dyn ZonedCosts,
     zone: usize,
 }
 
-impl Objective for ZoneOverCycle<'_, '_> {
+impl Objective for ZoneOverCycle<'_> {
     fn space(&self) -> &Space {
-        &self.judge.s.search.space
+        &self.s.search.space
     }
 
     fn costs(&self, designs: &[Texture]) -> Result<Vec<f64>, OptimiseError> {
-        let zones = self.judge.s.engine.bounds_mm.len() - 1;
-        designs
-            .par_iter()
+        let zones = self.s.engine.bounds_mm.len() - 1;
+        let liners: Vec<Vec<Option<Texture>>> = designs
+            .iter()
             .map(|t| {
                 let mut textures = vec![None; zones];
                 textures[self.zone] = Some(t.clone());
-                self.judge.cost(textures)
+                textures
             })
-            .collect()
+            .collect();
+        self.judge.costs(&liners)
     }
 }
 
 /// Every zone's texture searched over the cycle as one transient; the uniform candidate is
-/// the zones' best textures laid over the whole stroke, the one of least work. Each liner's
-/// run goes through `cache` where one is given: a search repeated over it runs nothing.
+/// the zones' best textures laid over the whole stroke, the one of least work. Each liner is
+/// weighed by `judge`: through the cache, a search repeated over it runs nothing.
 pub fn design_over_cycle(
     s: &CycleSettings,
-    cache: Option<&Mutex<Cache>>,
+    judge: &dyn ZonedCosts,
 ) -> Result<Designs, OptimiseError> {
     let t0 = std::time::Instant::now();
     let say = s.search.say_since(t0);
-    let judge = match cache {
-        Some(c) => CycleJudge::new(s).through_cache(c),
-        None => CycleJudge::new(s),
-    };
-    let held = |j: &CycleJudge| match j.cache {
-        Some(_) => {
-            let (held, ran) = j.counts();
-            format!(" ({held} runs from the cache, {ran} run)")
-        }
-        None => String::new(),
-    };
+    let held = |j: &dyn ZonedCosts| j.held();
     let zones = s.engine.bounds_mm.len() - 1;
     let (mut found, mut candidates) = (Vec::new(), Vec::new());
     for zone in 0..zones {
         say(format!(
             "zone {} of {zones}: searching over the cycle at {} …",
             zone + 1,
-            judge.fidelity.name()
+            s.search.search_fidelity.name()
         ));
-        let problem = ZoneOverCycle {
-            judge: &judge,
-            zone,
-        };
+        let problem = ZoneOverCycle { s, judge, zone };
         // The swarm alone: each candidate costs two cycles of the transient, and the compass
         // polish that follows `optimise`'s swarms would take twice the swarm's evaluations
         // again.
@@ -358,7 +301,7 @@ pub fn design_over_cycle(
             } else {
                 " (no better than plain)"
             },
-            held(&judge)
+            held(judge)
         ));
         found.push((ratio < 1.0).then(|| t.clone()));
         candidates.push(Some(t));
@@ -374,10 +317,11 @@ pub fn design_over_cycle(
         "uniform liner: the {} zone design(s) over the whole stroke …",
         distinct.len()
     ));
-    let costs: Vec<f64> = distinct
-        .par_iter()
-        .map(|t| judge.cost(vec![Some(t.clone()); zones]))
-        .collect::<Result<_, _>>()?;
+    let liners: Vec<Vec<Option<Texture>>> = distinct
+        .iter()
+        .map(|t| vec![Some(t.clone()); zones])
+        .collect();
+    let costs = judge.costs(&liners)?;
     let best = (0..distinct.len())
         .filter(|&k| costs[k] < FAILED_COST)
         .min_by(|&a, &b| costs[a].total_cmp(&costs[b]));
@@ -387,7 +331,7 @@ pub fn design_over_cycle(
             "uniform: {}, work ratio {:.5}{}",
             distinct[k].rounded_label(),
             costs[k],
-            held(&judge)
+            held(judge)
         ));
     }
     Ok(Designs {

@@ -15,13 +15,13 @@ use crate::study::operating_figures::{figures, Point};
 use crate::study::sweep::{CaseFailure, CaseResult};
 use crate::time::Outcome;
 
+mod charts;
 mod csv_rows;
-mod figures;
-mod tables;
+mod headline;
 
+use charts::{fig11, fig6};
 use csv_rows::write_csv;
-use figures::{fig11, fig6};
-use tables::{headline, table1};
+use headline::{headline, table1};
 
 /// A case with its outcome and the plain liner's outcome for the same ring and operating
 /// point (when the study has it).
