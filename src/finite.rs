@@ -259,51 +259,32 @@ impl<'p> Serializer for Check<'p> {
     }
 }
 
-impl ser::SerializeSeq for Part<'_> {
-    type Ok = ();
-    type Error = Found;
-    fn serialize_element<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
-        self.element(v)
-    }
-    fn end(self) -> Result<(), Found> {
-        Ok(())
-    }
+/// A list's, a tuple's and a tuple struct's elements, each named by its place; a tuple
+/// variant's too, which pops its `.variant` segment at the end.
+macro_rules! elements {
+    ($($trait:ident :: $method:ident, pop = $pop:expr);*) => {$(
+        impl ser::$trait for Part<'_> {
+            type Ok = ();
+            type Error = Found;
+            fn $method<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
+                self.element(v)
+            }
+            fn end(self) -> Result<(), Found> {
+                if $pop {
+                    self.check.path.pop();
+                }
+                Ok(())
+            }
+        }
+    )*};
 }
 
-impl ser::SerializeTuple for Part<'_> {
-    type Ok = ();
-    type Error = Found;
-    fn serialize_element<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
-        self.element(v)
-    }
-    fn end(self) -> Result<(), Found> {
-        Ok(())
-    }
-}
-
-impl ser::SerializeTupleStruct for Part<'_> {
-    type Ok = ();
-    type Error = Found;
-    fn serialize_field<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
-        self.element(v)
-    }
-    fn end(self) -> Result<(), Found> {
-        Ok(())
-    }
-}
-
-/// A variant's part pushed its `.variant` segment: it pops it at the end.
-impl ser::SerializeTupleVariant for Part<'_> {
-    type Ok = ();
-    type Error = Found;
-    fn serialize_field<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
-        self.element(v)
-    }
-    fn end(self) -> Result<(), Found> {
-        self.check.path.pop();
-        Ok(())
-    }
-}
+elements!(
+    SerializeSeq::serialize_element, pop = false;
+    SerializeTuple::serialize_element, pop = false;
+    SerializeTupleStruct::serialize_field, pop = false;
+    SerializeTupleVariant::serialize_field, pop = true
+);
 
 impl ser::SerializeMap for Part<'_> {
     type Ok = ();

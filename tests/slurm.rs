@@ -342,17 +342,17 @@ fn a_study_under_paths_with_quotes_dollars_and_patterns_runs_on_slurm() {
     let _ = std::fs::remove_dir_all(root);
 }
 
-/// `texopt cycle FILE --bands` with the least search, into `cache` and `out`, and `more`.
-fn band_search(dir: &Path, cache: &Path, out: &Path, more: &[&str]) -> serde_json::Value {
-    let mut args = vec![
-        "cycle",
-        "e.toml",
-        "--bands",
-        "--band-min",
-        "6",
-        "--mesh",
-        "96x4",
-    ];
+/// `texopt cycle e.toml` with `mode` (`--bands …`, or none: the zones) and the least search,
+/// into `cache` and `out`, and `more`: its report `base`, wall times removed (the zones'
+/// report runs its liners where the command runs).
+fn cycle_search(
+    dir: &Path,
+    (mode, base): (&[&str], &str),
+    (cache, out): (&Path, &Path),
+    more: &[&str],
+) -> serde_json::Value {
+    let mut args = vec!["cycle", "e.toml", "--mesh", "96x4"];
+    args.extend(mode);
     args.extend(common::QUICK_SEARCH);
     args.extend([
         "--cache",
@@ -363,7 +363,17 @@ fn band_search(dir: &Path, cache: &Path, out: &Path, more: &[&str]) -> serde_jso
     args.extend(more);
     let (code, _, err) = texopt_in(dir, &args);
     assert_eq!(code, 0, "{err}");
-    common::report_without_wall_time(out, "cycle_t_bands")
+    let mut r = common::report_without_wall_time(out, base);
+    for l in r["liners"].as_array_mut().into_iter().flatten() {
+        l.as_object_mut().unwrap().remove("wall_s");
+    }
+    r
+}
+
+/// The band search's report.
+fn band_search(dir: &Path, cache: &Path, out: &Path, more: &[&str]) -> serde_json::Value {
+    let bands: &[&str] = &["--bands", "--band-min", "6"];
+    cycle_search(dir, (bands, "cycle_t_bands"), (cache, out), more)
 }
 
 #[test]
@@ -417,25 +427,9 @@ fn a_band_search_through_slurm_finds_what_it_finds_here_bit_for_bit() {
     assert!(err.contains("another key than the batch's"), "{err}");
 }
 
-/// The report of `texopt cycle FILE` (the zones) with the least search, into `cache` and
-/// `out`, and `more`; wall times (the report's liners run where the command runs) removed.
+/// The zone search's report.
 fn zone_search(dir: &Path, cache: &Path, out: &Path, more: &[&str]) -> serde_json::Value {
-    let mut args = vec!["cycle", "e.toml", "--mesh", "96x4"];
-    args.extend(common::QUICK_SEARCH);
-    args.extend([
-        "--cache",
-        cache.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    args.extend(more);
-    let (code, _, err) = texopt_in(dir, &args);
-    assert_eq!(code, 0, "{err}");
-    let mut r = common::report_without_wall_time(out, "cycle_t");
-    for l in r["liners"].as_array_mut().unwrap() {
-        l.as_object_mut().unwrap().remove("wall_s");
-    }
-    r
+    cycle_search(dir, (&[], "cycle_t"), (cache, out), more)
 }
 
 #[test]
