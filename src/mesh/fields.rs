@@ -4,7 +4,7 @@ use super::{Gap, Grid};
 use crate::model::film::Boundary;
 
 /// The film fields at one time level.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct FilmState {
     /// Pressure p (units of 6μUL/H²).
     pub p: Vec<f64>,
@@ -192,6 +192,25 @@ fn open_ends(n1: usize, n2: usize, pressurised: &[bool]) -> Vec<u8> {
         if !changed {
             return open;
         }
+    }
+}
+
+/// Field by field; `clone_from` keeps the arrays' allocations.
+impl Clone for FilmState {
+    fn clone(&self) -> Self {
+        FilmState {
+            p: self.p.clone(),
+            phi: self.phi.clone(),
+            pressurised: self.pressurised.clone(),
+            cavity: self.cavity.clone(),
+        }
+    }
+
+    fn clone_from(&mut self, s: &Self) {
+        self.p.clone_from(&s.p);
+        self.phi.clone_from(&s.phi);
+        self.pressurised.clone_from(&s.pressurised);
+        self.cavity.clone_from(&s.cavity);
     }
 }
 

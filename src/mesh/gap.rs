@@ -6,7 +6,7 @@ use crate::model::flow_factors::FlowFactors;
 
 /// The gap at the new time level as an affine function of the ring position:
 /// h = base + Z on the node columns under the ring, h = base elsewhere (eq. 15).
-#[derive(Clone, Debug, Default)]
+#[derive(Debug, Default)]
 pub struct Gap {
     /// Gap without Z (µm), per node.
     pub base: Vec<f64>,
@@ -99,5 +99,24 @@ impl Gap {
         } else {
             self.base[k]
         }
+    }
+}
+
+/// Field by field; `clone_from` keeps the arrays' allocations.
+impl Clone for Gap {
+    fn clone(&self) -> Self {
+        Gap {
+            base: self.base.clone(),
+            ring: self.ring.clone(),
+            flow: self.flow,
+            rows: self.rows.clone(),
+        }
+    }
+
+    fn clone_from(&mut self, s: &Self) {
+        self.base.clone_from(&s.base);
+        self.ring.clone_from(&s.ring);
+        self.flow = s.flow;
+        self.rows.clone_from(&s.rows);
     }
 }

@@ -42,7 +42,7 @@ const UNIFORM: u32 = u32::MAX;
 /// Per node, the deviations of the gap across its cell from the cell's mean h̄: sample s of
 /// node k at x2 = y_k − dy/2 + (s + ½)·dy/ns is h̄_k + `dev[at[k] + s]`. Empty: every row
 /// uniform (or a nodal mesh, `ns` = 1).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Debug, Default, PartialEq)]
 pub struct Rows {
     ns: usize,
     /// x2 faces: the samples between the two rows in series (else the nodal face).
@@ -182,6 +182,24 @@ pub fn sample_across(y: f64, dy: f64, ns: usize, depth: impl Fn(f64) -> f64, out
     out.clear();
     let h = dy / ns as f64;
     out.extend((0..ns).map(|s| depth(y - 0.5 * dy + (s as f64 + 0.5) * h)));
+}
+
+/// Field by field; `clone_from` keeps the arrays' allocations.
+impl Clone for Rows {
+    fn clone(&self) -> Self {
+        Rows {
+            ns: self.ns,
+            series: self.series,
+            at: self.at.clone(),
+            dev: self.dev.clone(),
+        }
+    }
+
+    fn clone_from(&mut self, s: &Self) {
+        (self.ns, self.series) = (s.ns, s.series);
+        self.at.clone_from(&s.at);
+        self.dev.clone_from(&s.dev);
+    }
 }
 
 #[cfg(test)]

@@ -6,7 +6,7 @@ use crate::model::flow_factors::FlowFactors;
 use crate::model::geometry::Contact;
 
 /// Mesh plus the fields the geometry imposes on it.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct Scene {
     pub contact: Contact,
     pub grid: Grid,
@@ -93,5 +93,29 @@ impl Scene {
                 self.gap.base[k] = hl + ring_part;
             }
         }
+    }
+}
+
+/// Field by field; `clone_from` keeps the arrays' allocations (a cycle run saves its scene
+/// before every crank step it may take again in halves).
+impl Clone for Scene {
+    fn clone(&self) -> Self {
+        Scene {
+            contact: self.contact.clone(),
+            grid: self.grid.clone(),
+            gap: self.gap.clone(),
+            hl: self.hl.clone(),
+            u: self.u,
+            rim: self.rim,
+        }
+    }
+
+    fn clone_from(&mut self, s: &Self) {
+        self.contact = s.contact.clone();
+        self.grid = s.grid.clone();
+        self.gap.clone_from(&s.gap);
+        self.hl.clone_from(&s.hl);
+        self.u = s.u;
+        self.rim = s.rim;
     }
 }

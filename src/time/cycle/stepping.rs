@@ -69,7 +69,7 @@ pub struct CycleState {
 
 /// Film and ring where a run stands: what a step changes but the oil map (which it changes
 /// only once its film is solved), so what a step taken again in halves starts from.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 struct Standing {
     scene: Scene,
     state: FilmState,
@@ -85,6 +85,27 @@ struct Standing {
     last_share: f64,
 }
 
+/// Field by field; `clone_from` keeps the arrays' allocations (a step saves where the run
+/// stands into the buffer the last step's save left).
+impl Clone for Standing {
+    fn clone(&self) -> Self {
+        Standing {
+            scene: self.scene.clone(),
+            state: self.state.clone(),
+            phi_old: self.phi_old.clone(),
+            ..*self
+        }
+    }
+
+    fn clone_from(&mut self, s: &Self) {
+        self.scene.clone_from(&s.scene);
+        self.state.clone_from(&s.state);
+        self.phi_old.clone_from(&s.phi_old);
+        (self.ring, self.mirrored, self.width) = (s.ring, s.mirrored, s.width);
+        (self.phi_inlet, self.last_share) = (s.phi_inlet, s.last_share);
+    }
+}
+
 /// The film, ring and oil of a cycle run, stepped one crank step at a time.
 pub struct CycleRun<'a> {
     drive: &'a Drive,
@@ -95,6 +116,9 @@ pub struct CycleRun<'a> {
     solver: FilmSolver,
     numerics: CycleNumerics,
     tally: OilBalance,
+    /// Where the run stood before its last step, kept to save the next one into (a step is
+    /// saved before it is tried, and restored where it is taken again in halves).
+    spare: Option<Standing>,
 }
 
 impl<'a> CycleRun<'a> {
@@ -154,6 +178,7 @@ impl<'a> CycleRun<'a> {
             solver: numerics.solver(),
             numerics,
             tally: OilBalance::default(),
+            spare: None,
         };
         run.place(&p0);
         Ok(run)
@@ -187,6 +212,7 @@ impl<'a> CycleRun<'a> {
             solver: numerics.solver(),
             numerics,
             tally: OilBalance::default(),
+            spare: None,
         };
         run.regrid(&p0);
         run.place(&p0);
@@ -413,7 +439,10 @@ impl CycleRun<'_> {
     ) -> Result<Vec<CycleRow>, SolveError> {
         let saved = self.save();
         match self.try_step(from, to, depth < MAX_HALVINGS) {
-            Ok(Stepped::Row(row)) => Ok(vec![row]),
+            Ok(Stepped::Row(row)) => {
+                self.spare = Some(saved.film);
+                Ok(vec![row])
+            }
             Ok(Stepped::Refine) | Err(SolveError::Film { .. }) if depth < MAX_HALVINGS => {
                 self.restore(saved);
                 let mid = 0.5 * (from + to);
@@ -426,16 +455,25 @@ impl CycleRun<'_> {
         }
     }
 
-    /// What a step changes but the oil map (which it changes only once its film is solved).
-    fn save(&self) -> Saved {
+    /// What a step changes but the oil map (which it changes only once its film is solved),
+    /// into the spare buffer where there is one.
+    fn save(&mut self) -> Saved {
+        let film = match self.spare.take() {
+            Some(mut f) => {
+                f.clone_from(&self.st.film);
+                f
+            }
+            None => self.st.film.clone(),
+        };
         Saved {
-            film: self.st.film.clone(),
+            film,
             tally: self.tally,
         }
     }
 
+    /// Back to `s`; where the step had got to becomes the spare buffer.
     fn restore(&mut self, s: Saved) {
-        self.st.film = s.film;
+        self.spare = Some(std::mem::replace(&mut self.st.film, s.film));
         self.tally = s.tally;
         // A failed solve may leave its factors in any state.
         self.solver = self.numerics.solver();
