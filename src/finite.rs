@@ -308,36 +308,31 @@ impl ser::SerializeMap for Part<'_> {
     }
 }
 
-impl ser::SerializeStruct for Part<'_> {
-    type Ok = ();
-    type Error = Found;
-    fn serialize_field<T: Serialize + ?Sized>(
-        &mut self,
-        name: &'static str,
-        v: &T,
-    ) -> Result<(), Found> {
-        self.check.at(format!(".{name}"), v)
-    }
-    fn end(self) -> Result<(), Found> {
-        Ok(())
-    }
+/// A struct's fields, each named by its name; a struct variant's too, which pops its
+/// `.variant` segment at the end.
+macro_rules! fields {
+    ($($trait:ident, pop = $pop:expr);*) => {$(
+        impl ser::$trait for Part<'_> {
+            type Ok = ();
+            type Error = Found;
+            fn serialize_field<T: Serialize + ?Sized>(
+                &mut self,
+                name: &'static str,
+                v: &T,
+            ) -> Result<(), Found> {
+                self.check.at(format!(".{name}"), v)
+            }
+            fn end(self) -> Result<(), Found> {
+                if $pop {
+                    self.check.path.pop();
+                }
+                Ok(())
+            }
+        }
+    )*};
 }
 
-impl ser::SerializeStructVariant for Part<'_> {
-    type Ok = ();
-    type Error = Found;
-    fn serialize_field<T: Serialize + ?Sized>(
-        &mut self,
-        name: &'static str,
-        v: &T,
-    ) -> Result<(), Found> {
-        self.check.at(format!(".{name}"), v)
-    }
-    fn end(self) -> Result<(), Found> {
-        self.check.path.pop();
-        Ok(())
-    }
-}
+fields!(SerializeStruct, pop = false; SerializeStructVariant, pop = true);
 
 #[cfg(test)]
 mod tests {

@@ -212,7 +212,7 @@ impl<'a> CycleJudge<'a> {
     }
 }
 
-/// A zoned liner's cost: its work over the plain liner's, or [`FAILED_COST`] where its run
+/// A zoned liner's cost: its work over the plain liner's, or `FAILED_COST` where its run
 /// failed (`judged` None) or its least film does not [`keeps_film`].
 pub fn zoned_cost(judged: Option<&CycleMetrics>, plain: &CycleMetrics, least_um: f64) -> f64 {
     match judged {
