@@ -10,7 +10,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Mutex;
 
 use texopt::model::case::CaseSpec;
-use texopt::model::engine::Engine;
+use texopt::model::engine::{Engine, LinerZones};
 use texopt::model::operating::{Scales, Validity};
 use texopt::optimise::cycle::angles::{design, evaluate, CycleSettings, Point};
 use texopt::optimise::goal::Goal;
@@ -259,7 +259,8 @@ fn the_transient_cycle_reports_three_liners_and_the_plain_ones_work_is_a_direct_
 #[test]
 fn a_zone_met_at_one_operating_point_gets_the_design_of_optimise_there() {
     // The paper's operating point at R = 5, met three times in the zone.
-    let (engine, _): (Engine, serde::de::IgnoredAny) = engine_file::parse(&engine_text()).unwrap();
+    let (engine, zones, _): (Engine, LinerZones, serde::de::IgnoredAny) =
+        engine_file::parse(&engine_text()).unwrap();
     let space = Space {
         bounds: Bounds {
             l1: (0.005, 0.03),
@@ -280,9 +281,10 @@ fn a_zone_met_at_one_operating_point_gets_the_design_of_optimise_there() {
         iterations: 2,
         seed: 3,
     };
-    let sample = engine.samples(90.0)[1];
+    let sample = engine.samples(90.0, &zones)[1];
     let s = CycleSettings {
         engine,
+        zones,
         search: SearchSettings {
             space: space.clone(),
             validity: Validity::default(),

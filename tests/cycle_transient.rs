@@ -14,6 +14,7 @@ use texopt::study::engine_file::parse;
 use texopt::time::cycle::{
     cycle_numerics, CycleNumerics, CycleOutcome, CycleRun, Drive, StepRule, SETTLE_CYCLES,
 };
+use texopt::time::cycle::{whole_stroke, CycleWatch};
 use texopt::time::{resolve, simulate, steady_outcome, Fidelity, Overrides, TimeScheme};
 
 /// The example engine (studies/engine_gasoline.toml), its oil supply table replaced by `oil`
@@ -54,7 +55,7 @@ fn plain_cycle() -> &'static (Engine, CycleNumerics, CycleOutcome) {
         let layout = LinerLayout::uniform(stroke_cm(&engine), None);
         let out = CycleRun::new(&drive, drive.ring_case(), layout, num.clone())
             .unwrap()
-            .run(&mut |_| {}, &mut |_| {})
+            .run(CycleWatch::default())
             .unwrap();
         (engine, num, out)
     })
@@ -112,11 +113,12 @@ fn a_constant_slide_run_as_a_cycle_is_simulates_periodic_regime() {
             // number of cycles is run and the friction work's change checked instead.
             cyclic_tol: 0.0,
             max_cycles: cycles,
+            settle: None,
         };
         let layout = LinerLayout::uniform(stroke_cm(&engine), Some(t.clone()));
         let out = CycleRun::new(&drive, drive.ring_case(), layout, cn)
             .unwrap()
-            .run(&mut |_| {}, &mut |_| {})
+            .run(CycleWatch::default())
             .unwrap();
         assert_eq!(out.cycles.len(), cycles);
         let last = out.cycles.last().unwrap();
@@ -250,7 +252,7 @@ fn film_and_liner_conserve_the_oil_cycle_by_cycle() {
         LinerLayout::zoned(vec![0.0, 0.3, stroke_cm(&engine)], vec![Some(t), None]).unwrap();
     let out = CycleRun::new(&drive, drive.ring_case(), layout, num)
         .unwrap()
-        .run(&mut |_| {}, &mut |_| {})
+        .run(CycleWatch::default())
         .unwrap();
     assert_eq!(out.cycles.len(), 2);
     for c in &out.cycles {
@@ -383,22 +385,23 @@ fn probe_cycle_figures() {
     eprintln!("{num:?}");
     let t0 = std::time::Instant::now();
     let run = CycleRun::new(&drive, ring, LinerLayout::uniform(stroke_cm, t), num).unwrap();
-    let out = run
-        .run(
-            &mut |c| {
-                eprintln!(
-                    "W {:.6} dW {:.2e} doil {:.2e} steps {} {:.2}s",
-                    c.friction_work_j_per_m,
-                    c.work_change,
-                    c.oil_change,
-                    c.steps,
-                    t0.elapsed().as_secs_f64()
-                )
-            },
-            &mut |_| {},
+    let mut on_cycle = |c: &texopt::time::cycle::CycleSummary| {
+        eprintln!(
+            "W {:.6} dW {:.2e} doil {:.2e} steps {} {:.2}s",
+            c.friction_work_j_per_m,
+            c.work_change,
+            c.oil_change,
+            c.steps,
+            t0.elapsed().as_secs_f64()
         )
+    };
+    let out = run
+        .run(CycleWatch {
+            on_window: Some(&mut on_cycle),
+            on_step: None,
+        })
         .unwrap();
-    let m = texopt::time::cycle::metrics(&out.rows, &engine);
+    let m = texopt::time::cycle::metrics(&out.rows, &engine, &whole_stroke(&engine));
     let peak = out
         .rows
         .iter()
@@ -439,7 +442,7 @@ fn resuming_the_plain_liners_cyclic_state_repeats_its_cycle() {
     };
     let again = CycleRun::resume(&drive, drive.ring_case(), layout, once, &out.end)
         .unwrap()
-        .run(&mut |_| {}, &mut |_| {})
+        .run(CycleWatch::default())
         .unwrap();
     let (w0, w1) = (
         out.cycles.last().unwrap().friction_work_j_per_m,
@@ -473,20 +476,20 @@ fn a_textured_zone_started_from_the_plain_cyclic_state_is_settled_in_its_second_
         num.clone(),
     )
     .unwrap()
-    .run(&mut |_| {}, &mut |_| {})
+    .run(CycleWatch::default())
     .unwrap();
     let cold = CycleRun::new(&drive, drive.ring_case(), zoned(), num.clone())
         .unwrap()
-        .run(&mut |_| {}, &mut |_| {})
+        .run(CycleWatch::default())
         .unwrap();
     assert!(cold.cyclic());
     let two = CycleNumerics {
-        max_cycles: SETTLE_CYCLES,
+        settle: Some(SETTLE_CYCLES),
         ..num
     };
     let warm = CycleRun::resume(&drive, drive.ring_case(), zoned(), two, &plain.end)
         .unwrap()
-        .run(&mut |_| {}, &mut |_| {})
+        .run(CycleWatch::default())
         .unwrap();
     let converged = cold.cycles.last().unwrap().friction_work_j_per_m;
     let second = warm.cycles[SETTLE_CYCLES - 1].friction_work_j_per_m;

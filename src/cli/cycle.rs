@@ -12,7 +12,7 @@ use super::optimise::{
 };
 use super::{checked, flag, input_message, install_ctrl_c, open_cache, CmdError, STOP};
 use crate::model::case::short;
-use crate::model::engine::{three_digits, zone_label, Engine, STEP_RANGE_DEG};
+use crate::model::engine::{three_digits, zone_label, Engine, LinerZones, STEP_RANGE_DEG};
 use crate::model::operating::Validity;
 use crate::optimise::cycle::angles::{
     design_all, evaluate_liners, points, CycleSettings, NoAngleInside,
@@ -272,7 +272,7 @@ fn input(file: &Path, m: impl std::fmt::Display) -> CmdError {
 fn settings(a: &CycleArgs) -> Result<(CycleSettings, Option<f64>), CmdError> {
     let text = std::fs::read_to_string(&a.file)
         .map_err(|e| input(&a.file, format!("cannot read the engine file: {e}")))?;
-    let (engine, d): (Engine, DesignFile) =
+    let (engine, zones, d): (Engine, LinerZones, DesignFile) =
         engine_file::parse(&text).map_err(|e| input(&a.file, e))?;
     if let Some(k) = d.foreign_key(DesignFileOf::Engine) {
         return Err(input(
@@ -289,13 +289,13 @@ fn settings(a: &CycleArgs) -> Result<(CycleSettings, Option<f64>), CmdError> {
         _ => name,
     };
     let step_deg = step(
-        &engine,
+        (&engine, &zones),
         named(a.step, d.step_deg, "--step", "[design] step_deg"),
         a.step.or(d.step_deg),
         5.0,
     )?;
     let design_step_deg = step(
-        &engine,
+        (&engine, &zones),
         named(
             a.design_step,
             d.design_step_deg,
@@ -344,6 +344,7 @@ fn settings(a: &CycleArgs) -> Result<(CycleSettings, Option<f64>), CmdError> {
             step_deg,
             design_step_deg,
             engine,
+            zones,
         },
         d.band_min_mm,
     ))
@@ -407,7 +408,12 @@ fn validity(file: &Path, d: &DesignFile) -> Result<(Validity, f64), CmdError> {
 /// A crank-angle step (`flag`, else the file's, else `def`): within [`STEP_RANGE_DEG`], and
 /// fine enough that some angle falls in every zone (a zone with none would have no design
 /// and no work to report).
-fn step(engine: &Engine, flag: &str, v: Option<f64>, def: f64) -> Result<f64, CmdError> {
+fn step(
+    (engine, zones): (&Engine, &LinerZones),
+    flag: &str,
+    v: Option<f64>,
+    def: f64,
+) -> Result<f64, CmdError> {
     let x = v.unwrap_or(def);
     let (lo, hi) = STEP_RANGE_DEG;
     if !(x.is_finite() && (lo..=hi).contains(&x)) {
@@ -416,15 +422,15 @@ fn step(engine: &Engine, flag: &str, v: Option<f64>, def: f64) -> Result<f64, Cm
             short(x)
         )));
     }
-    match engine.unsampled_zone(x) {
+    match zones.unsampled(engine, x) {
         None => Ok(x),
         Some(z) => Err(CmdError::Input(format!(
             "{flag} = {}: no crank angle at this step falls in zone {} ({} mm), which the ring crosses in {}° of crank angle; give {flag} {} or less, or widen the zone",
             short(x),
             z + 1,
-            zone_label(&engine.bounds_mm, z),
-            three_digits(engine.zone_span_deg(z)),
-            engine.step_to_sample(z)
+            zone_label(zones.bounds_mm(), z),
+            three_digits(zones.span_deg(z)),
+            zones.step_to_sample(z)
         ))),
     }
 }

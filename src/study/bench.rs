@@ -8,9 +8,10 @@ use crate::model::case::{CaseSpec, Texture};
 use crate::model::engine::Engine;
 use crate::model::liner_layout::LinerLayout;
 use crate::study::engine_file::{parse, EngineFileError};
+use crate::time::cycle::CycleWatch;
 use crate::time::cycle::{
-    cycle_numerics, metrics, CycleNumerics, CycleOutcome, CycleRun, CycleSummary, Drive,
-    SETTLE_CYCLES,
+    cycle_numerics, metrics, whole_stroke, CycleNumerics, CycleOutcome, CycleRun, CycleSummary,
+    Drive, SETTLE_CYCLES,
 };
 use crate::time::{simulate, Fidelity, Numerics, Outcome, Overrides, SolveError};
 
@@ -456,21 +457,21 @@ fn settled_row(
             LinerLayout::uniform(stroke, None),
             num.clone(),
         )?
-        .run(&mut |_| {}, &mut |_| {})?;
+        .run(CycleWatch::default())?;
         let plain_s = t0.elapsed().as_secs_f64();
         let layout = LinerLayout::uniform(stroke, Some(texture.clone()));
         let settle = CycleNumerics {
-            max_cycles: SETTLE_CYCLES,
+            settle: Some(SETTLE_CYCLES),
             ..num.clone()
         };
         let o = CycleRun::resume(&drive, ring.clone(), layout, settle, &plain.end)?
-            .run(&mut |_| {}, &mut |_| {})?;
+            .run(CycleWatch::default())?;
         let s = t0.elapsed().as_secs_f64();
         wall_times_s.push(s);
         if s < best.0 {
             best = (s, plain_s);
         }
-        work = metrics(&o.rows, engine).work_j_per_m;
+        work = metrics(&o.rows, engine, &whole_stroke(engine)).work_j_per_m;
         first = o
             .cycles
             .first()
@@ -517,7 +518,7 @@ fn cycle_row(
         n2: if c.texture.is_some() { num.n2 } else { 1 },
         wall_time_s,
         wall_times_s,
-        work_j_per_m: metrics(&o.rows, engine).work_j_per_m,
+        work_j_per_m: metrics(&o.rows, engine, &whole_stroke(engine)).work_j_per_m,
         cycles: o.cycles.len(),
         cyclic: o.cyclic(),
         last_cycle_steps: o.cycles.last().map_or(0, |s| s.steps),
@@ -538,8 +539,10 @@ fn run_liner(
     let ring = drive.ring_case();
     let layout = LinerLayout::uniform(0.1 * engine.file.engine.stroke_mm, texture.cloned());
     let numerics = cycle_numerics(fidelity, &Overrides::default(), &ring, texture);
-    let o = CycleRun::new(&drive, ring, layout, numerics)?
-        .run(&mut |s| progress(fidelity, s), &mut |_| {})?;
+    let o = CycleRun::new(&drive, ring, layout, numerics)?.run(CycleWatch {
+        on_window: Some(&mut |s| progress(fidelity, s)),
+        on_step: None,
+    })?;
     Ok((t0.elapsed().as_secs_f64(), o))
 }
 

@@ -37,7 +37,7 @@ use serde::Deserialize;
 use crate::model::case::one_line;
 use crate::model::engine::MapPointFile;
 use crate::model::engine::{
-    ContactFile, Crank, Engine, EngineError, EngineFile, Gas, Oil, RingFile, Zones,
+    ContactFile, Crank, Engine, EngineError, EngineFile, Gas, LinerZones, Oil, RingFile, Zones,
 };
 
 /// An engine file that cannot be used.
@@ -71,8 +71,9 @@ struct FileToml {
     design: toml::Table,
 }
 
-/// Reads and checks an engine file's text: the engine, then its `[design]` section as `D`.
-pub fn parse<D: DeserializeOwned>(text: &str) -> Result<(Engine, D), EngineFileError> {
+/// Reads and checks an engine file's text: the engine, the liner's zones, then its `[design]`
+/// section as `D`.
+pub fn parse<D: DeserializeOwned>(text: &str) -> Result<(Engine, LinerZones, D), EngineFileError> {
     let raw: FileToml =
         toml::from_str(text).map_err(|e| EngineFileError::Syntax(one_line(&e.to_string())))?;
     let engine = Engine::new(EngineFile {
@@ -84,10 +85,11 @@ pub fn parse<D: DeserializeOwned>(text: &str) -> Result<(Engine, D), EngineFileE
         contact: raw.contact,
         operating: raw.operating,
     })?;
+    let zones = LinerZones::new(&engine)?;
     let design = toml::Value::Table(raw.design)
         .try_into()
         .map_err(|e: toml::de::Error| EngineFileError::Design(one_line(&e.to_string())))?;
-    Ok((engine, design))
+    Ok((engine, zones, design))
 }
 
 #[cfg(test)]
@@ -95,7 +97,7 @@ mod tests {
     use super::*;
 
     fn engine(text: &str) -> Result<Engine, EngineFileError> {
-        parse::<serde::de::IgnoredAny>(text).map(|(e, _)| e)
+        parse::<serde::de::IgnoredAny>(text).map(|(e, _, _)| e)
     }
 
     /// The key an error names (`file` for a syntax error).

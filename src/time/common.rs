@@ -77,15 +77,16 @@ pub struct Progress {
     pub periodic_error: f64,
 }
 
-/// Who watches a run of `T` (the transient: `time::Watch`): a closure called after every
-/// averaging window, one after every step. Observers sit outside the maths: they read, never
-/// steer.
-pub struct Observers<'a, T> {
-    pub on_window: Option<&'a mut dyn FnMut(&Progress)>,
-    pub on_step: Option<&'a mut dyn FnMut(&T)>,
+/// Who watches a run: a closure called after every averaging window `W` (a transient's
+/// [`Progress`]; a cycle run's cycle, `time::cycle::CycleWatch`), one after every step `S`
+/// (the transient itself: `time::Watch`; a cycle's row). Observers sit outside the maths:
+/// they read, never steer.
+pub struct Observers<'a, S, W = Progress> {
+    pub on_window: Option<&'a mut dyn FnMut(&W)>,
+    pub on_step: Option<&'a mut dyn FnMut(&S)>,
 }
 
-impl<T> Default for Observers<'_, T> {
+impl<S, W> Default for Observers<'_, S, W> {
     fn default() -> Self {
         Observers {
             on_window: None,
@@ -94,13 +95,13 @@ impl<T> Default for Observers<'_, T> {
     }
 }
 
-impl<T> Observers<'_, T> {
-    pub(super) fn window(&mut self, p: &Progress) {
+impl<S, W> Observers<'_, S, W> {
+    pub(super) fn window(&mut self, p: &W) {
         if let Some(f) = self.on_window.as_mut() {
             f(p);
         }
     }
-    pub(super) fn step(&mut self, t: &T) {
+    pub(super) fn step(&mut self, t: &S) {
         if let Some(f) = self.on_step.as_mut() {
             f(t);
         }

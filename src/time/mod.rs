@@ -8,6 +8,7 @@ mod anderson;
 mod approach;
 pub mod characteristic;
 mod common;
+mod coupled;
 pub mod cycle;
 mod fallback;
 mod fidelity;

@@ -4,7 +4,8 @@
 //! (time/schedule.rs), what the film iteration keeps from a period ago (time/memory.rs) and
 //! the run's tallies (time/stats.rs).
 
-use super::common::{Observers, SolveError, CONTACT_Z, MASS_TOL};
+use super::common::{Observers, SolveError, MASS_TOL};
+use super::coupled::{guard_mass, RingStep};
 use super::interpolate::interpolate;
 use super::levels::TimeLevels;
 use super::memory::{PeriodGuess, PlacedTexture, TextureShift};
@@ -348,23 +349,18 @@ impl Transient {
         self.place_texture(level);
         self.levels
             .advance(&mut self.state.phi, dt, op.u, &self.scene.grid);
-        let s = self.ring_state;
-        let ring = Ring {
-            mass: self.case.mass,
-            w_ps: op.w_ps,
-            contact: self.contact,
+        let rs = RingStep {
+            ring: Ring {
+                mass: self.case.mass,
+                w_ps: op.w_ps,
+                contact: self.contact,
+            },
+            from: self.ring_state,
+            dt,
         };
-        let link = ring.link(&s, dt);
-        let mut z = self.initial_guess(&s, t_new)?;
-        let stats = self.solve_film(level, link, &op, &mut z, t_new)?;
-        if z <= CONTACT_Z {
-            return Err(SolveError::Contact {
-                case: self.case.label(),
-                t: t_new,
-                z,
-            });
-        }
-        self.ring_state = ring.advance(&s, dt, z, stats.w_h + stats.w_a);
+        let mut z = self.initial_guess(&rs, t_new)?;
+        let stats = self.solve_film(level, rs.link(), &op, &mut z, t_new)?;
+        self.ring_state = rs.close(z, &stats, || self.case.label(), t_new)?;
         self.check_mass(&op, t_new)?;
         self.clock.steps = level;
         self.levels.solved();
@@ -443,12 +439,14 @@ impl Transient {
     /// The step's initial guess: the film into `state` and Z returned. The state one texture
     /// period ago when its active set is the nearer ([`PeriodGuess::guess`]), with the ring's
     /// step of a period ago repeated; else the previous time level carried with the texture
-    /// and the velocity extrapolation of Z. Either never closer to the liner than half the
-    /// current clearance (a guess must not put the ring on the liner by itself; the iteration
-    /// then moves Z as far as the film demands).
-    fn initial_guess(&mut self, s: &RingState, t_new: f64) -> Result<f64, SolveError> {
-        let mut z = s.z + self.clock.dt * s.v;
-        match self.memory.period_ago.guess(self.clock.steps + 1, s.z) {
+    /// and the velocity extrapolation of Z; either floored by [`RingStep::guess`].
+    fn initial_guess(&mut self, rs: &RingStep, t_new: f64) -> Result<f64, SolveError> {
+        let mut z = rs.predicted();
+        match self
+            .memory
+            .period_ago
+            .guess(self.clock.steps + 1, rs.from.z)
+        {
             Some((snap, z_shifted)) => {
                 z = z_shifted;
                 self.state.assign(snap);
@@ -460,42 +458,14 @@ impl Transient {
                     .carry(&self.scene.grid, &self.scene.hl, &mut self.state);
             }
         }
-        z = z.max(0.5 * s.z);
-        if !z.is_finite() {
-            return Err(SolveError::Unstable {
-                case: self.case.label(),
-                t: t_new,
-                quantity: "predicted ring position Z".into(),
-                value: z,
-            });
-        }
-        if z <= 0.0 {
-            return Err(SolveError::Contact {
-                case: self.case.label(),
-                t: t_new,
-                z,
-            });
-        }
-        Ok(z)
+        rs.guess(z, || self.case.label(), t_new)
     }
 
-    /// Guard: the step must conserve mass (a wrong number that looks right is worse than an
-    /// error).
+    /// Guard: the step must conserve mass ([`guard_mass`]); the run keeps its largest defect.
     fn check_mass(&mut self, op: &OperatingPoint, t_new: f64) -> Result<(), SolveError> {
         let defect = self.mass_defect_at(op);
         self.stats.max_mass_defect = self.stats.max_mass_defect.max(defect);
-        if defect.is_nan() || defect > self.mass_tolerance {
-            return Err(SolveError::MassNotConserved {
-                case: self.case.label(),
-                t: t_new,
-                defect,
-                tol: self.mass_tolerance,
-                hint: "the film solve did not conserve mass to round-off, which the \
-                       Elrod–Adams scheme does when solved: the solve is not converged"
-                    .into(),
-            });
-        }
-        Ok(())
+        guard_mass(defect, self.mass_tolerance, || self.case.label(), t_new)
     }
 
     /// This run, after `done` (its periods, wall time) on a coarse mesh, carried over to the

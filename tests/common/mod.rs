@@ -11,6 +11,7 @@ use texopt::model::operating::Scales;
 use texopt::optimise::search::Evaluator;
 use texopt::study::cache::Cache;
 use texopt::study::sweep;
+use texopt::time::cycle::CycleWatch;
 use texopt::time::Overrides;
 use texopt::time::{Fidelity, Limits};
 
@@ -78,11 +79,11 @@ pub fn scratch(test: &str) -> PathBuf {
 /// it repeats itself. Its friction work (J/m).
 #[allow(dead_code)]
 pub fn plain_cycle_work(text: &str, (n1, n2): (usize, usize)) -> f64 {
-    use texopt::model::engine::Engine;
+    use texopt::model::engine::{Engine, LinerZones};
     use texopt::model::liner_layout::LinerLayout;
     use texopt::model::operating::Validity;
     use texopt::time::cycle::{cycle_numerics, metrics, CycleRun, Drive};
-    let (engine, _): (Engine, serde::de::IgnoredAny) =
+    let (engine, zones, _): (Engine, LinerZones, serde::de::IgnoredAny) =
         texopt::study::engine_file::parse(text).unwrap();
     let drive = Drive::new(&engine);
     let ring = drive.ring_case_at(Validity::default().roughness_um);
@@ -95,9 +96,9 @@ pub fn plain_cycle_work(text: &str, (n1, n2): (usize, usize)) -> f64 {
     let layout = LinerLayout::uniform(0.1 * engine.file.engine.stroke_mm, None);
     let plain = CycleRun::new(&drive, ring, layout, num)
         .unwrap()
-        .run(&mut |_| {}, &mut |_| {})
+        .run(CycleWatch::default())
         .unwrap();
-    metrics(&plain.rows, &engine).work_j_per_m
+    metrics(&plain.rows, &engine, zones.bounds_mm()).work_j_per_m
 }
 
 /// The report `out/base` + each suffix must exist; its JSON, `out/base.json`, read.

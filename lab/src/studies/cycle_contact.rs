@@ -18,7 +18,10 @@ use std::fs;
 
 use texopt::model::liner_layout::LinerLayout;
 use texopt::study::bench::example_engine;
-use texopt::time::cycle::{cycle_numerics, metrics, CycleMetrics, CycleRun, Drive, CONTACT_SHARE};
+use texopt::time::cycle::CycleWatch;
+use texopt::time::cycle::{
+    cycle_numerics, metrics, whole_stroke, CycleMetrics, CycleRun, Drive, CONTACT_SHARE,
+};
 use texopt::time::{Fidelity, Overrides};
 
 /// A run: viscosity (Pa·s), ς, largest change of the asperities' share a step, the tier,
@@ -66,7 +69,7 @@ fn run(
     num.steps.contact_share = share;
     let layout = LinerLayout::uniform(0.1 * engine.file.engine.stroke_mm, None);
     let o = CycleRun::new(&drive, ring, layout, num)
-        .and_then(|r| r.run(&mut |_| {}, &mut |_| {}))
+        .and_then(|r| r.run(CycleWatch::default()))
         .map_err(|e| e.to_string())?;
     if !o.cyclic() {
         return Err(format!(
@@ -74,7 +77,11 @@ fn run(
         ));
     }
     let steps = o.cycles.last().map_or(0, |c| c.steps);
-    Ok((metrics(&o.rows, &engine), o.cycles.len(), steps))
+    Ok((
+        metrics(&o.rows, &engine, &whole_stroke(&engine)),
+        o.cycles.len(),
+        steps,
+    ))
 }
 
 pub fn main(_args: &[String]) -> Result<(), String> {

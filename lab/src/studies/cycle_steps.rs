@@ -15,6 +15,7 @@ use std::fs;
 use texopt::model::case::Texture;
 use texopt::model::liner_layout::LinerLayout;
 use texopt::study::bench::example_engine;
+use texopt::time::cycle::CycleWatch;
 use texopt::time::cycle::{cycle_numerics, CycleRun, Drive, TEXTURE_CELLS};
 use texopt::time::{Fidelity, Overrides, TimeScheme};
 
@@ -77,7 +78,7 @@ fn run(r: &Run) -> Result<Row, String> {
     let (n1, step_deg) = (num.n1, num.steps.step_deg);
     let t0 = std::time::Instant::now();
     let o = CycleRun::new(&drive, ring, layout, num)
-        .and_then(|run| run.run(&mut |_| {}, &mut |_| {}))
+        .and_then(|run| run.run(CycleWatch::default()))
         .map_err(|e| e.to_string())?;
     let last = o.cycles.last().ok_or("no cycle ran")?;
     if !o.cyclic() {

@@ -25,9 +25,10 @@ use texopt::model::engine::Engine;
 use texopt::model::liner_layout::LinerLayout;
 use texopt::solve::FilmError;
 use texopt::study::engine_file::parse;
+use texopt::time::cycle::CycleWatch;
 use texopt::time::cycle::{
-    cycle_numerics, metrics, CycleMetrics, CycleNumerics, CycleRun, CycleState, Drive,
-    SETTLE_CYCLES,
+    cycle_numerics, metrics, whole_stroke, CycleMetrics, CycleNumerics, CycleRun, CycleState,
+    Drive, SETTLE_CYCLES,
 };
 use texopt::time::{Fidelity, Overrides, SolveError};
 
@@ -243,7 +244,7 @@ fn points() -> Result<Vec<Point>, String> {
     let text = fs::read_to_string("studies/engine_gasoline_map.toml").map_err(|e| {
         format!("studies/engine_gasoline_map.toml: {e} (run from the repository's root)")
     })?;
-    let (engine, _) = parse::<serde::de::IgnoredAny>(&text).map_err(|e| e.to_string())?;
+    let (engine, _, _) = parse::<serde::de::IgnoredAny>(&text).map_err(|e| e.to_string())?;
     let mut out = Vec::new();
     for p in engine.operating_points() {
         for f in VISCOSITY {
@@ -288,9 +289,9 @@ fn plain(
     num: &CycleNumerics,
 ) -> Result<(CycleMetrics, CycleState), SolveError> {
     let layout = LinerLayout::uniform(0.1 * engine.file.engine.stroke_mm, None);
-    let o = CycleRun::new(drive, drive.ring_case(), layout, num.clone())?
-        .run(&mut |_| {}, &mut |_| {})?;
-    Ok((metrics(&o.rows, engine), o.end))
+    let o =
+        CycleRun::new(drive, drive.ring_case(), layout, num.clone())?.run(CycleWatch::default())?;
+    Ok((metrics(&o.rows, engine, &whole_stroke(engine)), o.end))
 }
 
 /// `layout` judged at `point` from the plain liner's cyclic state on its cells.
@@ -308,10 +309,10 @@ fn judge(point: &Point, layout: &LinerLayout, plains: &Plains) -> Answer {
     if !layout.textured() {
         return Ok(plain_m);
     }
-    num.max_cycles = SETTLE_CYCLES;
+    num.settle = Some(SETTLE_CYCLES);
     CycleRun::resume(&drive, drive.ring_case(), layout.clone(), num, &end)
-        .and_then(|r| r.run(&mut |_| {}, &mut |_| {}))
-        .map(|o| metrics(&o.rows, &point.engine))
+        .and_then(|r| r.run(CycleWatch::default()))
+        .map(|o| metrics(&o.rows, &point.engine, &whole_stroke(&point.engine)))
         .map_err(|e| (e, places))
 }
 

@@ -2,7 +2,8 @@
 //! (`sections`) and their rules (`rules`), the slider-crank (`crank`), the gas and oil tables
 //! (`tables`), the liner's zones (`zones`), the cycle sampled angle by angle for the
 //! quasi-steady evaluation (`samples`) and the operating map (`map`, §13). A checked
-//! [`Engine`] is the file's data with its zone bounds and map.
+//! [`Engine`] is the file's data with its operating map; the liner's zones
+//! ([`LinerZones`]) are checked against it apart.
 
 mod crank;
 mod map;
@@ -18,17 +19,18 @@ pub use samples::Sample;
 pub use sections::{
     ContactFile, Crank, EngineFile, Gas, MapPointFile, Oil, OilSupply, RingFile, Zones,
 };
-pub use zones::{three_digits, zone_decimals, zone_label, zone_of, MAX_ZONES, STEP_RANGE_DEG};
+pub use zones::{
+    three_digits, zone_decimals, zone_label, zone_of, LinerZones, MAX_ZONES, STEP_RANGE_DEG,
+};
 
 use crate::model::case::{face_spans_ring, short};
 use rules::{err, in_range};
 
-/// A checked engine: the file's data, the zone boundaries and the operating map.
+/// A checked engine: the file's data and the operating map. The liner's zones, the file's
+/// `[zones]`, are checked apart ([`LinerZones`]): they are the liner's layout to design.
 #[derive(Clone, Debug)]
 pub struct Engine {
     pub file: EngineFile,
-    /// Zone boundaries (mm from top dead centre), from 0 to the stroke.
-    pub bounds_mm: Vec<f64>,
     /// The `[[operating]]` points, each checked as an engine (empty: the file lists none).
     map: Vec<MapPoint>,
 }
@@ -71,15 +73,9 @@ impl Engine {
         }
         Self::check_gas(&file.gas)?;
         file.contact.check()?;
-        let bounds_mm = Self::zone_bounds(&file.zones, e.stroke_mm)?;
         Self::check_oil(&file.oil, e.stroke_mm)?;
         let map = operating_map(&file)?;
-        let engine = Engine {
-            file,
-            bounds_mm,
-            map,
-        };
-        engine.check_zone_spans()?;
+        let engine = Engine { file, map };
         // The ring face's radius must exceed its half width (docs/model.md §2), as `simulate`
         // asks of --R.
         let half_width_cm = 0.05 * engine.file.ring.width_mm;
@@ -168,24 +164,27 @@ pub(crate) mod tests {
         }
     }
 
-    fn four_zones() -> Engine {
-        Engine::new(example(Zones {
+    fn four_zones() -> (Engine, LinerZones) {
+        let e = Engine::new(example(Zones {
             count: Some(4),
             boundaries_mm: None,
         }))
-        .unwrap()
+        .unwrap();
+        let z = LinerZones::new(&e).unwrap();
+        (e, z)
     }
 
-    fn bounds(b: &[f64]) -> Result<Engine, EngineError> {
-        Engine::new(example(Zones {
+    fn bounds(b: &[f64]) -> Result<(Engine, LinerZones), EngineError> {
+        let e = Engine::new(example(Zones {
             count: None,
             boundaries_mm: Some(b.to_vec()),
-        }))
+        }))?;
+        LinerZones::new(&e).map(|z| (e, z))
     }
 
     #[test]
     fn slider_crank_against_the_closed_form_and_a_finite_difference() {
-        let e = four_zones();
+        let (e, _) = four_zones();
         let (r, l) = (43.0, 140.0);
         for deg in [0.0, 30.0, 90.0, 135.0, 180.0, 270.0, 359.0, 400.0, 700.0] {
             let t: f64 = f64::to_radians(deg);
@@ -210,14 +209,14 @@ pub(crate) mod tests {
 
     #[test]
     fn gas_table_is_linear_and_periodic_and_zones_cover_the_stroke() {
-        let e = four_zones();
+        let (e, z) = four_zones();
         assert!((e.gas_bar(15.0) - 40.0).abs() < 1e-12);
         // Between 690° and 720° + 0°: 10 → 30 bar.
         assert!((e.gas_bar(705.0) - 20.0).abs() < 1e-12);
         assert!((e.gas_bar(705.0 - 720.0) - 20.0).abs() < 1e-12);
-        assert_eq!(e.bounds_mm, vec![0.0, 21.5, 43.0, 64.5, 86.0]);
-        assert_eq!((e.zone(0.0), e.zone(21.5), e.zone(86.0)), (0, 1, 3));
-        let s = e.samples(10.0);
+        assert_eq!(z.bounds_mm(), [0.0, 21.5, 43.0, 64.5, 86.0]);
+        assert_eq!((z.zone(0.0), z.zone(21.5), z.zone(86.0)), (0, 1, 3));
+        let s = e.samples(10.0, &z);
         assert_eq!(s.len(), 72);
         assert!(s.iter().all(|x| x.crank_deg > 0.0 && x.crank_deg < 720.0));
         // Elastic + 40 bar × 1.2 mm = 100 + 4800 N/m at 15°... at the sample 5°: 30 + 5/30·20 bar.
@@ -238,23 +237,23 @@ pub(crate) mod tests {
         }
         // 1 µm at top dead centre is crossed down and back up in 0.7°: accepted, and no
         // step coarser than that is sure to sample it.
-        let e = bounds(&[0.0, 0.001, 86.0]).unwrap();
-        let span = e.zone_span_deg(0);
+        let (e, zones) = bounds(&[0.0, 0.001, 86.0]).unwrap();
+        let span = zones.span_deg(0);
         assert!(span > 0.6 && span < 0.8, "{span}");
-        assert_eq!(e.unsampled_zone(45.0), Some(0));
-        assert_eq!(e.unsampled_zone(5.0), Some(0));
-        let step = e.step_to_sample(0);
+        assert_eq!(zones.unsampled(&e, 45.0), Some(0));
+        assert_eq!(zones.unsampled(&e, 5.0), Some(0));
+        let step = zones.step_to_sample(0);
         assert!(step <= span && step >= 0.5, "{step}");
-        assert_eq!(e.unsampled_zone(step), None);
+        assert_eq!(zones.unsampled(&e, step), None);
         // Every zone of every layout is sampled by its suggested step and any finer one.
-        let e = bounds(&[0.0, 0.5, 10.0, 43.0, 43.6, 85.9, 86.0]).unwrap();
+        let (e, zones) = bounds(&[0.0, 0.5, 10.0, 43.0, 43.6, 85.9, 86.0]).unwrap();
         for z in 0..6 {
-            let s = e.step_to_sample(z);
+            let s = zones.step_to_sample(z);
             for k in 0..40 {
                 let step = s * (1.0 - k as f64 / 80.0);
                 if step >= 0.5 {
                     assert!(
-                        !e.samples(step).iter().all(|x| x.zone != z),
+                        !e.samples(step, &zones).iter().all(|x| x.zone != z),
                         "zone {z} at {step}"
                     );
                 }

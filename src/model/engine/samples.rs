@@ -1,7 +1,7 @@
 //! The cycle sampled angle by angle for the quasi-steady evaluation (docs/model.md §10): at
 //! each sample the ring's place, speed, load and oil supply, and its operating point.
 
-use super::Engine;
+use super::{Engine, LinerZones};
 use crate::model::operating::Operating;
 
 /// One crank angle of the cycle as the ring meets it.
@@ -21,8 +21,8 @@ pub struct Sample {
 
 impl Engine {
     /// The cycle sampled every `step_deg` degrees, at the middles of the steps (so that no
-    /// sample sits exactly on a dead centre).
-    pub fn samples(&self, step_deg: f64) -> Vec<Sample> {
+    /// sample sits exactly on a dead centre), each with the zone of `zones` it is over.
+    pub fn samples(&self, step_deg: f64, zones: &LinerZones) -> Vec<Sample> {
         let n = (720.0 / step_deg).round().max(1.0) as usize;
         let step = 720.0 / n as f64;
         (0..n)
@@ -35,7 +35,7 @@ impl Engine {
                     speed_ms: self.velocity_ms(crank_deg).abs(),
                     load_n_per_m: self.load_n_per_m(crank_deg),
                     d_oil_um: self.d_oil_um(position_mm),
-                    zone: self.zone(position_mm),
+                    zone: zones.zone(position_mm),
                 }
             })
             .collect()

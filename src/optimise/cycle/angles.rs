@@ -10,7 +10,7 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use crate::model::case::{CaseSpec, InputError, Texture};
-use crate::model::engine::{Engine, Sample};
+use crate::model::engine::{Engine, LinerZones, Sample};
 use crate::model::operating::{Outside, Scales, VALIDATED_STRIBECK};
 use crate::optimise::cycle::liner::Trio;
 use crate::optimise::error::OptimiseError;
@@ -25,6 +25,8 @@ use crate::time::{Fidelity, Outcome};
 /// Everything `cycle` needs.
 pub struct CycleSettings {
     pub engine: Engine,
+    /// The liner's zones the design textures one by one.
+    pub zones: LinerZones,
     pub search: SearchSettings,
     /// The least clearance a design must keep (µm).
     pub min_clearance_um: f64,
@@ -130,7 +132,7 @@ pub fn points(s: &CycleSettings, step: f64) -> Vec<Point> {
     let e = &s.engine;
     let omega = e.omega_rad_s();
     let dt = (720.0 / (720.0 / step).round()).to_radians() / omega;
-    e.samples(step)
+    e.samples(step, &s.zones)
         .into_iter()
         .map(|sample| {
             let op = e.operating(&sample);
@@ -437,7 +439,7 @@ pub fn design_all(
         inside.len(),
         pts.len()
     ));
-    let zone_count = s.engine.bounds_mm.len() - 1;
+    let zone_count = s.zones.count();
     let (mut zones, mut candidates) = (Vec::new(), Vec::new());
     for z in 0..zone_count {
         let at: Vec<usize> = inside

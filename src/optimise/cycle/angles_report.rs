@@ -147,8 +147,8 @@ pub fn assemble(s: &CycleSettings, d: &Designs, ev: &LinerRuns, wall: f64) -> Cy
             let weighed = inside > 0;
             ZoneRow {
                 zone: z + 1,
-                from_mm: s.engine.bounds_mm[z],
-                to_mm: s.engine.bounds_mm[z + 1],
+                from_mm: s.zones.bounds_mm()[z],
+                to_mm: s.zones.bounds_mm()[z + 1],
                 texture: d.zones[z].clone(),
                 angles_inside: inside,
                 angles_excluded: all - inside,

@@ -106,7 +106,7 @@ fn figures(point: &MapPoint, m: &CycleMetrics) -> PointFigures {
 
 /// The plain liner's figures at point k, work per zone of the banded liner.
 fn plain_figures(l: &MapLiners, k: usize) -> PointFigures {
-    let m = metrics_over(&l.plain(k).rows, &l.map[k].engine, Some(&l.zones_cm));
+    let m = metrics_over(&l.plain(k).rows, &l.map[k].engine, &l.zones_cm);
     figures(&l.map[k], &m)
 }
 

@@ -326,7 +326,7 @@ impl<'a> MapJudge<'a> {
         let (answers, plain) = self.answers(liners)?;
         let judged = |k: usize, a: CycleAnswer| -> Result<Judged, CycleFailure> {
             let rows = a.rows.ok_or(CycleFailure::WithoutRows)?;
-            let metrics = metrics_over(&rows, self.judges[k].engine(), Some(zones_cm));
+            let metrics = metrics_over(&rows, self.judges[k].engine(), zones_cm);
             Ok(Judged { metrics, rows })
         };
         Ok(answers
@@ -598,7 +598,7 @@ pub fn evaluate_over_map(
 /// (an engine without a map: the judge's one point).
 impl ZonedCosts for MapJudge<'_> {
     fn costs(&self, liners: &[Vec<Option<Texture>>]) -> Result<Vec<f64>, OptimiseError> {
-        let bounds_cm: Vec<f64> = self.s.engine.bounds_mm.iter().map(|b| 0.1 * b).collect();
+        let bounds_cm = self.s.zones.bounds_cm();
         let liners: Vec<MapLiner> = liners
             .iter()
             .map(|textures| MapLiner::Zoned {

@@ -11,6 +11,7 @@ use super::angles::{CycleSettings, Designs};
 use crate::model::case::{CaseSpec, Texture};
 use crate::model::liner_layout::LinerLayout;
 use crate::optimise::error::OptimiseError;
+use crate::time::cycle::CycleWatch;
 use crate::time::cycle::{
     cycle_numerics, metrics, CycleMetrics, CycleOutcome, CycleRun, CycleSummary, Drive,
 };
@@ -75,7 +76,7 @@ pub fn run_liner(
     let t0 = std::time::Instant::now();
     let drive = Drive::new(&s.engine);
     let ring = ring_case(s, &drive);
-    let bounds_cm: Vec<f64> = s.engine.bounds_mm.iter().map(|b| 0.1 * b).collect();
+    let bounds_cm = s.zones.bounds_cm();
     let layout = LinerLayout::zoned(bounds_cm, textures.clone())?;
     let finest = textures
         .iter()
@@ -102,12 +103,15 @@ pub fn run_liner(
         }
     };
     let outcome = run
-        .run(&mut on_cycle, &mut |_| {})
+        .run(CycleWatch {
+            on_window: Some(&mut on_cycle),
+            on_step: None,
+        })
         .map_err(|source| OptimiseError::RunOf {
             label: label.to_string(),
             source,
         })?;
-    let metrics = metrics(&outcome.rows, &s.engine);
+    let metrics = metrics(&outcome.rows, &s.engine, s.zones.bounds_mm());
     Ok(LinerCycle {
         textures,
         outcome,

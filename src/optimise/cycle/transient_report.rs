@@ -114,7 +114,7 @@ fn liner_row(k: usize, r: &LinerCycle, plain: f64) -> TransientLinerRow {
 pub fn assemble(s: &CycleSettings, d: &Designs, t: &TransientLiners, wall: f64) -> TransientReport {
     let runs = t.runs.clone();
     let plain = runs.plain.metrics.work_j_per_m;
-    let b = &s.engine.bounds_mm;
+    let b = s.zones.bounds_mm();
     let zones = (0..b.len() - 1)
         .map(|z| {
             let work = runs.as_ref().map(|r| r.metrics.zone_work_j_per_m[z]);

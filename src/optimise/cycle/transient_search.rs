@@ -19,9 +19,10 @@ use crate::optimise::search::{swarm, Objective};
 use crate::optimise::space::Space;
 use crate::study::cache::Key;
 use crate::study::cycle_cache::CycleRunInputs;
+use crate::time::cycle::CycleWatch;
 use crate::time::cycle::{
-    cycle_numerics, metrics, metrics_in_zones, CycleMetrics, CycleNumerics, CycleRow, CycleRun,
-    CycleState, Drive, SETTLE_CYCLES,
+    cycle_numerics, metrics, CycleMetrics, CycleNumerics, CycleRow, CycleRun, CycleState, Drive,
+    SETTLE_CYCLES,
 };
 use crate::time::Fidelity;
 
@@ -40,16 +41,11 @@ pub fn keeps_film(h_um: f64, plain_um: f64, least_um: f64) -> bool {
     }
 }
 
-/// The figures of a cycle's `rows` on `engine`, with work per zone of `bounds_cm` (cm) where
-/// given, else of the engine's zones.
-pub fn metrics_over(rows: &[CycleRow], engine: &Engine, bounds_cm: Option<&[f64]>) -> CycleMetrics {
-    match bounds_cm {
-        None => metrics(rows, engine),
-        Some(b) => {
-            let bounds_mm: Vec<f64> = b.iter().map(|x| 10.0 * x).collect();
-            metrics_in_zones(rows, engine, &bounds_mm)
-        }
-    }
+/// The figures of a cycle's `rows` on `engine`, with work per zone of a liner layout's
+/// `bounds_cm` (cm).
+pub fn metrics_over(rows: &[CycleRow], engine: &Engine, bounds_cm: &[f64]) -> CycleMetrics {
+    let bounds_mm: Vec<f64> = bounds_cm.iter().map(|x| 10.0 * x).collect();
+    metrics(rows, engine, &bounds_mm)
 }
 
 /// The plain liner's cyclic run: its figures, its last cycle and its end state.
@@ -118,14 +114,16 @@ impl<'a> CycleJudge<'a> {
     }
 
     fn layout(&self, textures: Vec<Option<Texture>>) -> Result<LinerLayout, OptimiseError> {
-        let bounds_cm: Vec<f64> = self.s.engine.bounds_mm.iter().map(|b| 0.1 * b).collect();
-        Ok(LinerLayout::zoned(bounds_cm, textures)?)
+        Ok(LinerLayout::zoned(self.s.zones.bounds_cm(), textures)?)
     }
 
     /// The figures of a cycle's rows, with work per zone of `bounds_cm` (None: the engine's
     /// zones).
     pub fn metrics(&self, rows: &[CycleRow], bounds_cm: Option<&[f64]>) -> CycleMetrics {
-        metrics_over(rows, &self.engine, bounds_cm)
+        match bounds_cm {
+            None => metrics(rows, &self.engine, self.s.zones.bounds_mm()),
+            Some(b) => metrics_over(rows, &self.engine, b),
+        }
     }
 
     /// Whether this judge runs each liner until it repeats itself (the report's), so that its
@@ -139,13 +137,12 @@ impl<'a> CycleJudge<'a> {
         &self.engine
     }
 
-    /// The numerics `layout` is judged with: the tier's, its cycles cut to the settle rule's.
+    /// The numerics `layout` is judged with: the tier's, with the judge's settle rule.
     fn settled(&self, layout: &LinerLayout) -> CycleNumerics {
-        let mut numerics = self.numerics(layout);
-        if let Some(n) = self.settle {
-            numerics.max_cycles = n;
+        CycleNumerics {
+            settle: self.settle,
+            ..self.numerics(layout)
         }
-        numerics
     }
 
     /// The cache key of `layout`'s run by this judge: the point's engine, the ring, the liner,
@@ -155,7 +152,7 @@ impl<'a> CycleJudge<'a> {
             engine: &self.engine.file,
             ring: &ring_case(self.s, &self.drive),
             layout,
-            numerics: &self.settled(layout),
+            numerics: &self.settled(layout).keyed(),
             settle: self.settle,
         })
     }
@@ -166,11 +163,11 @@ impl<'a> CycleJudge<'a> {
         if let Some(p) = plain.as_ref() {
             return Ok(p.clone());
         }
-        let zones = self.s.engine.bounds_mm.len() - 1;
+        let zones = self.s.zones.count();
         let layout = self.layout(vec![None; zones])?;
         let ring = ring_case(self.s, &self.drive);
         let o = CycleRun::new(&self.drive, ring, layout, numerics.clone())
-            .and_then(|r| r.run(&mut |_| {}, &mut |_| {}))
+            .and_then(|r| r.run(CycleWatch::default()))
             .map_err(|source| OptimiseError::RunOf {
                 label: "plain liner".into(),
                 source,
@@ -202,7 +199,7 @@ impl<'a> CycleJudge<'a> {
         let numerics = self.settled(&layout);
         let ring = ring_case(self.s, &self.drive);
         let judged = CycleRun::resume(&self.drive, ring, layout, numerics, &plain.end)
-            .and_then(|r| r.run(&mut |_| {}, &mut |_| {}))
+            .and_then(|r| r.run(CycleWatch::default()))
             .map(|o| Judged {
                 metrics: self.metrics(&o.rows, zones_cm),
                 rows: o.rows,
@@ -245,7 +242,7 @@ impl Objective for ZoneOverCycle<'_> {
     }
 
     fn costs(&self, designs: &[Texture]) -> Result<Vec<f64>, OptimiseError> {
-        let zones = self.s.engine.bounds_mm.len() - 1;
+        let zones = self.s.zones.count();
         let liners: Vec<Vec<Option<Texture>>> = designs
             .iter()
             .map(|t| {
@@ -268,7 +265,7 @@ pub fn design_over_cycle(
     let t0 = std::time::Instant::now();
     let say = s.search.say_since(t0);
     let held = |j: &dyn ZonedCosts| j.held();
-    let zones = s.engine.bounds_mm.len() - 1;
+    let zones = s.zones.count();
     let (mut found, mut candidates) = (Vec::new(), Vec::new());
     for zone in 0..zones {
         say(format!(

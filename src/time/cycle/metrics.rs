@@ -62,15 +62,16 @@ pub struct CycleMetrics {
     pub zone_work_j_per_m: Vec<f64>,
 }
 
-/// The figures of a cycle's `rows` (one cycle, every step) on `engine`, whose crank turns at
-/// its rpm, the work split by the engine's zones.
-pub fn metrics(rows: &[CycleRow], engine: &Engine) -> CycleMetrics {
-    metrics_in_zones(rows, engine, &engine.bounds_mm)
+/// The stroke as one zone (mm from top dead centre): the bounds of a run whose figures are
+/// read for the whole cycle only.
+pub fn whole_stroke(engine: &Engine) -> [f64; 2] {
+    [0.0, engine.file.engine.stroke_mm]
 }
 
-/// The same, the work split by the zones of `bounds_mm` (mm from top dead centre, from 0 to
-/// the stroke): a liner's own layout, where it is not the engine's.
-pub fn metrics_in_zones(rows: &[CycleRow], engine: &Engine, bounds_mm: &[f64]) -> CycleMetrics {
+/// The figures of a cycle's `rows` (one cycle, every step) on `engine`, whose crank turns at
+/// its rpm, the work split by the liner's zones of `bounds_mm` (mm from top dead centre, from
+/// 0 to the stroke).
+pub fn metrics(rows: &[CycleRow], engine: &Engine, bounds_mm: &[f64]) -> CycleMetrics {
     let e = &engine.file.engine;
     // Seconds per degree of crank angle.
     let s_per_deg = 60.0 / (e.rpm * 360.0);

@@ -9,8 +9,8 @@ mod stepping;
 mod tiers;
 
 pub use drive::{crank_steps, Drive, DrivePoint, StepRule};
-pub use metrics::{metrics, metrics_in_zones, CycleMetrics, Regime};
+pub use metrics::{metrics, whole_stroke, CycleMetrics, Regime};
 pub use oil::{Ahead, OilMap, Taken};
 pub use record::{CycleRow, CycleSummary, OilBalance};
-pub use stepping::{CycleOutcome, CycleRun, CycleState, MAX_HALVINGS, SETTLE_CYCLES};
+pub use stepping::{CycleOutcome, CycleRun, CycleState, CycleWatch, MAX_HALVINGS, SETTLE_CYCLES};
 pub use tiers::{cycle_numerics, CycleEnd, CycleNumerics, CONTACT_SHARE, TEXTURE_CELLS};

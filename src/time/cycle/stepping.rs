@@ -21,10 +21,15 @@ use crate::model::liner_layout::LinerLayout;
 use crate::model::ring::{Ring, RingState};
 use crate::solve::{FilmMethod, FilmSolver, Step};
 use crate::time::characteristic::{courant, shift, MAX_COURANT};
-use crate::time::common::{SolveError, CONTACT_Z, MASS_TOL};
+use crate::time::common::{Observers, SolveError, MASS_TOL};
+use crate::time::coupled::{guard_mass, RingStep};
 use crate::time::start::equilibrium_start;
 use crate::time::steady::solve_untextured;
 use crate::time::TimeScheme;
+
+/// Who watches a cycle run: a closure after every cycle (its summary), one after every
+/// crank step (its row).
+pub type CycleWatch<'a> = Observers<'a, CycleRow, CycleSummary>;
 
 /// What a cycle run found: its last cycle step by step, every cycle's summary, the oil map
 /// at the end, and where the run stands then (for another liner's run to start from).
@@ -508,14 +513,18 @@ impl CycleRun<'_> {
         self.st.film.phi_inlet = ex.phi_inlet;
         let boundary = self.boundary(&b, u.abs(), ex.phi_inlet);
         let contact = self.case.contact_law();
-        let ring = Ring {
-            mass: self.case.mass,
-            w_ps: b.w,
-            contact,
+        let rs = RingStep {
+            ring: Ring {
+                mass: self.case.mass,
+                w_ps: b.w,
+                contact,
+            },
+            from: self.st.film.ring,
+            dt,
         };
-        let s = self.st.film.ring;
-        let link = ring.link(&s, dt);
-        let mut z = (s.z + dt * s.v).max(0.5 * s.z);
+        let drive = self.drive;
+        let label = || cycle_label(drive);
+        let mut z = rs.guess(rs.predicted(), label, to)?;
         // The old level: the film as the last step left it, carried onto this step's grid,
         // and moved along the Couette characteristics where the scheme and the step allow.
         let old = self.old_level(u.abs(), dt, ex.phi_inlet);
@@ -530,30 +539,24 @@ impl CycleRun<'_> {
                 u: old.stencil_u,
                 ..boundary
             },
-            ring: Some(link),
+            ring: Some(rs.link()),
         };
         let stats = self
             .solver
             .solve(&step, &mut self.st.film.state, &mut z)
             .map_err(|source| SolveError::Film {
-                case: cycle_label(self.drive),
+                case: label(),
                 t: to,
                 source,
             })?;
-        if z <= CONTACT_Z {
-            return Err(SolveError::Contact {
-                case: cycle_label(self.drive),
-                t: to,
-                z,
-            });
-        }
+        let ring = rs.close(z, &stats, label, to)?;
         let share = stats.w_a / b.w;
         if may_refine && (share - self.st.film.last_share).abs() > self.numerics.steps.contact_share
         {
             return Ok(Stepped::Refine);
         }
         self.st.film.last_share = share;
-        self.st.film.ring = ring.advance(&s, dt, z, stats.w_h + stats.w_a);
+        self.st.film.ring = ring;
         let outflow = self.exchange_oil(&old, &ex, (u.abs(), dt, to), z, film_before)?;
         let f = friction(
             &self.st.film.scene.grid,
@@ -699,21 +702,13 @@ impl CycleRun<'_> {
         (i / g.width, o / g.width)
     }
 
-    /// Guard: the film's oil changed by what flowed in and out, to round-off.
+    /// Guard ([`guard_mass`]): the film's oil changed by what flowed in and out, to
+    /// round-off.
     fn check_mass(&self, before: f64, net: f64, through: f64, to: f64) -> Result<(), SolveError> {
         let defect = (self.film_oil() - before - net).abs() / through.max(f64::MIN_POSITIVE);
         // The totals hold the wide gap's oil; their difference carries its round-off.
         let tol = MASS_TOL.max(1e-12 * self.film_oil() / through.max(f64::MIN_POSITIVE));
-        if defect.is_nan() || defect > tol {
-            return Err(SolveError::MassNotConserved {
-                case: cycle_label(self.drive),
-                t: to,
-                defect,
-                tol,
-                hint: "the film solve did not conserve mass: it is not converged".into(),
-            });
-        }
-        Ok(())
+        guard_mass(defect, tol, || cycle_label(self.drive), to)
     }
 
     /// The step's row in the engine's units.
@@ -755,11 +750,11 @@ impl CycleRun<'_> {
 
 impl CycleRun<'_> {
     /// One cycle over the crank angles `steps` (from one start to the same angle 720° on):
-    /// its rows and summary. `on_step` sees every row.
+    /// its rows and summary. `watch` sees every row.
     pub fn cycle(
         &mut self,
         steps: &[f64],
-        on_step: &mut dyn FnMut(&CycleRow),
+        watch: &mut CycleWatch,
     ) -> Result<(Vec<CycleRow>, CycleSummary), SolveError> {
         self.tally = OilBalance {
             film_start: self.film_oil(),
@@ -771,7 +766,7 @@ impl CycleRun<'_> {
         for w in steps.windows(2) {
             for row in self.advance(w[0], w[1])? {
                 work += row.power_w_per_m * self.drive.time_of(row.step_deg);
-                on_step(&row);
+                watch.step(&row);
                 rows.push(row);
             }
         }
@@ -789,13 +784,10 @@ impl CycleRun<'_> {
         Ok((rows, summary))
     }
 
-    /// Cycles from the run's start until one repeats the one before (friction work and oil
-    /// map within the numerics' tolerance) or the most cycles are run.
-    pub fn run(
-        mut self,
-        on_cycle: &mut dyn FnMut(&CycleSummary),
-        on_step: &mut dyn FnMut(&CycleRow),
-    ) -> Result<CycleOutcome, SolveError> {
+    /// Cycles from the run's start until the numerics' stop rule ends it
+    /// ([`CycleNumerics::stop`]: repeated, settled, or out of cycles); `watch` sees every
+    /// cycle's summary and every step's row.
+    pub fn run(mut self, mut watch: CycleWatch) -> Result<CycleOutcome, SolveError> {
         // Pockets under the ring, or within a ring's width of it, call for the texture's step.
         let (a, b) = self.st.film.scene.contact.ring_edges();
         let (x_c, w) = (self.st.film.scene.contact.x_center_cm, b - a);
@@ -813,10 +805,12 @@ impl CycleRun<'_> {
         );
         let mut cycles: Vec<CycleSummary> = Vec::new();
         let mut last_rows = Vec::new();
-        let mut stopped = self.numerics.stop(&cycles);
-        while stopped.is_none() {
+        let stopped = loop {
+            if let Some(end) = self.numerics.stop(&cycles) {
+                break end;
+            }
             let before = self.st.oil.clone();
-            let (rows, mut summary) = self.cycle(&steps, on_step)?;
+            let (rows, mut summary) = self.cycle(&steps, &mut watch)?;
             summary.index = cycles.len();
             if let Some(prev) = cycles.last() {
                 summary.work_change = (summary.friction_work_j_per_m - prev.friction_work_j_per_m)
@@ -824,16 +818,15 @@ impl CycleRun<'_> {
                     / prev.friction_work_j_per_m.abs().max(f64::MIN_POSITIVE);
                 summary.oil_change = self.st.oil.change_from(&before);
             }
-            on_cycle(&summary);
+            watch.window(&summary);
             cycles.push(summary);
             last_rows = rows;
-            stopped = self.numerics.stop(&cycles);
-        }
+        };
         last_rows.sort_by(|a, b| a.crank_deg.total_cmp(&b.crank_deg));
         Ok(CycleOutcome {
             rows: last_rows,
             cycles,
-            stopped: stopped.unwrap_or(CycleEnd::OutOfCycles),
+            stopped,
             oil_y_cm: (0..self.st.oil.layer().len())
                 .map(|k| self.st.oil.y(k))
                 .collect(),

@@ -30,6 +30,11 @@ pub struct CycleNumerics {
     pub cyclic_tol: f64,
     /// Most cycles run; a run that has not repeated itself by then says so.
     pub max_cycles: usize,
+    /// Cycles after which a run resumed from another liner's cyclic state is settled
+    /// ([`super::SETTLE_CYCLES`]); None: it runs until it repeats itself. Not serialised: a
+    /// cache key names the settle rule beside the numerics ([`CycleNumerics::keyed`]).
+    #[serde(skip)]
+    pub settle: Option<usize>,
 }
 
 /// Why a cycle run stopped.
@@ -38,8 +43,9 @@ pub enum CycleEnd {
     /// The last cycle repeated the one before: friction work and oil map within the
     /// tolerance.
     Repeated,
-    /// The most cycles were run: a run resumed from another liner's cyclic state is settled
-    /// then (its most cycles are the settling's); any other has not repeated itself.
+    /// The settle rule's cycles were run (a run resumed from another liner's cyclic state).
+    Settled(usize),
+    /// The most cycles were run without the last repeating the one before.
     OutOfCycles,
 }
 
@@ -52,6 +58,8 @@ impl CycleNumerics {
             .is_some_and(|c| c.work_change < tol && c.oil_change < tol)
         {
             Some(CycleEnd::Repeated)
+        } else if let Some(n) = self.settle.filter(|&n| cycles.len() >= n) {
+            Some(CycleEnd::Settled(n))
         } else if cycles.len() >= self.max_cycles {
             Some(CycleEnd::OutOfCycles)
         } else {
@@ -64,7 +72,23 @@ impl CycleNumerics {
     /// cycles (a bound: a liner textured in part, or one that repeats sooner, takes fewer).
     pub fn check(&self, drive: &Drive, limits: &Limits) -> Result<(), InputError> {
         let per_cycle = crank_steps(drive, self.start_deg, &self.steps, &|_| true).len() - 1;
-        check_cycle((self.n1, self.n2), per_cycle, self.max_cycles, limits)
+        check_cycle((self.n1, self.n2), per_cycle, self.most_cycles(), limits)
+    }
+
+    /// The most cycles a run of these numerics takes: the settle rule's where it is the
+    /// fewer.
+    pub fn most_cycles(&self) -> usize {
+        self.settle
+            .map_or(self.max_cycles, |n| n.min(self.max_cycles))
+    }
+
+    /// The numerics as a cache key holds them: the most cycles the run takes in
+    /// `max_cycles` (the key names the settle rule itself beside them).
+    pub fn keyed(&self) -> CycleNumerics {
+        CycleNumerics {
+            max_cycles: self.most_cycles(),
+            ..self.clone()
+        }
     }
 
     /// The film solver of a cycle run: the direct active-set solver (docs/solver.md, "One
@@ -156,5 +180,64 @@ pub fn cycle_numerics(
         start_deg: 90.0,
         cyclic_tol: 1e-3,
         max_cycles: 20,
+        settle: None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::case::CaseSpec;
+
+    /// Cycles whose work and oil change by `changes` from one to the next.
+    fn cycles(changes: &[f64]) -> Vec<CycleSummary> {
+        changes
+            .iter()
+            .enumerate()
+            .map(|(index, &c)| CycleSummary {
+                index,
+                friction_work_j_per_m: 1.0,
+                work_change: c,
+                oil_change: c,
+                oil: Default::default(),
+                steps: 1,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_stop_rule_says_why_a_run_ended() {
+        let n = cycle_numerics(
+            Fidelity::Draft,
+            &Overrides::default(),
+            &CaseSpec::paper(5.0),
+            None,
+        );
+        assert_eq!(n.stop(&cycles(&[])), None);
+        assert_eq!(n.stop(&cycles(&[f64::INFINITY, 0.5])), None);
+        assert_eq!(
+            n.stop(&cycles(&[f64::INFINITY, 1e-4])),
+            Some(CycleEnd::Repeated)
+        );
+        let never = vec![0.5; n.max_cycles];
+        assert_eq!(n.stop(&cycles(&never)), Some(CycleEnd::OutOfCycles));
+        let settling = CycleNumerics {
+            settle: Some(2),
+            ..n.clone()
+        };
+        assert_eq!(settling.stop(&cycles(&[f64::INFINITY])), None);
+        assert_eq!(
+            settling.stop(&cycles(&[f64::INFINITY, 0.5])),
+            Some(CycleEnd::Settled(2))
+        );
+        // A cycle that repeats the one before is said to, settled or not.
+        assert_eq!(
+            settling.stop(&cycles(&[f64::INFINITY, 1e-4])),
+            Some(CycleEnd::Repeated)
+        );
+        // The key holds the most cycles a run takes, as it did when settling cut them.
+        assert_eq!(settling.most_cycles(), 2);
+        assert_eq!(settling.keyed().max_cycles, 2);
+        assert_eq!(n.keyed(), n);
     }
 }
