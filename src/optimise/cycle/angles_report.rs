@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::angles::{Confirmation, CycleSettings, Designs, Exclusion, LinerRuns, Runs};
+use super::cells::{change_pct, or_dash};
 use super::liner::{Liner, Trio};
 use crate::model::case::Texture;
 use crate::model::engine::zone_label;
@@ -207,16 +208,6 @@ pub fn assemble(s: &CycleSettings, d: &Designs, ev: &LinerRuns, wall: f64) -> Cy
         samples,
         wall_time_s: wall,
     }
-}
-
-/// The change of `w` against `reference` (%), if there is a reference to compare with.
-fn change_pct(w: f64, reference: f64) -> Option<f64> {
-    (reference > 0.0).then(|| 100.0 * (w / reference - 1.0))
-}
-
-/// An optional number in a table, or a dash.
-fn or_dash(x: Option<f64>, f: impl Fn(f64) -> String) -> String {
-    x.map_or("—".into(), f)
 }
 
 fn texture_label(t: &Option<Texture>) -> String {
@@ -563,8 +554,5 @@ mod tests {
             first_non_finite(&r).unwrap().to_string(),
             "zones[0].c_min_um = inf"
         );
-        // The change of a liner or zone with nothing to compare with is none, not NaN.
-        assert_eq!(change_pct(0.0, 0.0), None);
-        assert_eq!(change_pct(1.5, 1.0), Some(50.0));
     }
 }

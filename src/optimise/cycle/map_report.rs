@@ -4,6 +4,7 @@
 //! work in each band and between them; the search's front of friction against least film;
 //! the figures (front, bands along the stroke, friction force per point).
 
+use super::cells::{change_pct, fixed};
 use super::liner::{Liner, Trio};
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -110,10 +111,6 @@ fn plain_figures(l: &MapLiners, k: usize) -> PointFigures {
     figures(&l.map[k], &m)
 }
 
-fn change(p: Option<f64>, plain: f64) -> Option<f64> {
-    p.map(|p| 100.0 * (p / plain - 1.0))
-}
-
 fn liner_row(
     liner: Liner,
     design: String,
@@ -135,7 +132,7 @@ fn liner_row(
         design,
         points,
         mean_power_w_per_m: power,
-        change_pct: change(power, over.plain_mean_power(&l.map)),
+        change_pct: power.and_then(|p| change_pct(p, over.plain_mean_power(&l.map))),
         searched_change_pct: searched_ratio
             .filter(|r| *r < FAILED_COST)
             .map(|r| 100.0 * (r - 1.0)),
@@ -231,10 +228,6 @@ pub fn assemble(s: &CycleSettings, d: &MapDesigns, l: &MapLiners, wall: f64) -> 
     }
 }
 
-fn opt(x: Option<f64>, digits: usize) -> String {
-    x.map_or("–".into(), |v| format!("{v:.digits$}"))
-}
-
 /// The report's tables.
 pub fn table(r: &MapReport) -> String {
     let mut t = String::new();
@@ -283,10 +276,10 @@ pub fn table(r: &MapReport) -> String {
             "| {} | {} | {} | {} | {} | {} | {} |",
             l.liner,
             l.design,
-            opt(l.mean_power_w_per_m, 3),
-            opt(l.change_pct, 3),
-            opt(l.searched_change_pct, 3),
-            opt(l.worst_film_um, 3),
+            fixed(l.mean_power_w_per_m, 3),
+            fixed(l.change_pct, 3),
+            fixed(l.searched_change_pct, 3),
+            fixed(l.worst_film_um, 3),
             cells.join(" | ")
         );
     }

@@ -17,6 +17,7 @@
 pub mod angles;
 pub mod angles_report;
 pub mod bands;
+mod cells;
 pub mod liner;
 pub mod map_report;
 pub mod map_runs;

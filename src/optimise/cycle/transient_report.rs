@@ -3,6 +3,7 @@
 //! of each liner and the texture kept; every step of the last cycle, the oil map and the
 //! cycle-to-cycle convergence as CSV; the figures an engine engineer reads.
 
+use super::cells::{change_pct, signed};
 use super::liner::{Liner, Trio};
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -86,10 +87,6 @@ pub struct TransientReport {
     runs: Trio<LinerCycle>,
 }
 
-fn change_pct(w: f64, plain: f64) -> Option<f64> {
-    (plain > 0.0).then(|| 100.0 * (w / plain - 1.0))
-}
-
 fn liner_row(k: usize, r: &LinerCycle, plain: f64) -> TransientLinerRow {
     let last = r.outcome.cycles.last();
     TransientLinerRow {
@@ -165,10 +162,6 @@ fn texture_label(t: &Option<Texture>) -> String {
     t.as_ref().map_or("plain".into(), |t| t.rounded_label())
 }
 
-fn opt(x: Option<f64>, digits: usize) -> String {
-    x.map_or("–".into(), |v| format!("{v:+.digits$}"))
-}
-
 /// The tables: liners, then zones.
 pub fn table(r: &TransientReport) -> String {
     let mut o = String::new();
@@ -199,7 +192,7 @@ pub fn table(r: &TransientReport) -> String {
             100.0 * m.asperity_work_j_per_m / m.work_j_per_m.max(f64::MIN_POSITIVE),
             m.ring_power_w,
             m.fmep_kpa,
-            opt(l.change_pct, 2),
+            signed(l.change_pct, 2),
             m.h_min_um,
             m.h_min_deg,
             m.lambda_min,
@@ -227,7 +220,7 @@ pub fn table(r: &TransientReport) -> String {
             z.work_j_per_m.plain,
             z.work_j_per_m.uniform,
             z.work_j_per_m.designed,
-            opt(z.change_pct, 2)
+            signed(z.change_pct, 2)
         );
     }
     let _ = writeln!(
