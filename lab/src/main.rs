@@ -13,6 +13,7 @@
 //!     texopt-lab rim-1d
 //!     texopt-lab rim-2d
 //!     texopt-lab rim-moving
+//!     texopt-lab rim-liner
 //!     texopt-lab rim-rows
 
 use texopt_lab::studies;
@@ -34,9 +35,10 @@ fn main() {
         Some("rim-1d") => studies::rim_1d::main(rest),
         Some("rim-2d") => studies::rim_2d::main(rest),
         Some("rim-moving") => studies::rim_moving::main(rest),
+        Some("rim-liner") => studies::rim_liner::main(rest),
         Some("rim-rows") => studies::rim_rows::main(rest),
         _ => Err(
-            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | cycle-steps | cycle-contact | cycle-stress [LINER …] | rim-1d | rim-2d | rim-moving | rim-rows | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
+            "usage: texopt-lab speed … | references … | deep-pockets | shear-threshold | cycle-steps | cycle-contact | cycle-stress [LINER …] | rim-1d | rim-2d | rim-moving | rim-liner | rim-rows | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
                 .into(),
         ),
     };

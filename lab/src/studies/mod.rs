@@ -8,6 +8,7 @@ pub mod deep_pockets;
 pub mod references;
 pub mod rim_1d;
 pub mod rim_2d;
+pub mod rim_liner;
 pub mod rim_moving;
 pub mod rim_rows;
 pub mod shear_threshold;

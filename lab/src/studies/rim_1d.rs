@@ -238,7 +238,7 @@ pub(crate) struct Storage<'a> {
 }
 
 /// The Elrod–Adams film of one problem on the faces (K_i, g_i) east of each node (n faces,
-/// p = 0 at both ends, θ_0 = 1), steady or with `storage`, from the active set `full`
+/// p = 0 at both ends, θ_0 = 1: a flooded inlet), steady or with `storage`, from the active set `full`
 /// (updated): node i's balance (u/2)(θ_i K_i − θ_{i−1} K_{i−1}) − g_i (p_{i+1} − p_i) +
 /// g_{i−1} (p_i − p_{i−1}) (+ (θ_i s_i − old_i)·dx/dt) = 0, unknown p_i where full, θ_i
 /// where cavitated, one tridiagonal system per active set, at most `tries` of them. Returns
@@ -248,6 +248,17 @@ pub(crate) fn active_set(
     storage: Option<Storage>,
     full: &mut [bool],
     tries: usize,
+) -> Option<(Vec<f64>, Vec<f64>)> {
+    active_set_from(faces, storage, full, tries, 1.0)
+}
+
+/// [`active_set`] with the inlet node's saturation θ_0 = `theta_in` (its pressure 0).
+pub(crate) fn active_set_from(
+    faces: &[(f64, f64)],
+    storage: Option<Storage>,
+    full: &mut [bool],
+    tries: usize,
+    theta_in: f64,
 ) -> Option<(Vec<f64>, Vec<f64>)> {
     let n = faces.len();
     let m = n - 1;
@@ -272,13 +283,13 @@ pub(crate) fn active_set(
             } else {
                 diag[r] = 0.5 * U * k + si * store;
             }
-            // Upstream: the inlet (θ_0 = 1, p_0 = 0), a full node (θ = 1, its p) or a
+            // Upstream: the inlet (θ_0, p_0 = 0), a full node (θ = 1, its p) or a
             // cavitated one (its θ, p = 0).
-            if i == 1 || full[i - 1] {
+            if i == 1 {
+                rhs[r] += 0.5 * U * kw * theta_in;
+            } else if full[i - 1] {
                 rhs[r] += 0.5 * U * kw;
-                if i > 1 {
-                    lower[r] = -gw;
-                }
+                lower[r] = -gw;
             } else {
                 lower[r] = -0.5 * U * kw;
             }

@@ -21,7 +21,7 @@ use std::fmt::Write as _;
 
 use super::rim_1d::{active_set, error_cells, write_report, Storage};
 
-const U: f64 = 1.0;
+pub(crate) const U: f64 = 1.0;
 const LAND: f64 = 1.0;
 const DEPTH: f64 = 20.0;
 const GROOVE: (f64, f64) = (0.3137, 0.5071);
@@ -39,13 +39,13 @@ const GAUSS: [(f64, f64); 8] = [
     (0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
     (0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
 ];
-const PERIODS: usize = 3;
+pub(crate) const PERIODS: usize = 3;
 const MESHES: [usize; 6] = [25, 50, 100, 200, 400, 800];
 const REFERENCE: usize = 6400;
 
 /// The gap with the groove moved by `shift`: h(x) = LAND (+ DEPTH in the groove).
-struct Gap {
-    shift: f64,
+pub(crate) struct Gap {
+    pub(crate) shift: f64,
 }
 
 impl Gap {
@@ -91,7 +91,7 @@ impl Gap {
 }
 
 #[derive(Clone, Copy)]
-enum Scheme {
+pub(crate) enum Scheme {
     Nodal,
     CutCell,
     /// The exact two-point flux, each node storing its film as the content it carries,
@@ -100,7 +100,7 @@ enum Scheme {
 }
 
 impl Scheme {
-    fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Scheme::Nodal => "nodal",
             Scheme::CutCell => "exact two-point, cut cell",
@@ -109,7 +109,7 @@ impl Scheme {
     }
 
     /// Per face i (east of node i): (K_i, g_i); per node: the storage gap s_i.
-    fn discretise(self, gap: &Gap, n: usize) -> (Vec<(f64, f64)>, Vec<f64>) {
+    pub(crate) fn discretise(self, gap: &Gap, n: usize) -> (Vec<(f64, f64)>, Vec<f64>) {
         let dx = 1.0 / n as f64;
         let x = |i: usize| i as f64 * dx;
         let faces: Vec<(f64, f64)> = (0..n)
@@ -177,7 +177,7 @@ fn step(
 }
 
 /// The last period's mean inflow and load, and the load's change from the period before.
-fn run(scheme: Scheme, n: usize) -> Result<(f64, f64, f64), String> {
+pub(crate) fn run(scheme: Scheme, n: usize) -> Result<(f64, f64, f64), String> {
     let dt = 1.0 / (n as f64 * U);
     let (_, s) = scheme.discretise(&Gap { shift: 0.0 }, n);
     let mut content = s;
