@@ -4,6 +4,7 @@ pub mod convergence;
 pub mod cycle_contact;
 pub mod cycle_steps;
 pub mod cycle_stress;
+pub mod deep_mesh;
 pub mod deep_pockets;
 pub mod references;
 pub mod rim_1d;
