@@ -149,7 +149,7 @@ fn a_zone_with_no_angle_inside_the_model_is_reported_in_words() {
         }
     }
     assert!(
-        md.contains("| 1 | 0.0–1.0 | plain liner | 0 / ") && md.contains("| — | — | — | — |"),
+        md.contains("| 1 | 0.0–1.0 | plain liner | 0 / ") && md.contains("| – | – | – | – |"),
         "{md}"
     );
     assert!(

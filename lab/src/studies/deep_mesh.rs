@@ -3,11 +3,13 @@
 //!
 //! `fast` goes on on its deep-pocket mesh (600×24) where pockets end deeper than 6·C_min.
 //! Here that answer, for the paper's 0.03/0.06/20 µm pockets at R = 3.2, 12.8, 25.6 and 51.2
-//! and for small pockets (0.005/0.01/10 µm) at R = 25.6, against the same tier refined along
-//! x1 (1200×24, the characteristic step halved with the cells), across x2 (600×48) and both
-//! at once (1200×48): each a run of its own from the tier's start and coarse approach. The
-//! two single refinements are what a per-answer uncertainty would cost; the uniform one is
-//! the change a first-order scheme's error is told by.
+//! and for small pockets (0.005/0.01/10 µm) at R = 25.6, against the same tier coarsened in
+//! both directions (300×12, the characteristic step doubled with the cells), refined along
+//! x1 (1200×24), across x2 (600×48) and in both (1200×48): each a run of its own from the
+//! tier's start and coarse approach. The two single refinements are what a per-answer
+//! uncertainty from them would cost; the uniform ones are the changes a first-order scheme's
+//! error is told by (halving both directions keeps the cells' shape, so the errors along and
+//! across keep their balance).
 
 use std::fmt::Write as _;
 use std::fs;
@@ -29,7 +31,8 @@ const CASES: [(f64, f64, f64, f64); 5] = [
 const MESHES: [Option<(usize, usize)>; 4] =
     [None, Some((1200, 24)), Some((600, 48)), Some((1200, 48))];
 
-fn run(case: &CaseSpec, mesh: Option<(usize, usize)>) -> Result<Outcome, String> {
+/// The case on the tier's numerics with `mesh` given: its outcome and the mesh it is on.
+fn run(case: &CaseSpec, mesh: Option<(usize, usize)>) -> Result<(Outcome, (usize, usize)), String> {
     let given = Overrides {
         n1: mesh.map(|m| m.0),
         n2: mesh.map(|m| m.1),
@@ -37,7 +40,10 @@ fn run(case: &CaseSpec, mesh: Option<(usize, usize)>) -> Result<Outcome, String>
     };
     let num = resolve(Fidelity::Fast, &given, case);
     simulate(case, &num)
-        .map(|r| r.outcome)
+        .map(|r| {
+            let mesh = r.outcome.mesh((num.n1, num.n2));
+            (r.outcome, mesh)
+        })
         .map_err(|e| format!("{}: {e}", case.label()))
 }
 
@@ -54,31 +60,30 @@ pub fn main(_args: &[String]) -> Result<(), String> {
         let (r, l1, per, depth) = CASES[c];
         CaseSpec::paper(r).with_texture(Texture::circular(l1, per, depth))
     };
-    let outcomes: Vec<Outcome> = jobs
+    let outcomes: Vec<(Outcome, (usize, usize))> = jobs
         .par_iter()
         .map(|&(c, m)| run(&case(c), MESHES[m]))
         .collect::<Result<_, _>>()?;
     let mut md = String::from(
         "# Deep pockets: the deep-pocket mesh against its refinements\n\n\
-         Reproduce: `texopt-lab deep-mesh` (≈ 20 min on two cores). `fast`'s answer where \
+         Reproduce: `texopt-lab deep-mesh` (≈ 25 min on two cores). `fast`'s answer where \
          pockets end deeper than 6·C_min (700×8 going on on 600×24), and the same tier on \
-         1200×24 (the characteristic step halved with the cells), 600×48 and 1200×48, each \
-         from the tier's start and coarse approach (lab/src/studies/deep_mesh.rs). Changes in \
-         per cent of f̄ and C_min from the tier's answer; wall times on one core.\n\n\
-         | R (cm) | pockets l1/per/depth | tier: mesh, f̄, C_min (µm), s | 1200×24: f̄, C_min | 600×48: f̄, C_min | 1200×48: f̄, C_min | refined runs' s |\n\
-         |---|---|---|---|---|---|---|\n",
+         300×12, 1200×24, 600×48 and 1200×48 (the characteristic step with the cells along), \
+         each from the tier's start and coarse approach (lab/src/studies/deep_mesh.rs). \
+         Changes in per cent of f̄ and C_min from the tier's answer; wall times on one core.\n\n\
+         | R (cm) | pockets l1/per/depth | tier: mesh, f̄, C_min (µm), s | 300×12: f̄, C_min | 1200×24: f̄, C_min | 600×48: f̄, C_min | 1200×48: f̄, C_min | the four runs' s |\n\
+         |---|---|---|---|---|---|---|---|\n",
     );
     let mut csv = String::from("R_cm,l1,per,depth_um,n1,n2,dt,f_mean,c_min,wall_s\n");
     for (c, runs) in outcomes.chunks(MESHES.len()).enumerate() {
         let (r, l1, per, depth) = CASES[c];
-        let o = &runs[0];
-        let (n1, n2) = o.mesh((700, 8));
+        let (o, (n1, n2)) = &runs[0];
         let _ = write!(
             md,
             "| {r} | {l1}/{per}/{depth} | {n1}×{n2}, {:.5}, {:.4}, {:.1} |",
             o.f_mean, o.c_min, o.wall_time_s
         );
-        for x in &runs[1..] {
+        for (x, _) in &runs[1..] {
             let _ = write!(
                 md,
                 " {}, {} |",
@@ -88,11 +93,10 @@ pub fn main(_args: &[String]) -> Result<(), String> {
         }
         let walls: Vec<String> = runs[1..]
             .iter()
-            .map(|x| format!("{:.0}", x.wall_time_s))
+            .map(|(x, _)| format!("{:.0}", x.wall_time_s))
             .collect();
         let _ = writeln!(md, " {} |", walls.join(" / "));
-        for (m, x) in runs.iter().enumerate() {
-            let (a, b) = MESHES[m].unwrap_or((n1, n2));
+        for (x, (a, b)) in runs {
             let _ = writeln!(
                 csv,
                 "{r},{l1},{per},{depth},{a},{b},{},{},{},{}",
