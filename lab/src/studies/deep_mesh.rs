@@ -28,8 +28,13 @@ const CASES: [(f64, f64, f64, f64); 5] = [
 ];
 
 /// The refined meshes (N1, N2); None: the tier's own answer.
-const MESHES: [Option<(usize, usize)>; 4] =
-    [None, Some((1200, 24)), Some((600, 48)), Some((1200, 48))];
+const MESHES: [Option<(usize, usize)>; 5] = [
+    None,
+    Some((300, 12)),
+    Some((1200, 24)),
+    Some((600, 48)),
+    Some((1200, 48)),
+];
 
 /// The case on the tier's numerics with `mesh` given: its outcome and the mesh it is on.
 fn run(case: &CaseSpec, mesh: Option<(usize, usize)>) -> Result<(Outcome, (usize, usize)), String> {
