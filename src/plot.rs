@@ -32,7 +32,22 @@ pub struct Series<'a> {
     pub colour: usize,
 }
 
-impl Series<'_> {
+impl<'a> Series<'a> {
+    /// A family of faint curves in the first colour, the legend naming it once (`name`, on
+    /// the first curve).
+    pub fn faint_family(curves: &'a [Vec<(f64, f64)>], name: String) -> Vec<Series<'a>> {
+        let mut name = Some(name);
+        curves
+            .iter()
+            .map(|c| Series {
+                name: name.take().unwrap_or_default(),
+                points: c,
+                style: Style::Faint,
+                colour: 0,
+            })
+            .collect()
+    }
+
     /// The points that are drawn (a failed case's NaN is left out, not plotted).
     fn drawn(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
         self.points

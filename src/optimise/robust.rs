@@ -461,20 +461,7 @@ fn plot_f_against_r(path: &Path, r: &RobustReport) -> Result<(), OptimiseError> 
         .filter(|(_, o)| o.is_some())
         .map(|(p, _)| *p)
         .collect();
-    let mut series: Vec<Series> = others
-        .iter()
-        .enumerate()
-        .map(|(i, c)| Series {
-            name: if i == 0 {
-                "each R's optimum, over the range".into()
-            } else {
-                String::new()
-            },
-            points: c,
-            style: Style::Faint,
-            colour: 0,
-        })
-        .collect();
+    let mut series = Series::faint_family(&others, "each R's optimum, over the range".into());
     series.push(Series {
         name: "each R's own optimum".into(),
         points: &own,

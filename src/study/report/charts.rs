@@ -76,21 +76,7 @@ pub(super) fn fig6(
         }
     });
     let n = fam.curves.len();
-    let mut series: Vec<Series> = fam
-        .curves
-        .iter()
-        .enumerate()
-        .map(|(i, c)| Series {
-            name: if i == 0 {
-                format!("{n} textures")
-            } else {
-                String::new()
-            },
-            points: c,
-            style: Style::Faint,
-            colour: 0,
-        })
-        .collect();
+    let mut series = Series::faint_family(&fam.curves, format!("{n} textures"));
     let env = if friction { &fam.lower } else { &fam.upper };
     let notes = envelope_notes(rows, env, friction);
     series.push(Series {
