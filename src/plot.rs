@@ -72,6 +72,9 @@ pub enum Style {
     /// Open rings around points: marks chosen members of a set drawn before them (the
     /// point underneath stays visible).
     Rings,
+    /// The points taken two by two, each pair a short line: error bars ((x, y − u) to
+    /// (x, y + u), or along x).
+    Segments,
 }
 
 /// Axis scaling.
@@ -500,6 +503,21 @@ where
             if s.style == Style::Thick {
                 plot.draw_series(pts.iter().map(|&p| TriangleMarker::new(p, 6, c.filled())))
                     .map_err(drawing)?;
+            }
+        }
+        Style::Segments => {
+            let pts: Vec<_> = pts.collect();
+            let w = 2;
+            let a = plot
+                .draw_series(
+                    pts.chunks_exact(2)
+                        .map(|ab| PathElement::new(vec![ab[0], ab[1]], c.stroke_width(w))),
+                )
+                .map_err(drawing)?;
+            if named {
+                a.label(s.name.clone()).legend(move |(x, y)| {
+                    PathElement::new(vec![(x + 10, y - 6), (x + 10, y + 6)], c.stroke_width(w))
+                });
             }
         }
         Style::Faint => {

@@ -11,6 +11,7 @@
 //!     texopt-lab cycle-contact
 //!     texopt-lab cycle-stress [LINER …]
 //!     texopt-lab deep-mesh
+//!     texopt-lab deep-rule
 //!     texopt-lab rim-1d
 //!     texopt-lab rim-2d
 //!     texopt-lab rim-moving
@@ -34,13 +35,14 @@ fn main() {
         Some("cycle-contact") => studies::cycle_contact::main(rest),
         Some("cycle-stress") => studies::cycle_stress::main(rest),
         Some("deep-mesh") => studies::deep_mesh::main(rest),
+        Some("deep-rule") => studies::deep_mesh::rule_main(rest),
         Some("rim-1d") => studies::rim_1d::main(rest),
         Some("rim-2d") => studies::rim_2d::main(rest),
         Some("rim-moving") => studies::rim_moving::main(rest),
         Some("rim-liner") => studies::rim_liner::main(rest),
         Some("rim-rows") => studies::rim_rows::main(rest),
         _ => Err(
-            "usage: texopt-lab speed … | references … | deep-pockets | deep-mesh | shear-threshold | cycle-steps | cycle-contact | cycle-stress [LINER …] | rim-1d | rim-2d | rim-moving | rim-liner | rim-rows | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
+            "usage: texopt-lab speed … | references … | deep-pockets | deep-mesh | deep-rule | shear-threshold | cycle-steps | cycle-contact | cycle-stress [LINER …] | rim-1d | rim-2d | rim-moving | rim-liner | rim-rows | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
                 .into(),
         ),
     };

@@ -11,8 +11,9 @@ use crate::model::units::H_M;
 use crate::snapshot::Recording;
 use crate::time::limits::Kept;
 use crate::time::{
-    simulate_with, unresolved_depth, Approach, Numerics, Outcome, Overrides, Progress, RunOptions,
-    RunResult, SeriesRow, TimeScheme, Watch, DEEP_POCKET_RATIO, RESOLVED_DEEP_RATIO,
+    simulate_with, unresolved_depth, AnswerError, Approach, ErrorSource, Fidelity, Numerics,
+    Outcome, Overrides, Progress, RunOptions, RunResult, SeriesRow, TimeScheme, Watch,
+    DEEP_POCKET_RATIO, RESOLVED_DEEP_RATIO, UNCERTAINTY_FLOOR,
 };
 
 /// The case and numerics named by the flags, validated (errors name the flags).
@@ -236,7 +237,7 @@ fn deep_pocket_note(depth: f64, o: &Outcome) {
         );
     } else if o.deep_mesh.is_some() && ratio > RESOLVED_DEEP_RATIO {
         eprintln!(
-            "note: pockets {depth} µm deep against a least clearance of {:.2} µm ({ratio:.0}×): the deep-pocket mesh is shown within 1 % up to {RESOLVED_DEEP_RATIO}×; deeper, its answer is nearer than 8 cells across give but can still be several % off, more with small pockets (docs/validation.md): compare such designs by trends, not by differences of a few %",
+            "note: pockets {depth} µm deep against a least clearance of {:.2} µm ({ratio:.0}×): the deep-pocket mesh is shown within 1 % up to {RESOLVED_DEEP_RATIO}×; deeper, its answer is nearer than 8 cells across give but can still be several % off, more with small pockets: the uncertainty measured on this answer (\"known to\" below, docs/validation.md) says how far",
             o.c_min
         );
     }
@@ -487,6 +488,10 @@ fn print_result(
     let physical = op.scales().physical(case, outcome.f_mean, outcome.c_min);
     let outside = validity.outside(case, outcome.c_min);
     let lambda = outcome.c_min / validity.roughness_um;
+    let tier = (a.fidelity.f_error(), a.fidelity.c_error());
+    let error = outcome
+        .error(case, tier)
+        .map_err(|e| CmdError::Other(e.to_string()))?;
     super::checked(&Answer {
         physical: &physical,
         lambda_min: lambda,
@@ -503,6 +508,7 @@ fn print_result(
             "regime": regime(lambda),
             "asperity_share": outcome.asperity_share,
             "f_boundary": outcome.f_boundary,
+            "error": error,
         });
         let mut obj = report.as_object().cloned().unwrap_or_default();
         if let serde_json::Value::Object(o) = serde_json::to_value(outcome).unwrap_or_default() {
@@ -512,10 +518,28 @@ fn print_result(
     } else {
         // Times are in units of L/U, U the run's speed: 1 ms at 10 m/s (docs/model.md §1).
         print_summary(case, num, outcome, op.scales().time_ms());
+        print_error(&error, a.fidelity);
         print_contact(case, validity, outcome);
         print_physical(op, &physical, outside);
     }
     Ok(())
+}
+
+/// How well the answer is known: the tier's stated error, or a deep-pocket answer's mesh
+/// uncertainty (docs/validation.md, "Deep pockets: the measured uncertainty").
+fn print_error(e: &AnswerError, fidelity: Fidelity) {
+    let why = match e.source {
+        ErrorSource::Tier => format!("the {} tier's stated error", fidelity.name()),
+        ErrorSource::DeepMesh => format!(
+            "pockets deeper than {DEEP_POCKET_RATIO}× C_min: twice the change on the mesh coarsened in both directions, at least {:.1} %; docs/validation.md",
+            100.0 * UNCERTAINTY_FLOOR
+        ),
+    };
+    println!(
+        "  known to: f ± {:.2} %, C_min ± {:.2} % ({why})",
+        100.0 * e.f_mean,
+        100.0 * e.c_min
+    );
 }
 
 /// The film parameter Λ = C_min/σ and its regime (docs/model.md §9), and what the asperities

@@ -2,6 +2,7 @@
 //! roles a row plays on the front, the report itself and the designs merged away. Data, and the order the table lists them in;
 //! the table and the files are written by the design report.
 
+use crate::time::ErrorSource;
 use serde::Serialize;
 
 use super::space::Space;
@@ -110,6 +111,11 @@ pub struct Row {
     pub power_w_per_m: f64,
     /// Why the design is outside the hydrodynamic model (docs/model.md §9), if it is.
     pub outside_model: Option<Outside>,
+    /// How well f̄ and C_min are known (relative): the reported tier's stated error, or the
+    /// mesh uncertainty of pockets deeper than the tiers resolve (docs/validation.md).
+    pub f_error: f64,
+    pub c_min_error: f64,
+    pub error_source: ErrorSource,
 }
 
 /// The result of `optimise`.
@@ -200,5 +206,21 @@ pub(super) fn labelled(x: &Row, role: Role) -> String {
         role.name().into()
     } else {
         x.label.to_string()
+    }
+}
+
+impl Report {
+    /// What the merge rule adds where a front design's pockets end deeper than the tiers
+    /// resolve: its own mesh uncertainty (nothing where none does).
+    pub fn deep_clause(&self) -> &'static str {
+        if self
+            .front
+            .iter()
+            .any(|x| x.error_source == ErrorSource::DeepMesh)
+        {
+            ", or the larger mesh uncertainty of a design with deep pockets"
+        } else {
+            ""
+        }
     }
 }

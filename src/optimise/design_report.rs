@@ -113,10 +113,11 @@ fn merged_note(s: &mut String, r: &Report) {
     if r.merged.is_empty() {
         let _ = writeln!(
             s,
-            "merged none: no two front designs lie within f̄ {:.2} % and C_min {:.2} % of each other (the errors of fidelity {})",
+            "merged none: no two front designs lie within f̄ {:.2} % and C_min {:.2} % of each other (the errors of fidelity {}{})",
             100.0 * r.fidelity_error,
             100.0 * r.fidelity_c_error,
-            r.report_fidelity
+            r.report_fidelity,
+            r.deep_clause()
         );
         return;
     }
@@ -124,12 +125,13 @@ fn merged_note(s: &mut String, r: &Report) {
     let short = |t: &Texture| format!("{:.4}/{:.4}/{:.4}/{:.1} µm", t.l1, t.l2, t.per, t.depth);
     let _ = writeln!(
         s,
-        "merged {} front design{} into thicker-walled ones with f̄ within {:.2} % and C_min within {:.2} % (the errors of fidelity {}; list in the JSON's \"merged\"):",
+        "merged {} front design{} into thicker-walled ones with f̄ within {:.2} % and C_min within {:.2} % (the errors of fidelity {}{}; list in the JSON's \"merged\"):",
         r.merged_count,
         if r.merged_count == 1 { "" } else { "s" },
         100.0 * r.fidelity_error,
         100.0 * r.fidelity_c_error,
-        r.report_fidelity
+        r.report_fidelity,
+        r.deep_clause()
     );
     for m in &r.merged {
         let _ = writeln!(
@@ -157,7 +159,7 @@ struct Line<'a> {
 
 /// The CSV's columns, named once: each header with how its cell is written (empty where a design has no
 /// texture).
-fn columns<'a>() -> [Column<Line<'a>>; 18] {
+fn columns<'a>() -> [Column<Line<'a>>; 21] {
     [
         ("design", |x| x.label.clone()),
         ("l1", |x| texture_cell(x, |t| t.l1)),
@@ -182,6 +184,9 @@ fn columns<'a>() -> [Column<Line<'a>>; 18] {
                 .map(|o| o.to_string())
                 .unwrap_or_default()
         }),
+        ("f_error", |x| x.row.f_error.to_string()),
+        ("c_min_error", |x| x.row.c_min_error.to_string()),
+        ("error_source", |x| x.row.error_source.name().into()),
     ]
 }
 

@@ -2,6 +2,7 @@
 //! for the ideal point, balanced ones between), the front of every searched design confirmed
 //! at the reported fidelity, and the report.
 
+use crate::time::MissingUncertainty;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
@@ -77,10 +78,11 @@ fn optimise_on_pool(
     let confirmed = ev_r.evaluate(&designs)?;
     // The reported front: confirmed designs plus the plain liner.
     let plain_label = Label::of(Role::PlainLiner);
-    let mut rows: Vec<Row> = vec![row(s, plain_label, None, &plain_r, &plain_r)];
+    let tier = (ss.report_fidelity.f_error(), ss.report_fidelity.c_error());
+    let mut rows: Vec<Row> = vec![row(s, tier, plain_label, None, &plain_r, &plain_r)?];
     for (t, o) in cand.iter().zip(&confirmed) {
         if let Ok(o) = o {
-            rows.push(row(s, Label::default(), Some(t), o, &plain_r));
+            rows.push(row(s, tier, Label::default(), Some(t), o, &plain_r)?);
         }
     }
     let log_r = ev_r.log.lock().expect("lock").clone();
@@ -297,7 +299,9 @@ fn report(
         });
     }
     let err = ss.report_fidelity.f_error();
-    let beats = best_f.texture.is_some() && best_f.f_mean < plain.f_mean * (1.0 - err);
+    // Beyond the larger of the tier's error and the design's own (deep pockets).
+    let beats =
+        best_f.texture.is_some() && best_f.f_mean < plain.f_mean * (1.0 - err.max(best_f.f_error));
     let verdict = verdict(s, &rows, &best_f, beats);
     // Merged after the verdict, which is about the least f̄ found, whichever row carries it.
     let (front, merged) = merge(front, err, ss.report_fidelity.c_error());
@@ -391,8 +395,16 @@ fn evaluated(s: &Settings, [log_s, log_r]: [Vec<Evaluation>; 2]) -> Vec<Evaluate
     evaluated
 }
 
-/// The row of a design (None: the plain liner) against the plain liner's outcome.
-fn row(s: &Settings, label: Label, t: Option<&Texture>, o: &Outcome, plain: &Outcome) -> Row {
+/// The row of a design (None: the plain liner) against the plain liner's outcome, with its
+/// error: the reported tier's `tier` (f̄, C_min), or its deep-pocket mesh uncertainty.
+fn row(
+    s: &Settings,
+    tier: (f64, f64),
+    label: Label,
+    t: Option<&Texture>,
+    o: &Outcome,
+    plain: &Outcome,
+) -> Result<Row, MissingUncertainty> {
     let (w1, w2) = t.map_or((f64::NAN, f64::NAN), wall);
     let space = &s.search.space;
     let case = CaseSpec {
@@ -400,7 +412,11 @@ fn row(s: &Settings, label: Label, t: Option<&Texture>, o: &Outcome, plain: &Out
         ..s.base.clone()
     };
     let physical = s.scales.physical(&case, o.f_mean, o.c_min);
-    Row {
+    let error = o.error(&case, tier)?;
+    Ok(Row {
+        f_error: error.f_mean,
+        c_min_error: error.c_min,
+        error_source: error.source,
         friction_n_per_m: physical.friction_n_per_m,
         power_w_per_m: physical.power_w_per_m,
         outside_model: s.search.validity.outside(&case, o.c_min),
@@ -419,7 +435,7 @@ fn row(s: &Settings, label: Label, t: Option<&Texture>, o: &Outcome, plain: &Out
             space.active(t).iter().map(|s| s.to_string()).collect()
         }),
         on_front: false,
-    }
+    })
 }
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 //! What can stop a search, a cycle design or their reports. A design whose run fails is not
 //! an error here: it is data (its reason is reported, its cost is `FAILED_COST`).
 
+use crate::time::MissingUncertainty;
 use std::path::PathBuf;
 
 use crate::finite::NonFinite;
@@ -25,6 +26,8 @@ pub enum OptimiseError {
     Cache(#[from] CacheError),
     #[error("stopped (Ctrl-C); finished evaluations are in the cache")]
     Stopped,
+    #[error(transparent)]
+    Uncertainty(#[from] MissingUncertainty),
     #[error("the plain liner failed: {0}")]
     PlainFailed(CaseFailure),
     /// argmin's own failure.

@@ -97,11 +97,11 @@ fn draw_front(path: &Path, r: &Report) -> Result<(), PlotError> {
     root.present().map_err(drawing)
 }
 
-/// A front design's error bars: the report tier's relative errors of f̄ and C_min, in % of
-/// the plain liner's values.
+/// A front design's error bars: its relative errors of f̄ and C_min (the report tier's, or
+/// its deep-pocket mesh uncertainty), in % of the plain liner's values.
 fn error_bar(r: &Report, x: &Row) -> (f64, f64) {
-    let fe = 100.0 * r.fidelity_error;
-    let ce = 100.0 * r.fidelity_c_error;
+    let fe = 100.0 * x.f_error;
+    let ce = 100.0 * x.c_min_error;
     (fe * x.f_mean / r.plain.f_mean, ce * x.c_min / r.plain.c_min)
 }
 
@@ -164,10 +164,15 @@ fn draw_confirmed(chart: &mut Cell, r: &Report) -> Result<(), PlotError> {
         )
         .map_err(drawing)?
         .label(format!(
-            "confirmed front at {} (bars: its errors, ±{:.2} % friction, ±{:.2} % C_min)",
+            "confirmed front at {} (bars: its errors, ±{:.2} % friction, ±{:.2} % C_min{})",
             r.report_fidelity,
             100.0 * r.fidelity_error,
-            100.0 * r.fidelity_c_error
+            100.0 * r.fidelity_c_error,
+            if r.deep_clause().is_empty() {
+                ""
+            } else {
+                "; more for deep pockets"
+            }
         ))
         .legend(|(x, y)| Circle::new((x + 10, y), 6, FRONT.filled()));
     chart

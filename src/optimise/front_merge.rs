@@ -27,7 +27,8 @@ fn within(a: f64, b: f64, err: f64) -> bool {
 }
 
 /// Merges the rows within `f_err` in f̄ and `c_err` in C_min of a thicker-walled row into
-/// it: the kept rows in their input order, and the merged-away ones. Each row merges into
+/// it (or within the larger of the two rows' own errors, where pockets deeper than the tiers
+/// resolve give a row a larger one): the kept rows in their input order, and the merged-away ones. Each row merges into
 /// the thickest-walled kept row it is within the errors of.
 pub fn merge(rows: Vec<Row>, f_err: f64, c_err: f64) -> (Vec<Row>, Vec<Merged>) {
     let mut order: Vec<usize> = (0..rows.len()).collect();
@@ -42,9 +43,14 @@ pub fn merge(rows: Vec<Row>, f_err: f64, c_err: f64) -> (Vec<Row>, Vec<Merged>) 
         let r = &rows[i];
         let twin = if r.texture.is_some() {
             kept.iter().copied().find(|&k| {
-                rows[k].texture.is_some()
-                    && within(rows[k].f_mean, r.f_mean, f_err)
-                    && within(rows[k].c_min, r.c_min, c_err)
+                let k = &rows[k];
+                k.texture.is_some()
+                    && within(k.f_mean, r.f_mean, f_err.max(k.f_error).max(r.f_error))
+                    && within(
+                        k.c_min,
+                        r.c_min,
+                        c_err.max(k.c_min_error).max(r.c_min_error),
+                    )
             })
         } else {
             None
@@ -84,6 +90,7 @@ mod tests {
     use super::*;
     use crate::model::case::Texture;
     use crate::optimise::design::Role;
+    use crate::time::ErrorSource;
 
     /// A textured row with the given f̄, C_min and walls (µm).
     fn row(label: Role, f: f64, c: f64, w1_um: f64, w2_um: f64) -> Row {
@@ -113,6 +120,9 @@ mod tests {
             friction_n_per_m: 0.0,
             power_w_per_m: 0.0,
             outside_model: None,
+            f_error: F_ERR,
+            c_min_error: C_ERR,
+            error_source: ErrorSource::Tier,
         }
     }
 
@@ -127,6 +137,26 @@ mod tests {
 
     const F_ERR: f64 = 0.015;
     const C_ERR: f64 = 0.007;
+
+    /// Rows 2 % apart in f̄ are told apart by the tier's 1.5 %, not where one carries a deep
+    /// pocket's 3 % mesh uncertainty: then they merge into the thicker-walled one.
+    #[test]
+    fn a_deep_design_s_uncertainty_widens_the_merge() {
+        let apart = || {
+            vec![
+                row(Role::BestFriction, 0.0900, 4.50, 10.0, 10.0),
+                row(Role::Balanced, 0.0918, 4.50, 40.0, 10.0),
+            ]
+        };
+        assert_eq!(merge(apart(), F_ERR, C_ERR).0.len(), 2);
+        let mut deep = apart();
+        deep[0].f_error = 0.03;
+        deep[0].error_source = ErrorSource::DeepMesh;
+        let (kept, merged) = merge(deep, F_ERR, C_ERR);
+        assert_eq!(kept.len(), 1);
+        assert_eq!(kept[0].f_mean, 0.0918, "kept: the thicker walls");
+        assert_eq!(merged.len(), 1);
+    }
 
     #[test]
     fn designs_apart_beyond_either_error_are_all_kept() {

@@ -27,6 +27,7 @@ mod stats;
 mod steady;
 mod stop;
 mod transient;
+mod uncertainty;
 mod window;
 
 #[cfg(test)]
@@ -51,4 +52,8 @@ pub use start::{equilibrium_start, paper_start};
 pub use stats::{ApproachDone, RunStats};
 pub use steady::{solve_untextured, steady_outcome, Steady};
 pub use transient::{texture_period, Transient, Watch, UNTEXTURED_PERIOD};
+pub use uncertainty::{
+    needs_uncertainty, AnswerError, Coarse, ErrorSource, MeshUncertainty, MissingUncertainty,
+    UNCERTAINTY_FLOOR,
+};
 pub use window::{window_periods, MIN_WINDOW};

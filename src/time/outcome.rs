@@ -3,6 +3,10 @@
 use serde::{Deserialize, Serialize};
 
 use super::numerics::TimeScheme;
+use super::uncertainty::{
+    needs_uncertainty, AnswerError, ErrorSource, MeshUncertainty, MissingUncertainty,
+};
+use crate::model::case::CaseSpec;
 use crate::model::friction::Friction;
 
 /// Outcomes of one evaluation (docs/model.md §6). Friction coefficients per eq. (11); Z and
@@ -67,6 +71,11 @@ pub struct Outcome {
     /// its allowance: the answer is the run's own mesh's. Absent otherwise.
     #[serde(default, skip_serializing_if = "is_false")]
     pub deep_unsettled: bool,
+    /// The mesh uncertainty of an answer whose pockets end deeper than
+    /// [`super::DEEP_POCKET_RATIO`]·C_min ([`MeshUncertainty`], on the mesh the answer is
+    /// on). Absent on the others, which carry the tier's stated error.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh_uncertainty: Option<Box<MeshUncertainty>>,
 }
 
 impl Outcome {
@@ -125,5 +134,80 @@ impl Outcome {
             f_boundary: f.boundary,
             ..self.clone()
         }
+    }
+}
+
+impl Outcome {
+    /// The answer's errors: the tier's `tier` (f̄, C_min) where the pockets end within
+    /// [`super::DEEP_POCKET_RATIO`]·C_min; else the larger of those and its mesh uncertainty (+∞
+    /// where that could not be measured), which such an answer must carry.
+    pub fn error(
+        &self,
+        case: &CaseSpec,
+        tier: (f64, f64),
+    ) -> Result<AnswerError, MissingUncertainty> {
+        if !needs_uncertainty(case, self.c_min) {
+            return Ok(AnswerError {
+                f_mean: tier.0,
+                c_min: tier.1,
+                source: ErrorSource::Tier,
+            });
+        }
+        let u = self
+            .mesh_uncertainty
+            .as_deref()
+            .ok_or_else(|| MissingUncertainty { case: case.label() })?;
+        let known = |x: Option<f64>, floor: f64| x.map_or(f64::INFINITY, |x| x.max(floor));
+        Ok(AnswerError {
+            f_mean: known(u.f_mean, tier.0),
+            c_min: known(u.c_min, tier.1),
+            source: ErrorSource::DeepMesh,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::case::Texture;
+
+    fn deep_case() -> CaseSpec {
+        CaseSpec::paper(25.6).with_texture(Texture::circular(0.03, 0.06, 20.0))
+    }
+
+    /// An outcome with least clearance `c_min` (µm); the rest does not matter here.
+    fn outcome(c_min: f64) -> Outcome {
+        let json = format!(
+            r#"{{"f_mean":0.16,"f_couette":0.1,"f_poiseuille":0.03,"f_pressure":0.03,"z_mean":2.0,"z_min":1.9,"z_max":2.1,"c_min":{c_min},"periods":10,"steps":1000,"converged":true,"periodic_error":1e-5,"method":"transient-2d","dt":6.7e-4,"t_end":1.0,"iterations_per_step":2.0,"max_residual":1e-9,"wall_time_s":1.0}}"#
+        );
+        serde_json::from_str(&json).expect("an outcome")
+    }
+
+    #[test]
+    fn only_pockets_deeper_than_six_c_min_need_a_mesh_uncertainty_and_must_carry_it() {
+        let case = deep_case();
+        let tier = (0.009, 0.0077);
+        // 20 µm over 4 µm: resolved, the tier's error.
+        let e = outcome(4.0).error(&case, tier).unwrap();
+        assert_eq!(
+            (e.f_mean, e.c_min, e.source),
+            (0.009, 0.0077, ErrorSource::Tier)
+        );
+        // 20 µm over 1.5 µm: deep; without its uncertainty it is refused.
+        let mut deep = outcome(1.5);
+        assert!(deep.error(&case, tier).is_err());
+        deep.mesh_uncertainty = Some(Box::new(MeshUncertainty {
+            f_mean: Some(0.05),
+            c_min: Some(0.005),
+            coarse: None,
+        }));
+        let e = deep.error(&case, tier).unwrap();
+        assert_eq!(
+            (e.f_mean, e.c_min, e.source),
+            (0.05, 0.0077, ErrorSource::DeepMesh)
+        );
+        // Not measured: unbounded.
+        deep.mesh_uncertainty = Some(Box::new(MeshUncertainty::of((0.16, 1.5), None)));
+        assert_eq!(deep.error(&case, tier).unwrap().f_mean, f64::INFINITY);
     }
 }

@@ -18,6 +18,7 @@ use super::stats::ApproachDone;
 use super::steady::steady_outcome;
 use super::stop::StopRule;
 use super::transient::{Transient, Watch};
+use super::uncertainty::{needs_uncertainty, Coarse, MeshUncertainty};
 use super::window::{window_periods, PeriodMeans};
 use crate::model::case::CaseSpec;
 use crate::solve::FilmMethod;
@@ -77,6 +78,9 @@ pub fn simulate_with(
         all.extend(rows);
         r.series = Some(all);
     }
+    if r.outcome.mesh_uncertainty.is_none() {
+        measure_uncertainty(&t, num, num, opts, &mut r);
+    }
     Ok(r)
 }
 
@@ -117,6 +121,7 @@ fn go_on_deep(
                 o.deep_mesh = mesh;
             }
             *r = rd;
+            measure_uncertainty(&d, &deep, num, opts, r);
         }
         _ => {
             // The attempt's time counts.
@@ -127,6 +132,97 @@ fn go_on_deep(
             }
         }
     }
+}
+
+/// Gives the answer `r` of the run `t` on `answer` (its own numerics, or the deep-pocket
+/// mesh's) its mesh uncertainty where its pockets end deeper than the tiers resolve
+/// ([`MeshUncertainty`]): the answer's mesh coarsened uniformly, run on from the answer's
+/// periodic regime. An answer that did not reach its periodic regime gets none measured.
+fn measure_uncertainty(
+    t: &Transient,
+    answer: &Numerics,
+    num: &Numerics,
+    opts: &RunOptions,
+    r: &mut RunResult,
+) {
+    if !needs_uncertainty(t.case(), r.outcome.c_min) {
+        return;
+    }
+    let began = Instant::now();
+    let coarse = if r.outcome.converged {
+        coarsened(t, answer, ApproachDone::of(&r.outcome), num, opts)
+    } else {
+        None
+    };
+    let answer_of = |o: Option<&Outcome>, mesh: (usize, usize)| {
+        o.map(|o| Coarse {
+            n1: mesh.0,
+            n2: mesh.1,
+            f_mean: o.f_mean,
+            c_min: o.c_min,
+        })
+    };
+    let mesh = coarse.as_ref().map(|(_, m)| *m).unwrap_or_default();
+    let main = answer_of(coarse.as_ref().map(|(c, _)| &c.outcome), mesh);
+    r.outcome.mesh_uncertainty = Some(Box::new(MeshUncertainty::of(
+        (r.outcome.f_mean, r.outcome.c_min),
+        main,
+    )));
+    for (k, (_, o)) in r.extra.iter_mut().enumerate() {
+        let theirs = coarse
+            .as_ref()
+            .and_then(|(c, _)| c.extra.get(k))
+            .map(|(_, o)| o);
+        o.mesh_uncertainty = Some(Box::new(MeshUncertainty::of(
+            (o.f_mean, o.c_min),
+            answer_of(theirs, mesh),
+        )));
+    }
+    r.outcome.wall_time_s += began.elapsed().as_secs_f64();
+}
+
+/// Periodic tolerance of the coarsened run: it measures changes of a per cent and more
+/// (below [`super::UNCERTAINTY_FLOOR`] they are not read), which a tenth of a per cent
+/// resolves.
+const COARSE_TOL: f64 = 1e-3;
+
+/// The run `t`, settled on `answer`'s mesh, carried on to that mesh coarsened uniformly (N1
+/// and N2 halved, the step doubled, or the characteristic step of the coarser cells) and run
+/// to its periodic regime there (within half the run's allowance): its result and mesh. None
+/// where that mesh is not valid for the case, or the run fails or does not settle. Its steps
+/// are watched by no one and keep no series: they measure, the answer stays `answer`'s.
+fn coarsened(
+    t: &Transient,
+    answer: &Numerics,
+    done: ApproachDone,
+    num: &Numerics,
+    opts: &RunOptions,
+) -> Option<(RunResult, (usize, usize))> {
+    let case = t.case();
+    let mut n = Numerics {
+        n1: answer.n1 / 2,
+        n2: answer.n2 / 2,
+        dt: 2.0 * answer.dt,
+        approach: None,
+        deep: None,
+        ..answer.clone()
+    };
+    n.fit_characteristic_step(case);
+    n.fit_step_to_period(case);
+    n.validate(case).ok()?;
+    let solver = opts.solver.map_or_else(|| n.solver.solver(), |f| f());
+    let mut c = t.refined(&n, done, solver);
+    c.set_extra_theta_s(&opts.extra_theta_s);
+    let n = Numerics {
+        t_max: c.t() + 0.5 * num.t_max,
+        periodic_tol: COARSE_TOL.max(n.periodic_tol),
+        ..n
+    };
+    let r = c
+        .run_to_periodic(&n, false, &mut Watch::default())
+        .ok()
+        .filter(|r| r.outcome.converged)?;
+    Some((r, (n.n1, n.n2)))
 }
 
 impl Transient {
@@ -279,6 +375,7 @@ impl Transient {
             scheme: self.scheme(),
             deep_mesh: None,
             deep_unsettled: false,
+            mesh_uncertainty: None,
         }
     }
 }

@@ -244,6 +244,7 @@ pub fn steady_outcome(case: &CaseSpec, n1: usize) -> Result<RunResult, SolveErro
         scheme: TimeScheme::BackwardEuler,
         deep_mesh: None,
         deep_unsettled: false,
+        mesh_uncertainty: None,
     };
     Ok(RunResult {
         outcome,

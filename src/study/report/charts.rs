@@ -7,7 +7,7 @@ use std::path::Path;
 use super::{curve_key, Row};
 use crate::output::OutputError;
 use crate::plot::{self, Chart, Note, Scale, Series, Style};
-use crate::time::Outcome;
+use crate::time::{ErrorSource, Outcome, DEEP_POCKET_RATIO};
 
 /// Per R: the textured rows' values and the plain liner's, for one operating point.
 struct Family {
@@ -62,6 +62,27 @@ fn family(rows: &[&Row], value: &dyn Fn(&Outcome) -> f64) -> Family {
     }
 }
 
+/// The error bars of the rows whose pockets end deeper than the tiers resolve: their value
+/// ± its mesh uncertainty (docs/validation.md), as pairs of ends.
+fn deep_bars(rows: &[&Row], friction: bool) -> Vec<(f64, f64)> {
+    rows.iter()
+        .filter_map(|r| {
+            let (o, e) = (r.out?, r.error?);
+            if e.source != ErrorSource::DeepMesh {
+                return None;
+            }
+            let (y, u) = if friction {
+                (o.f_mean, e.f_mean)
+            } else {
+                (o.c_min, e.c_min)
+            };
+            let x = r.job.case.r;
+            Some([(x, y * (1.0 - u)), (x, y * (1.0 + u))])
+        })
+        .flatten()
+        .collect()
+}
+
 pub(super) fn fig6(
     path: &Path,
     rows: &[&Row],
@@ -95,6 +116,18 @@ pub(super) fn fig6(
         style: Style::Thick,
         colour: 1,
     });
+    let bars = deep_bars(rows, friction);
+    if !bars.is_empty() {
+        series.push(Series {
+            name: format!(
+                "mesh uncertainty, pockets deeper than {DEEP_POCKET_RATIO}·C_min ({} cases)",
+                bars.len() / 2
+            ),
+            points: &bars,
+            style: Style::Segments,
+            colour: 2,
+        });
+    }
     let outside: Vec<(f64, f64)> = rows
         .iter()
         .filter(|r| r.outside.is_some())

@@ -66,7 +66,7 @@ fn num(x: Option<f64>) -> String {
 type Cell = fn(&Line) -> String;
 
 /// The study CSV's columns: each header with how its cell is written.
-const CSV_COLUMNS: [(&str, Cell); 40] = [
+const CSV_COLUMNS: [(&str, Cell); 43] = [
     ("R", |l| format!("{}", l.case().r)),
     ("textured", |l| format!("{}", l.case().texture.is_some())),
     ("l1", |l| l.texture(|t| t.l1)),
@@ -130,5 +130,14 @@ const CSV_COLUMNS: [(&str, Cell); 40] = [
     }),
     ("outside_model", |l| {
         l.row.outside.map(|o| o.to_string()).unwrap_or_default()
+    }),
+    // How well f̄ and C_min are known (relative): the tier's stated error, or the mesh
+    // uncertainty of pockets deeper than the tiers resolve (docs/validation.md).
+    ("f_error", |l| num(l.row.error.map(|e| e.f_mean))),
+    ("c_min_error", |l| num(l.row.error.map(|e| e.c_min))),
+    ("error_source", |l| {
+        l.row
+            .error
+            .map_or(String::new(), |e| e.source.name().into())
     }),
 ];

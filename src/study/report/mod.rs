@@ -13,7 +13,7 @@ use crate::output::OutputError;
 use crate::study::file::{Job, Study};
 use crate::study::operating_figures::{figures, Point};
 use crate::study::sweep::{CaseFailure, CaseResult};
-use crate::time::Outcome;
+use crate::time::{AnswerError, MissingUncertainty, Outcome};
 
 mod charts;
 mod csv_rows;
@@ -21,13 +21,15 @@ mod headline;
 
 use charts::{fig11, fig6};
 use csv_rows::write_csv;
-use headline::{headline, table1};
+use headline::{headline, ranking_csv, table1};
 
 /// A case with its outcome and the plain liner's outcome for the same ring and operating
 /// point (when the study has it).
 struct Row<'a> {
     job: &'a Job,
     out: Option<&'a Outcome>,
+    /// How well `out` is known (the tier's error, or its deep-pocket mesh uncertainty).
+    error: Option<AnswerError>,
     reason: Option<&'a str>,
     plain: Option<&'a Outcome>,
     /// Why the outcome is outside the hydrodynamic model (docs/model.md §9), if it is; and
@@ -91,6 +93,8 @@ pub enum ReportError {
     },
     #[error(transparent)]
     Output(#[from] OutputError),
+    #[error(transparent)]
+    Uncertainty(#[from] MissingUncertainty),
 }
 
 /// Writes the report of a finished study into `study.report.dir`.
@@ -104,7 +108,7 @@ pub fn write(
         dir: dir.to_path_buf(),
         source,
     })?;
-    let rows = rows(study, results);
+    let rows = rows(study, results)?;
     let mut files = Vec::new();
     let name = &study.name;
 
@@ -139,12 +143,19 @@ pub fn write(
         let p = dir.join(table);
         crate::output::write(&p, table1(study, &scope.main, &scope.radii))?;
         files.push(p);
+        let p = dir.join(format!("{name}_ranking.csv"));
+        crate::output::write(&p, ranking_csv(study, &scope.main, &scope.radii))?;
+        files.push(p);
     }
     Ok(ReportFiles { files, headline })
 }
 
-/// Each case of the study with its result and its plain liner's.
-fn rows<'a>(study: &'a Study, results: &'a [CaseResult]) -> Vec<Row<'a>> {
+/// Each case of the study with its result and its plain liner's; an answer whose pockets end
+/// deeper than the tiers resolve and that carries no mesh uncertainty is refused.
+fn rows<'a>(
+    study: &'a Study,
+    results: &'a [CaseResult],
+) -> Result<Vec<Row<'a>>, MissingUncertainty> {
     let mut plain: BTreeMap<String, &Outcome> = BTreeMap::new();
     for (j, r) in study.jobs.iter().zip(results) {
         if let (None, Some(Ok(o))) = (&j.case.texture, r) {
@@ -155,25 +166,31 @@ fn rows<'a>(study: &'a Study, results: &'a [CaseResult]) -> Vec<Row<'a>> {
         .jobs
         .iter()
         .zip(results)
-        .map(|(job, r)| Row {
-            job,
-            out: r.as_ref().and_then(|r| r.as_ref().ok()),
-            reason: r
-                .as_ref()
-                .and_then(|r| r.as_ref().err())
-                .map(CaseFailure::words),
-            plain: plain.get(&plain_key(&job.case)).copied(),
-            outside: r
-                .as_ref()
-                .and_then(|r| r.as_ref().ok())
-                .and_then(|o| study.validity.outside(&job.case, o.c_min)),
-            plain_outside: plain.get(&plain_key(&job.case)).is_some_and(|p| {
-                let c = CaseSpec {
-                    texture: None,
-                    ..job.case.clone()
-                };
-                study.validity.outside(&c, p.c_min).is_some()
-            }),
+        .map(|(job, r)| {
+            let out = r.as_ref().and_then(|r| r.as_ref().ok());
+            let tier = (study.fidelity.f_error(), study.fidelity.c_error());
+            let error = out.map(|o| o.error(&job.case, tier)).transpose()?;
+            Ok(Row {
+                job,
+                out,
+                error,
+                reason: r
+                    .as_ref()
+                    .and_then(|r| r.as_ref().err())
+                    .map(CaseFailure::words),
+                plain: plain.get(&plain_key(&job.case)).copied(),
+                outside: r
+                    .as_ref()
+                    .and_then(|r| r.as_ref().ok())
+                    .and_then(|o| study.validity.outside(&job.case, o.c_min)),
+                plain_outside: plain.get(&plain_key(&job.case)).is_some_and(|p| {
+                    let c = CaseSpec {
+                        texture: None,
+                        ..job.case.clone()
+                    };
+                    study.validity.outside(&c, p.c_min).is_some()
+                }),
+            })
         })
         .collect()
 }
