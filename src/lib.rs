@@ -3,7 +3,8 @@
 //! Layers, each using only those before it (docs/solver.md, "Layout"):
 //! [`model`] (physics) → [`mesh`] (discretised contact) → [`solve`] (one film problem) →
 //! [`time`] (the transient to its periodic regime) → [`study`] and [`optimise`] (many
-//! evaluations, through a cache) → [`plot`] → [`cli`] (the only layer that knows flags).
+//! evaluations, through a cache) → [`api`] (what every front end asks: the command line and
+//! the Python package, python/) → [`plot`] → [`cli`] (the only layer that knows flags).
 //! Every physical formula cites docs/model.md or the published study's equation.
 //!
 //! ```no_run
@@ -15,6 +16,7 @@
 //! println!("f = {:.4}, Z = {:.3} µm", out.f_mean, out.z_mean);
 //! ```
 
+pub mod api;
 pub mod cli;
 pub mod finite;
 pub mod mesh;

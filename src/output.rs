@@ -7,6 +7,28 @@
 //! named pipe a reader waits on) is written through, never replaced by a file.
 
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// The files written while [`recording`] runs (None: nobody asks).
+static WRITTEN: Mutex<Option<Vec<PathBuf>>> = Mutex::new(None);
+
+/// Runs `run` and returns, beside its result, every file it wrote through this module, in
+/// the order written: how a host that runs a command in its own process (the Python
+/// package) finds the command's outputs. One recording at a time: the caller serialises.
+pub fn recording<T>(run: impl FnOnce() -> T) -> (T, Vec<PathBuf>) {
+    let lock = || WRITTEN.lock().unwrap_or_else(|e| e.into_inner());
+    *lock() = Some(Vec::new());
+    let out = run();
+    let files = lock().take().unwrap_or_default();
+    (out, files)
+}
+
+/// Notes that `path` was written, for a [`recording`] under way.
+fn written(path: &Path) {
+    if let Some(files) = WRITTEN.lock().unwrap_or_else(|e| e.into_inner()).as_mut() {
+        files.push(path.to_path_buf());
+    }
+}
 
 /// What a writer reports when it fails (an I/O error, a drawing library's error, a message).
 pub type Cause = Box<dyn std::error::Error + Send + Sync>;
@@ -160,10 +182,12 @@ pub fn atomically<T, E: Into<Cause>>(
         path: path.to_path_buf(),
         why: Box::new(why),
     })?;
-    match resolved {
+    let out = match resolved {
         Destination::Regular(target) => replace(path, &target, write),
         Destination::Special(target) => write_through(path, &target, write),
-    }
+    }?;
+    written(path);
+    Ok(out)
 }
 
 /// The atomic write of a regular file at `target` (`path`, or the end of the link at it).

@@ -19,7 +19,8 @@ pub use args::{
 };
 pub use simulate::case_from_args;
 
-use crate::model::case::{bad, InputError, Waiver};
+use crate::api::OperatingInputs;
+use crate::model::case::{InputError, Waiver};
 use crate::model::operating::{Operating, Validity};
 use crate::study::cache::{path_from, Cache, CacheError};
 
@@ -32,15 +33,7 @@ pub fn main_with(cli: Cli) -> i32 {
         Command::Cycle(a) => a.json,
         _ => false,
     };
-    let result = match cli.command {
-        Command::Simulate(a) => simulate::run(&a),
-        Command::Bench(a) => bench::run(&a),
-        Command::Study(a) => study::run(&a),
-        Command::Cache(a) => cache::run(&a),
-        Command::Optimise(a) => optimise::run(&a),
-        Command::Cycle(a) => cycle::run(&a),
-    };
-    let (code, message) = match result {
+    let (code, message) = match run_command(cli) {
         Ok(code) => return code,
         Err(CmdError::Input(e)) => (2, e),
         Err(CmdError::Other(e)) => (1, e),
@@ -55,9 +48,62 @@ pub fn main_with(cli: Cli) -> i32 {
     code
 }
 
-pub(super) enum CmdError {
+/// The command's run.
+fn run_command(cli: Cli) -> Result<i32, CmdError> {
+    match cli.command {
+        Command::Simulate(a) => simulate::run(&a),
+        Command::Bench(a) => bench::run(&a),
+        Command::Study(a) => study::run(&a),
+        Command::Cache(a) => cache::run(&a),
+        Command::Optimise(a) => optimise::run(&a),
+        Command::Cycle(a) => cycle::run(&a),
+    }
+}
+
+/// Why a command failed: its input (exit 2: the user's to fix), or the run (exit 1).
+#[derive(Debug, Clone, PartialEq)]
+pub enum CmdError {
     Input(String),
     Other(String),
+}
+
+/// Why a command run inside another program did not run.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Embedded {
+    /// The command line did not parse (clap's message: what was wrong and the usage).
+    Usage(String),
+    /// The command failed.
+    Failed(CmdError),
+}
+
+/// Serialises the commands run inside one process: they share the Ctrl-C stop and the
+/// record of the files written.
+static EMBEDDED_RUN: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// Whether a command runs inside another program, which then owns Ctrl-C.
+static HOSTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Runs the command line `argv` (program name first) inside this process, as the Python
+/// package does: the same commands, checks and files as the `texopt` program, its lines on
+/// stderr and stdout, and no Ctrl-C handler of its own ([`stop_embedded`] stops a study the
+/// way Ctrl-C does). Returns the exit code and the files the command wrote; failures typed.
+pub fn run_embedded(argv: &[String]) -> Result<(i32, Vec<std::path::PathBuf>), Embedded> {
+    use clap::Parser;
+    let cli = Cli::try_parse_from(argv).map_err(|e| Embedded::Usage(e.render().to_string()))?;
+    let _one = EMBEDDED_RUN.lock().unwrap_or_else(|e| e.into_inner());
+    HOSTED.store(true, std::sync::atomic::Ordering::SeqCst);
+    STOP.store(false, std::sync::atomic::Ordering::SeqCst);
+    let (result, files) = crate::output::recording(|| run_command(cli));
+    match result {
+        Ok(code) => Ok((code, files)),
+        Err(e) => Err(Embedded::Failed(e)),
+    }
+}
+
+/// Asks the command running in this process to stop as Ctrl-C does: a study starts no new
+/// case, and the cases running finish and are stored.
+pub fn stop_embedded() {
+    STOP.store(true, std::sync::atomic::Ordering::SeqCst);
 }
 
 impl From<InputError> for CmdError {
@@ -88,6 +134,7 @@ pub(super) fn input_message(e: &InputError, to_flag: impl Fn(&str) -> String) ->
         Some(Waiver::ThickPockets) => "; pass --allow-thick-pockets to run anyway",
         Some(Waiver::MemoryLimit) => ", or raise the limit with --max-memory GIB",
         Some(Waiver::StepLimit) => ", or raise the limit with --max-steps N",
+        Some(Waiver::NoContact) => "; --no-contact runs without asperity contact",
         None => "",
     };
     format!("{} = {}: {}{waiver}", to_flag(&e.param), e.value, e.rule)
@@ -98,6 +145,10 @@ pub(super) fn input_message(e: &InputError, to_flag: impl Fn(&str) -> String) ->
 pub(super) static STOP: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 pub(super) fn install_ctrl_c() {
+    // A host program (the Python package) keeps its own Ctrl-C and stops us through STOP.
+    if HOSTED.load(std::sync::atomic::Ordering::SeqCst) {
+        return;
+    }
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
         let _ = ctrlc::set_handler(|| {
@@ -168,41 +219,40 @@ fn machine_memory_gib() -> Option<f64> {
 impl OperatingArgs {
     /// Each setting from these flags, else from `other` (a config file's).
     pub(super) fn or(self, other: OperatingArgs) -> OperatingArgs {
-        OperatingArgs {
-            speed: self.speed.or(other.speed),
-            load: self.load.or(other.load),
-            viscosity: self.viscosity.or(other.viscosity),
-            ring_width: self.ring_width.or(other.ring_width),
-            ring_mass: self.ring_mass.or(other.ring_mass),
-            d_oil: self.d_oil.or(other.d_oil),
-            roughness: self.roughness.or(other.roughness),
+        OperatingArgs::from(self.inputs().or(other.inputs()))
+    }
+
+    /// The operating point these flags name.
+    pub(super) fn inputs(&self) -> OperatingInputs {
+        OperatingInputs {
+            speed: self.speed,
+            load: self.load,
+            viscosity: self.viscosity,
+            ring_width: self.ring_width,
+            ring_mass: self.ring_mass,
+            d_oil: self.d_oil,
+            roughness: self.roughness,
         }
     }
 
     /// The operating point and the validity limit these flags set (the paper's where
-    /// absent), checked: errors name the flag, the value and the rule.
+    /// absent), checked: errors name the setting, the value and the rule.
     pub(super) fn resolve(&self) -> Result<(Operating, Validity), InputError> {
-        let p = Operating::paper();
-        let o = Operating {
-            speed_ms: self.speed.unwrap_or(p.speed_ms),
-            load_n_per_m: self.load.unwrap_or(p.load_n_per_m),
-            viscosity_pas: self.viscosity.unwrap_or(p.viscosity_pas),
-            ring_width_mm: self.ring_width.unwrap_or(p.ring_width_mm),
-            ring_mass_kg_per_m: self.ring_mass.unwrap_or(p.ring_mass_kg_per_m),
-            d_oil_um: self.d_oil.unwrap_or(p.d_oil_um),
-        };
-        o.check()?;
-        let v = Validity {
-            roughness_um: self.roughness.unwrap_or(Validity::default().roughness_um),
-        };
-        if !(v.roughness_um.is_finite() && v.roughness_um > 0.0 && v.roughness_um <= 10.0) {
-            return Err(bad(
-                "roughness",
-                v.roughness_um,
-                "must be a composite RMS roughness in (0, 10] µm",
-            ));
+        self.inputs().resolve()
+    }
+}
+
+impl From<OperatingInputs> for OperatingArgs {
+    fn from(o: OperatingInputs) -> Self {
+        OperatingArgs {
+            speed: o.speed,
+            load: o.load,
+            viscosity: o.viscosity,
+            ring_width: o.ring_width,
+            ring_mass: o.ring_mass,
+            d_oil: o.d_oil,
+            roughness: o.roughness,
         }
-        Ok((o, v))
     }
 }
 

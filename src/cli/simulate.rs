@@ -1,19 +1,18 @@
 //! `texopt simulate`: one case to its periodic regime, as a summary, JSON or a time series.
 
-use std::io::{IsTerminal, Write};
+use std::io::IsTerminal;
 
-use super::{flag, input_message, CmdError, ContactArgs, SimulateArgs};
-use crate::model::asperity::{self, Asperity};
-use crate::model::case::{bad, short, CaseSpec, InputError, Texture};
+use super::{flag, input_message, CmdError, SimulateArgs};
+use crate::api::{ContactInputs, SimulateInputs};
+use crate::model::case::{short, CaseSpec, InputError};
 use crate::model::operating::Outside;
 use crate::model::operating::{regime, Operating, Physical, Validity};
-use crate::model::units::H_M;
 use crate::snapshot::Recording;
 use crate::time::limits::Kept;
 use crate::time::{
     simulate_with, unresolved_depth, AnswerError, Approach, ErrorSource, Fidelity, Numerics,
-    Outcome, Overrides, Progress, RunOptions, RunResult, SeriesRow, TimeScheme, Watch,
-    DEEP_POCKET_RATIO, RESOLVED_DEEP_RATIO, UNCERTAINTY_FLOOR,
+    Outcome, RunOptions, RunResult, SeriesRow, TimeScheme, Watch, DEEP_POCKET_RATIO,
+    RESOLVED_DEEP_RATIO, UNCERTAINTY_FLOOR,
 };
 
 /// The case and numerics named by the flags, validated (errors name the flags).
@@ -95,120 +94,42 @@ fn check_kept(
     Ok(())
 }
 
-/// The case the flags describe and its numerics ([`crate::time::resolve`]), validated.
+/// The case the flags describe and its numerics, validated ([`SimulateInputs::case`]).
 fn inputs(a: &SimulateArgs) -> Result<(CaseSpec, Numerics), InputError> {
-    let mut case = CaseSpec::paper(a.r);
-    case.theta_s = a.theta_s;
-    let (op, validity) = a.operating.resolve()?;
-    op.apply(&mut case);
-    case.contact = contact(&a.contact, &validity)?;
-    let depth = a.depth.unwrap_or(0.0);
-    if !depth.is_finite() || depth < 0.0 {
-        return Err(bad(
-            "depth",
-            depth,
-            "must be a finite depth ≥ 0 µm (0 or absent: untextured)",
-        ));
-    }
-    if depth > 0.0 {
-        let need = |name: &str, v: Option<f64>| {
-            v.ok_or_else(|| {
-                bad(
-                    name,
-                    "missing",
-                    format!("a textured liner (--depth {depth}) needs --{name}"),
-                )
-            })
-        };
-        let l1 = need("l1", a.l1)?;
-        let per = need("per", a.per)?;
-        case.texture = Some(Texture {
-            l1,
-            l2: a.l2.unwrap_or(l1),
-            per,
-            width: a.width.unwrap_or(per),
-            depth,
-            phase: a.phase,
-        });
-    }
-    let num = crate::time::resolve(a.fidelity, &given(a), &case);
-    case.validate(a.allow_thick_pockets)?;
-    num.validate(&case)?;
-    Ok((case, num))
+    named_inputs(a).case()
 }
 
-/// Each contact flag's field of [`Asperity`], its unit and that unit in SI (σ is
-/// `--roughness`, in µm).
-const CONTACT_UNITS: [(&str, &str, &str, f64); 6] = [
-    ("sigma", "roughness", "µm", 1e-6),
-    ("eta_beta_sigma", "eta_beta_sigma", "", 1.0),
-    ("sigma_over_beta", "sigma_over_beta", "", 1.0),
-    ("e_star", "e_star", "GPa", 1e9),
-    ("tau0", "tau0", "MPa", 1e6),
-    ("varsigma", "varsigma", "", 1.0),
-];
-
-/// The asperity contact the flags give (docs/model.md §11; σ the validity's roughness), None
-/// with --no-contact; a constant out of its range is refused in the flag's own unit.
-fn contact(c: &ContactArgs, validity: &Validity) -> Result<Option<Asperity>, InputError> {
-    if c.no_contact {
-        return Ok(None);
-    }
-    let d = Asperity::default();
-    let a = Asperity {
-        sigma: validity.roughness_um * H_M,
-        eta_beta_sigma: c.eta_beta_sigma.unwrap_or(d.eta_beta_sigma),
-        sigma_over_beta: c.sigma_over_beta.unwrap_or(d.sigma_over_beta),
-        e_star: c.e_star.map_or(d.e_star, |gpa| gpa * 1e9),
-        tau0: c.tau0.map_or(d.tau0, |mpa| mpa * 1e6),
-        varsigma: c.varsigma.unwrap_or(d.varsigma),
-    };
-    let values = [
-        a.sigma,
-        a.eta_beta_sigma,
-        a.sigma_over_beta,
-        a.e_star,
-        a.tau0,
-        a.varsigma,
-    ];
-    for ((field, lo, hi), (v, (of, name, unit, si))) in asperity::RANGES
-        .into_iter()
-        .zip(values.into_iter().zip(CONTACT_UNITS))
-    {
-        debug_assert_eq!(field, of);
-        if !(v.is_finite() && (lo..=hi).contains(&v)) {
-            let unit = if unit.is_empty() {
-                String::new()
-            } else {
-                format!(" {unit}")
-            };
-            return Err(bad(
-                name,
-                v / si,
-                format!(
-                    "must lie in {} to {}{unit} (docs/model.md §11); --no-contact runs without asperity contact",
-                    short(lo / si),
-                    short(hi / si),
-                ),
-            ));
-        }
-    }
-    Ok(Some(a))
-}
-
-/// The numerics the flags give beside the tier.
-fn given(a: &SimulateArgs) -> Overrides {
-    Overrides {
-        n1: a.mesh.map(|m| m.0),
-        n2: a.mesh.map(|m| m.1),
+/// The flags as the library names its inputs.
+fn named_inputs(a: &SimulateArgs) -> SimulateInputs {
+    let c = &a.contact;
+    SimulateInputs {
+        r: a.r,
+        l1: a.l1,
+        l2: a.l2,
+        per: a.per,
+        width: a.width,
+        depth: a.depth,
+        phase: a.phase,
+        theta_s: a.theta_s,
+        operating: a.operating.inputs(),
+        contact: ContactInputs {
+            off: c.no_contact,
+            eta_beta_sigma: c.eta_beta_sigma,
+            sigma_over_beta: c.sigma_over_beta,
+            e_star: c.e_star,
+            tau0: c.tau0,
+            varsigma: c.varsigma,
+        },
+        fidelity: a.fidelity,
+        mesh: a.mesh,
         dt: a.dt,
-        scheme: a.time_scheme,
+        time_scheme: a.time_scheme,
         periodic_tol: a.periodic_tol,
-        t_max: Some(a.t_max),
-        solver: None,
-        start: Some(a.start),
-        accelerate: Some(!a.no_accelerate),
+        t_max: a.t_max,
+        start: a.start,
+        accelerate: !a.no_accelerate,
         approach: a.approach.map(|x| x.0),
+        allow_thick_pockets: a.allow_thick_pockets,
     }
 }
 
@@ -340,10 +261,6 @@ fn steady_note(a: &SimulateArgs) {
     }
 }
 
-fn mesh_name((n1, n2): (usize, usize)) -> String {
-    format!("{n1}x{n2}")
-}
-
 pub(super) fn run(a: &SimulateArgs) -> Result<i32, CmdError> {
     let (case, num) = case_from_args(a).map_err(CmdError::Input)?;
     let (op, validity) = a.operating.resolve()?;
@@ -411,7 +328,7 @@ fn solve(
     // plain line at most every `--progress-every` seconds, so that long runs in batch jobs
     // show that they advance without flooding the log.
     let show = std::io::stderr().is_terminal() && !a.json;
-    let mut observe = progress(show, a.progress_every, op.scales().time_ms());
+    let mut observe = crate::api::progress(show, a.progress_every, op.scales().time_ms());
     let opts = RunOptions {
         series: a.series.is_some(),
         transient,
@@ -440,43 +357,8 @@ fn solve(
     Ok(ran)
 }
 
-/// The progress line of each averaging window: redrawn in place when `redraw` (a terminal),
-/// else printed at most every `every_s` seconds. `ms_per_t`: the time scale L/U in ms.
-fn progress(redraw: bool, every_s: f64, ms_per_t: f64) -> impl FnMut(&Progress) {
-    // Beyond what a Duration holds (1e300 s): never, as far as a run can tell.
-    let every = std::time::Duration::try_from_secs_f64(every_s).unwrap_or(std::time::Duration::MAX);
-    let began = std::time::Instant::now();
-    let mut last_line = began;
-    move |p: &Progress| {
-        let line = format!(
-            "  period {:4}  t = {:7.3} ms  f̄ = {:.5}  Z̄ = {:.4} µm  est. periodic error {:.1e}",
-            p.period,
-            p.t * ms_per_t,
-            p.f_mean,
-            p.z_mean,
-            p.periodic_error
-        );
-        if redraw {
-            eprint!("\r{line}   ");
-            let _ = std::io::stderr().flush();
-        } else if last_line.elapsed() >= every {
-            last_line = std::time::Instant::now();
-            eprintln!("{line}  ({:.0} s)", began.elapsed().as_secs_f64());
-        }
-    }
-}
-
-/// What `simulate` answers, as the guard over reports sees it.
-#[derive(serde::Serialize)]
-struct Answer<'a> {
-    physical: &'a Physical,
-    lambda_min: f64,
-    #[serde(flatten)]
-    outcome: &'a Outcome,
-}
-
-/// The run's answer on stdout: one JSON object with --json, else the summary and its
-/// physical values.
+/// The run's answer on stdout: one JSON object with --json ([`crate::api::answer`]), else
+/// the summary and its physical values.
 fn print_result(
     a: &SimulateArgs,
     case: &CaseSpec,
@@ -485,42 +367,16 @@ fn print_result(
     validity: &Validity,
     outcome: &Outcome,
 ) -> Result<(), CmdError> {
-    let physical = op.scales().physical(case, outcome.f_mean, outcome.c_min);
-    let outside = validity.outside(case, outcome.c_min);
-    let lambda = outcome.c_min / validity.roughness_um;
-    let tier = (a.fidelity.f_error(), a.fidelity.c_error());
-    let error = outcome
-        .error(case, tier)
+    let ans = crate::api::answer(case, num, (op, validity), a.fidelity, outcome)
         .map_err(|e| CmdError::Other(e.to_string()))?;
-    super::checked(&Answer {
-        physical: &physical,
-        lambda_min: lambda,
-        outcome,
-    })?;
     if a.json {
-        let report = serde_json::json!({
-            "inputs": { "case": case, "numerics": num, "mesh": mesh_name(outcome.mesh((num.n1, num.n2))),
-                        "operating": op, "roughness_um": validity.roughness_um },
-            "physical": physical,
-            "outside_model": outside,
-            "contact": case.contact.is_some(),
-            "lambda_min": lambda,
-            "regime": regime(lambda),
-            "asperity_share": outcome.asperity_share,
-            "f_boundary": outcome.f_boundary,
-            "error": error,
-        });
-        let mut obj = report.as_object().cloned().unwrap_or_default();
-        if let serde_json::Value::Object(o) = serde_json::to_value(outcome).unwrap_or_default() {
-            obj.extend(o);
-        }
-        println!("{}", serde_json::Value::Object(obj));
+        println!("{}", ans.json);
     } else {
         // Times are in units of L/U, U the run's speed: 1 ms at 10 m/s (docs/model.md §1).
         print_summary(case, num, outcome, op.scales().time_ms());
-        print_error(&error, a.fidelity);
+        print_error(&ans.error, a.fidelity);
         print_contact(case, validity, outcome);
-        print_physical(op, &physical, outside);
+        print_physical(op, &ans.physical, validity.outside(case, outcome.c_min));
     }
     Ok(())
 }

@@ -23,6 +23,9 @@ pub enum Waiver {
     MemoryLimit,
     /// The time steps a run may take (time/limits.rs).
     StepLimit,
+    /// The asperity contact's constants (docs/model.md §11): a run without contact reads
+    /// none of them.
+    NoContact,
 }
 
 /// The error for `param` = `value` breaking `rule` (a number as value in short form).

@@ -377,9 +377,14 @@ impl InPlace {
     }
 }
 
+/// Where a study's table (one row a case) is written: `<report dir>/<name>.csv`.
+pub fn table_path(study: &Study) -> std::path::PathBuf {
+    Path::new(&study.report.dir).join(format!("{}.csv", study.name))
+}
+
 /// The report in place (see [`InPlace`]).
 pub fn in_place(study: &Study) -> Option<InPlace> {
-    let path = Path::new(&study.report.dir).join(format!("{}.csv", study.name));
+    let path = table_path(study);
     let text = crate::output::read_regular(&path)?;
     let mut r = csv::Reader::from_reader(text.as_bytes());
     let status = r.headers().ok()?.iter().position(|h| h == "status")?;
