@@ -260,3 +260,12 @@ def test_cycle_gives_its_tables(tmp_path):
     assert run.code == 0
     assert len(run.angles) == 72
     assert "cycle_t" in run.reports
+
+
+def test_without_pandas_tables_are_lists_of_dicts(tmp_path, monkeypatch):
+    study = small_study(tmp_path)
+    texopt.study(study, cache=tmp_path / "c.sqlite")
+    monkeypatch.setitem(sys.modules, "pandas", None)  # `import pandas` now fails
+    run = texopt.study(study, cache=tmp_path / "c.sqlite", cached_only=True)
+    assert isinstance(run.rows, list) and len(run.rows) == 10
+    assert isinstance(run.rows[0]["f_mean"], float)
