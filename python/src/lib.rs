@@ -121,8 +121,9 @@ fn number(kw: &Bound<'_, PyDict>, name: &str) -> PyResult<Option<f64>> {
     }
 }
 
+/// A keyword's True or False, `default` where absent or None.
 fn flag(kw: &Bound<'_, PyDict>, name: &str, default: bool) -> PyResult<bool> {
-    match kw.get_item(name)? {
+    match kw.get_item(name)?.filter(|v| !v.is_none()) {
         None => Ok(default),
         Some(v) => v.extract::<bool>().map_err(|_| {
             PyValueError::new_err(format!("{name} = {}: must be True or False", repr(&v)))
@@ -230,7 +231,7 @@ fn inputs(kw: &Bound<'_, PyDict>) -> PyResult<SimulateInputs> {
     o.d_oil = number(kw, "d_oil")?;
     o.roughness = number(kw, "roughness")?;
     let c = &mut s.contact;
-    c.off = !flag(kw, "contact", true)?;
+    c.off = !flag(kw, "contact", !c.off)?;
     c.eta_beta_sigma = number(kw, "eta_beta_sigma")?;
     c.sigma_over_beta = number(kw, "sigma_over_beta")?;
     c.e_star = number(kw, "e_star")?;
@@ -245,8 +246,8 @@ fn inputs(kw: &Bound<'_, PyDict>) -> PyResult<SimulateInputs> {
     s.periodic_tol = number(kw, "periodic_tol")?;
     s.t_max = number(kw, "t_max")?.unwrap_or(s.t_max);
     s.start = choice::<Start>(kw, "start", "equilibrium, paper")?.unwrap_or(s.start);
-    s.accelerate = flag(kw, "accelerate", true)?;
-    s.allow_thick_pockets = flag(kw, "allow_thick_pockets", false)?;
+    s.accelerate = flag(kw, "accelerate", s.accelerate)?;
+    s.allow_thick_pockets = flag(kw, "allow_thick_pockets", s.allow_thick_pockets)?;
     Ok(s)
 }
 

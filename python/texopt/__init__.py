@@ -152,8 +152,8 @@ def simulate(
     per: Optional[float] = None,
     width: Optional[float] = None,
     depth: Optional[float] = None,
-    phase: float = 0.0,
-    theta_s: float = 0.95,
+    phase: Optional[float] = None,
+    theta_s: Optional[float] = None,
     speed: Optional[float] = None,
     load: Optional[float] = None,
     viscosity: Optional[float] = None,
@@ -167,14 +167,14 @@ def simulate(
     e_star: Optional[float] = None,
     tau0: Optional[float] = None,
     varsigma: Optional[float] = None,
-    fidelity: str = "fast",
+    fidelity: Optional[str] = None,
     mesh: Optional[tuple] = None,
     dt: Optional[float] = None,
     time_scheme: Optional[str] = None,
     periodic_tol: Optional[float] = None,
-    t_max: float = 30.0,
-    start: str = "equilibrium",
-    accelerate: bool = True,
+    t_max: Optional[float] = None,
+    start: Optional[str] = None,
+    accelerate: Optional[bool] = None,
     allow_thick_pockets: bool = False,
     transient: bool = False,
     frames: Optional[int] = None,
@@ -182,9 +182,10 @@ def simulate(
 ) -> Result:
     """One case to its periodic regime, as ``texopt simulate`` runs it (its flags are these
     keywords: ``--d-oil`` is ``d_oil``, ``--no-contact`` is ``contact=False``,
-    ``--mesh 700x8`` is ``mesh=(700, 8)``). ``frames=N`` keeps N instants of the film over
-    the last period (``Result.frames``); ``progress`` prints a line on stderr every 10 s of a
-    long run."""
+    ``--mesh 700x8`` is ``mesh=(700, 8)``); an input left at None takes the program's
+    default (``fidelity="fast"``, ``theta_s=0.95``, ``t_max=30``, …). ``frames=N`` keeps N
+    instants of the film over the last period (``Result.frames``); ``progress`` prints a line
+    on stderr every 10 s of a long run."""
     kw = {k: v for k, v in locals().items() if k not in ("frames", "progress")}
     text, series, raw_frames = _texopt.simulate(kw, frames, progress)
     answer = json.loads(text)
