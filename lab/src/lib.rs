@@ -4,6 +4,7 @@
 //! write under results/.
 
 pub mod line_multigrid;
+pub mod liner_frame;
 pub mod pt_multigrid;
 pub mod solvers;
 pub mod stencil;

@@ -16,6 +16,7 @@
 //!     texopt-lab rim-2d
 //!     texopt-lab rim-moving
 //!     texopt-lab rim-liner
+//!     texopt-lab liner-frame [runs | report | probe …]
 //!     texopt-lab rim-rows
 
 use texopt_lab::studies;
@@ -36,13 +37,14 @@ fn main() {
         Some("cycle-stress") => studies::cycle_stress::main(rest),
         Some("deep-mesh") => studies::deep_mesh::main(rest),
         Some("deep-rule") => studies::deep_mesh::rule_main(rest),
+        Some("liner-frame") => studies::liner_frame::main(rest),
         Some("rim-1d") => studies::rim_1d::main(rest),
         Some("rim-2d") => studies::rim_2d::main(rest),
         Some("rim-moving") => studies::rim_moving::main(rest),
         Some("rim-liner") => studies::rim_liner::main(rest),
         Some("rim-rows") => studies::rim_rows::main(rest),
         _ => Err(
-            "usage: texopt-lab speed … | references … | deep-pockets | deep-mesh | deep-rule | shear-threshold | cycle-steps | cycle-contact | cycle-stress [LINER …] | rim-1d | rim-2d | rim-moving | rim-liner | rim-rows | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
+            "usage: texopt-lab speed … | references … | deep-pockets | deep-mesh | deep-rule | shear-threshold | cycle-steps | cycle-contact | cycle-stress [LINER …] | rim-1d | rim-2d | rim-moving | rim-liner | liner-frame [runs | report | probe …] | rim-rows | convergence … | stability … | where-time-goes … (see lab/src/main.rs)"
                 .into(),
         ),
     };

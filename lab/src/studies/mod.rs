@@ -6,6 +6,7 @@ pub mod cycle_steps;
 pub mod cycle_stress;
 pub mod deep_mesh;
 pub mod deep_pockets;
+pub mod liner_frame;
 pub mod references;
 pub mod rim_1d;
 pub mod rim_2d;

@@ -23,6 +23,8 @@
 
 use std::fmt::Write as _;
 
+use crate::liner_frame::bdf2_old_level;
+
 use super::rim_1d::{active_set_from, error_cells, write_report, Storage};
 use super::rim_moving::{run as ring_frame, Gap, Scheme, PERIODS, U};
 
@@ -63,21 +65,8 @@ fn step(
     let theta_in = (last[0] / stored[0]).min(1.0);
     // BDF2 along the liner: (3φⁿ⁺¹ − 4φⁿ + φⁿ⁻¹)/(2dt), each older level moved with the
     // liner as the last one is; backward Euler where its combined old term would go negative.
-    let (old, per_dt) = match older.map(|o| moved(o, 2 * k)) {
-        Some(o) => {
-            let combined: Vec<f64> = last
-                .iter()
-                .zip(&o)
-                .map(|(a, b)| (4.0 * a - b) / 3.0)
-                .collect();
-            if combined.iter().all(|&c| c >= 0.0) {
-                (combined, 1.5 / dt)
-            } else {
-                (last, 1.0 / dt)
-            }
-        }
-        None => (last, 1.0 / dt),
-    };
+    let (old, per_dt) = bdf2_old_level(last, older.map(|o| moved(o, 2 * k)));
+    let per_dt = per_dt / dt;
     let mut mfull: Vec<bool> = (0..=n).map(|j| full[m(j)]).collect();
     let storage = Storage {
         s: &stored,
