@@ -35,7 +35,9 @@ def cli(*args, check=True):
     return out
 
 
-def small_study(dir: Path, depths=(5, 10), l1=(0.02, 0.03), radii=(3.2, 5), n1=64) -> Path:
+def small_study(
+    dir: Path, depths=(5, 10), l1=(0.02, 0.03), radii=(3.2, 5), n1=64, n2=4
+) -> Path:
     """A study on a coarse mesh, its report in dir/out."""
     text = f"""
         [study]
@@ -51,7 +53,7 @@ def small_study(dir: Path, depths=(5, 10), l1=(0.02, 0.03), radii=(3.2, 5), n1=6
 
         [numerics]
         n1 = {n1}
-        n2 = 4
+        n2 = {n2}
         dt = 1.6e-3
         periodic_tol = 1e-3
 
@@ -147,8 +149,9 @@ def test_a_cache_written_from_python_is_read_by_the_program_and_back(tmp_path):
 
 
 def test_ctrl_c_stops_a_study_and_leaves_its_cache_consistent(tmp_path):
+    # Rows enough that the study takes seconds: Ctrl-C must land while it runs.
     study = small_study(
-        tmp_path, depths=(2, 4, 6, 8, 10), l1=(0.01, 0.02, 0.03), radii=(3.2, 5, 12.8), n1=200
+        tmp_path, depths=(2, 4, 6, 8, 10), l1=(0.01, 0.02, 0.03), radii=(3.2, 5, 12.8), n1=200, n2=16
     )
     cache = tmp_path / "c.sqlite"
     script = (
