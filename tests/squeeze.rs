@@ -379,6 +379,8 @@ fn simulate(n: usize, dt: f64) -> Run {
         ring: vec![false; n + 1],
         flow: None,
         rows: Default::default(),
+        fitted: None,
+        fitted_x2: None,
     };
     let mut state = FilmState::flooded(&g, &gap, 0.0);
     state.p.fill(P0);

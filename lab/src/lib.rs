@@ -5,6 +5,7 @@
 
 pub mod line_multigrid;
 pub mod liner_frame;
+pub mod liner_friction;
 pub mod pt_multigrid;
 pub mod solvers;
 pub mod stencil;

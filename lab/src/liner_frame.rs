@@ -31,16 +31,23 @@
 //! The gap: the product's (nodal along x1, the tier's strips across x2), or, with
 //! `x1_samples` > 1, each node's texture depth the mean over that many points along its cell
 //! (the cut cell's storage: in the liner's frame a cell's film volume does not change as the
-//! texture passes, only the ring face's smooth part does).
+//! texture passes, only the ring face's smooth part does). With `fitted`, the x1 faces where
+//! a pocket lies between the nodes are fitted to the gap along x1 as well
+//! ([`texopt::mesh::FittedFaces`]: each strip's exact one-dimensional conductance and Couette
+//! content), and the friction is integrated along the faces with the same profile
+//! ([`crate::liner_friction`]). The texture moves whole cells a step, so its depths are
+//! computed once over a period (`PhaseTable`) and each step reads a column's phase.
 
 use texopt::mesh::integrals::{boundary_flows, friction_thresholds};
-use texopt::mesh::{sample_across, FilmState, Grid, Scene};
+use texopt::mesh::{sample_across, FilmState, FittedFaces, Grid, Scene};
 use texopt::model::case::CaseSpec;
 use texopt::model::film::Boundary;
 use texopt::model::friction::{Friction, FrictionModel};
 use texopt::model::ring::{Ring, RingState};
 use texopt::solve::{FilmMethod, FilmSolver, Method, Step};
 use texopt::time::{paper_start, texture_period};
+
+use crate::liner_friction::fitted_friction;
 
 /// How the liner-frame film is discretised: nodes followed per step, time scheme, samples of
 /// the gap along each cell.
@@ -52,6 +59,13 @@ pub struct LinerScheme {
     pub bdf2: bool,
     /// Points along x1 each node's texture depth is the mean of (1: the node's own).
     pub x1_samples: usize,
+    /// The x1 faces fitted to the gap along x1 wherever a pocket lies between their nodes,
+    /// at `x1_samples` points a strip ([`texopt::mesh::FittedFaces`]): each strip's exact
+    /// one-dimensional conductance and Couette content, the cell's mean gap as its storage.
+    pub fitted: bool,
+    /// The x2 faces fitted as well wherever a pocket lies between their rows: on each of
+    /// `x1_samples` strips along x1 across the cell, 8 points between the rows in series.
+    pub fitted_x2: bool,
 }
 
 /// One period's means: f̄ (the friction terms' total), mean and least Z (µm).
@@ -85,6 +99,8 @@ pub struct LinerFrame {
     pub fallbacks: std::cell::Cell<usize>,
     /// The last step's old level (mirrored) and storage factor, for its mass balance.
     last_old: (Vec<f64>, f64),
+    /// The texture's depths over a period.
+    table: PhaseTable,
 }
 
 /// Why a liner-frame run cannot be set up or failed.
@@ -108,44 +124,199 @@ fn mirror<T: Copy>(v: &[T], n2: usize) -> Vec<T> {
     v.chunks_exact(n2).rev().flatten().copied().collect()
 }
 
-/// Places the texture at time t in `scene` (liner at speed u), mirrored or not: each node's
-/// depth the mean over `m` points along its cell (1: the node's own), across x2 as the
-/// scene's rim model samples it; the gap without Z is that depth plus the ring's part
-/// (eq. 15).
-fn place(scene: &mut Scene, t: f64, m: usize, mirrored: bool) {
+/// The texture's depths over one period of whole cells, computed once: the texture moves
+/// whole cells a step, so a column's depths at any step are those of its phase, the liner
+/// position it holds modulo the period (a uniform lattice along x1).
+struct PhaseTable {
+    /// Cells a texture period.
+    cells: usize,
+    n2: usize,
+    /// Samples across a cell, points along it.
+    ns: usize,
+    m: usize,
+    /// Per phase c and row j: at each sample across the cell, the mean depth over `m` points
+    /// along the cell centred at c·dx (the depth at c·dx when m = 1).
+    cell: Vec<f64>,
+    /// Per phase c and row j, strip after strip: the depth at `m` points along the face from
+    /// c·dx back to (c − 1)·dx (empty when no face is fitted).
+    face: Vec<f64>,
+    /// Per phase c and row j < n2 − 1, strip after strip: on each of `m` strips along the
+    /// cell centred at c·dx, the depth at [`X2_POINTS`] points from row j to row j + 1
+    /// (empty when no x2 face is fitted).
+    face_x2: Vec<f64>,
+}
+
+/// Points between two rows on each strip of a fitted x2 face.
+const X2_POINTS: usize = 8;
+
+impl PhaseTable {
+    fn new(scene: &Scene, cells: usize, m: usize, (fitted, fitted_x2): (bool, bool)) -> Self {
+        let (g, liner) = (&scene.grid, &scene.contact.liner);
+        let ns = scene.rim.samples();
+        let step = g.dx / m as f64;
+        let (mut cell, mut face, mut face_x2, mut depths) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for c in 0..cells {
+            let x = c as f64 * g.dx;
+            for j in 0..g.n2 {
+                let along = |y: f64| {
+                    (0..m)
+                        .map(|q| liner.depth_um(x - 0.5 * g.dx + (q as f64 + 0.5) * step, y))
+                        .sum::<f64>()
+                        / m as f64
+                };
+                let node = |y: f64| liner.depth_um(x, y);
+                match m {
+                    1 => sample_across(g.y(j), g.dy, ns, node, &mut depths),
+                    _ => sample_across(g.y(j), g.dy, ns, along, &mut depths),
+                }
+                cell.extend_from_slice(&depths);
+                if fitted_x2 {
+                    let dy = g.dy / X2_POINTS as f64;
+                    for q in 0..m {
+                        let xq = x - 0.5 * g.dx + (q as f64 + 0.5) * step;
+                        face_x2.extend(
+                            (0..X2_POINTS)
+                                .map(|r| liner.depth_um(xq, g.y(j) + (r as f64 + 0.5) * dy)),
+                        );
+                    }
+                }
+                if fitted {
+                    for s in 0..ns {
+                        let y = g.y(j) - 0.5 * g.dy + (s as f64 + 0.5) * g.dy / ns as f64;
+                        face.extend((0..m).map(|q| liner.depth_um(x - (q as f64 + 0.5) * step, y)));
+                    }
+                }
+            }
+        }
+        PhaseTable {
+            cells,
+            n2: g.n2,
+            ns,
+            m,
+            cell,
+            face,
+            face_x2,
+        }
+    }
+
+    fn face_x2(&self, c: usize, j: usize) -> &[f64] {
+        let n = self.m * X2_POINTS;
+        &self.face_x2[(c * self.n2 + j) * n..][..n]
+    }
+
+    /// The phase of column `col` once the texture has moved `shift` cells.
+    fn phase(&self, col: usize, shift: usize) -> usize {
+        (col + self.cells - shift % self.cells) % self.cells
+    }
+
+    fn cell(&self, c: usize, j: usize) -> &[f64] {
+        &self.cell[(c * self.n2 + j) * self.ns..][..self.ns]
+    }
+
+    fn face(&self, c: usize, j: usize) -> &[f64] {
+        let n = self.ns * self.m;
+        &self.face[(c * self.n2 + j) * n..][..n]
+    }
+}
+
+/// Places the texture moved `shift` cells in `scene`, mirrored or not: each node's depth from
+/// the table (its cell's mean along x1, across x2 as the scene's rim model samples it); the
+/// gap without Z is that depth plus the ring's part (eq. 15).
+fn place(scene: &mut Scene, table: &PhaseTable, shift: usize, mirrored: bool) {
     let g = scene.grid.clone();
     let contact = scene.contact.clone();
-    let liner = &contact.liner;
     let ns = scene.rim.samples();
     scene.gap.rows.reset(g.nodes(), scene.rim);
-    let mut depths = Vec::with_capacity(ns);
     for i in 0..=g.n1 {
-        let x = g.x(if mirrored { g.n1 - i } else { i });
+        let col = if mirrored { g.n1 - i } else { i };
+        let x = g.x(col);
         scene.gap.ring[i] = contact.under_ring(x);
         let ring_part = contact.ring_part_um(x);
-        let xl = x - scene.u * t;
-        let along = |y: f64| {
-            if m == 1 {
-                return liner.depth_um(xl, y);
-            }
-            let s = g.dx / m as f64;
-            (0..m)
-                .map(|q| liner.depth_um(xl - 0.5 * g.dx + (q as f64 + 0.5) * s, y))
-                .sum::<f64>()
-                / m as f64
-        };
+        let c = table.phase(col, shift);
         for j in 0..g.n2 {
             let k = g.idx(i, j);
+            let depths = table.cell(c, j);
             let hl = if ns > 1 {
-                sample_across(g.y(j), g.dy, ns, along, &mut depths);
-                scene.gap.rows.set(k, &depths)
+                scene.gap.rows.set(k, depths)
             } else {
-                along(g.y(j))
+                depths[0]
             };
             scene.hl[k] = hl;
             scene.gap.base[k] = hl + ring_part;
         }
     }
+}
+
+/// Fits the interior x1 faces of the mirrored `scene`, the texture moved `shift` cells
+/// ([`LinerScheme::fitted`]): the gap without Z at the table's points between each face's
+/// nodes on each strip across its cell, wherever a pocket lies there; the end faces stay
+/// nodal (the film's boundary flows are theirs).
+fn fit_faces(scene: &mut Scene, table: &PhaseTable, shift: usize) {
+    let g = scene.grid.clone();
+    let contact = &scene.contact;
+    let (ns, m) = (table.ns, table.m);
+    let mut fitted = FittedFaces::new(g.n1 * g.n2, ns, m);
+    let mut base = Vec::with_capacity(ns * m);
+    let step = g.dx / m as f64;
+    for i in 1..g.n1.saturating_sub(1) {
+        // Mirrored column i is the scene's column n1 − i: the face runs back from there.
+        let col = g.n1 - i;
+        let c = table.phase(col, shift);
+        let ring: Vec<(f64, bool)> = (0..m)
+            .map(|q| g.x(col) - (q as f64 + 0.5) * step)
+            .map(|x| (contact.ring_part_um(x), contact.under_ring(x)))
+            .collect();
+        let under: Vec<bool> = (0..ns).flat_map(|_| ring.iter().map(|r| r.1)).collect();
+        for j in 0..g.n2 {
+            let depths = table.face(c, j);
+            if depths.iter().all(|&d| d <= 0.0) {
+                continue;
+            }
+            base.clear();
+            base.extend(depths.iter().enumerate().map(|(n, d)| d + ring[n % m].0));
+            fitted.set(g.idx(i, j), &base, &under);
+        }
+    }
+    scene.gap.fitted = Some(fitted);
+}
+
+/// Fits the x2 faces of the interior columns of the mirrored `scene`, the texture moved
+/// `shift` cells ([`LinerScheme::fitted_x2`]): on each strip along x1 across the cell, the
+/// gap without Z at the table's points between the two rows, wherever a pocket lies there.
+fn fit_x2_faces(scene: &mut Scene, table: &PhaseTable, shift: usize) {
+    let g = scene.grid.clone();
+    let contact = &scene.contact;
+    let (m, ny) = (table.m, g.n2.saturating_sub(1));
+    let mut fitted = FittedFaces::new((g.n1 + 1) * ny, m, X2_POINTS);
+    let mut base = Vec::with_capacity(m * X2_POINTS);
+    let step = g.dx / m as f64;
+    for i in 1..g.n1 {
+        let col = g.n1 - i;
+        let c = table.phase(col, shift);
+        let ring: Vec<(f64, bool)> = (0..m)
+            .map(|q| g.x(col) - 0.5 * g.dx + (q as f64 + 0.5) * step)
+            .map(|x| (contact.ring_part_um(x), contact.under_ring(x)))
+            .collect();
+        let under: Vec<bool> = (0..m)
+            .flat_map(|q| std::iter::repeat_n(ring[q].1, X2_POINTS))
+            .collect();
+        for j in 0..ny {
+            let depths = table.face_x2(c, j);
+            if depths.iter().all(|&d| d <= 0.0) {
+                continue;
+            }
+            base.clear();
+            base.extend(
+                depths
+                    .iter()
+                    .enumerate()
+                    .map(|(n, d)| d + ring[n / X2_POINTS].0),
+            );
+            fitted.set(i * ny + j, &base, &under);
+        }
+    }
+    scene.gap.fitted_x2 = Some(fitted);
 }
 
 /// The storage term's old level and its factor times dt along the liner, from the last level
@@ -181,6 +352,7 @@ impl LinerFrame {
         let g = scene.grid.clone();
         let cells = per / g.dx / scheme.k as f64;
         let steps_per_period = cells.round() as usize;
+        let cells_per_period = steps_per_period * scheme.k;
         if (cells - steps_per_period as f64).abs() > 1e-6 || steps_per_period == 0 {
             return Err(LinerError::Period {
                 k: scheme.k,
@@ -190,13 +362,21 @@ impl LinerFrame {
         }
         let dt = texture_period(case) / steps_per_period as f64;
         let mut scene = scene;
-        place(&mut scene, 0.0, scheme.x1_samples, false);
+        let fits = (scheme.fitted, scheme.fitted_x2);
+        let table = PhaseTable::new(&scene, cells_per_period, scheme.x1_samples, fits);
+        place(&mut scene, &table, 0, false);
         let (start, mut ring_state) = paper_start(&scene, case);
         if let Some(z) = z0 {
             ring_state.z = z;
         }
         let mut mirrored = scene.clone();
-        place(&mut mirrored, 0.0, scheme.x1_samples, true);
+        place(&mut mirrored, &table, 0, true);
+        if scheme.fitted {
+            fit_faces(&mut mirrored, &table, 0);
+        }
+        if scheme.fitted_x2 {
+            fit_x2_faces(&mut mirrored, &table, 0);
+        }
         let n2 = g.n2;
         let state = FilmState {
             p: mirror(&start.p, n2),
@@ -219,6 +399,7 @@ impl LinerFrame {
             iterations: 0,
             fallbacks: std::cell::Cell::new(0),
             last_old: (Vec::new(), 0.0),
+            table,
         })
     }
 
@@ -296,10 +477,15 @@ impl LinerFrame {
     /// One step: the texture moved k cells under the ring, the film solved along the liner
     /// with the ring's Newmark link; returns the friction after it.
     pub fn step(&mut self) -> Result<Friction, LinerError> {
-        let t_new = (self.steps + 1) as f64 * self.dt;
-        let m = self.scheme.x1_samples;
-        place(&mut self.scene, t_new, m, false);
-        place(&mut self.mirrored, t_new, m, true);
+        let shift = (self.steps + 1) * self.scheme.k;
+        place(&mut self.scene, &self.table, shift, false);
+        place(&mut self.mirrored, &self.table, shift, true);
+        if self.scheme.fitted {
+            fit_faces(&mut self.mirrored, &self.table, shift);
+        }
+        if self.scheme.fitted_x2 {
+            fit_x2_faces(&mut self.mirrored, &self.table, shift);
+        }
         let (old, inv_dt) = self.old_level();
         let n2 = self.grid().n2;
         // The trailing end brings in the liner's film there (one value across x2).
@@ -372,7 +558,8 @@ impl LinerFrame {
         (change - (inflow - outflow)).abs() / (inflow.abs() + outflow.abs())
     }
 
-    /// The friction of the present film (the product's, on the film mirrored back).
+    /// The friction of the present film: the product's, on the film mirrored back, or with
+    /// fitted faces their own integrals along x1 ([`fitted_friction`]).
     fn friction(&self) -> Friction {
         let n2 = self.grid().n2;
         let film = FilmState {
@@ -388,7 +575,7 @@ impl LinerFrame {
             contact: self.case.contact_law(),
         };
         let g = &self.scene.grid;
-        friction_thresholds(
+        let nodal = friction_thresholds(
             g,
             &self.scene.gap,
             self.ring_state.z,
@@ -397,7 +584,21 @@ impl LinerFrame {
             &model,
             &[],
         )
-        .0
+        .0;
+        if !self.scheme.fitted {
+            return nodal;
+        }
+        let shift = self.steps * self.scheme.k;
+        let table = &self.table;
+        let depth = |i: usize, j: usize| table.face(table.phase(g.n1 - i, shift), j).to_vec();
+        fitted_friction(
+            &self.mirrored,
+            &self.state,
+            self.ring_state.z,
+            &model,
+            depth,
+            nodal.boundary,
+        )
     }
 
     /// One texture period: its mean friction and its mean and least Z.

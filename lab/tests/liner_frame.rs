@@ -68,15 +68,19 @@ fn bdf2_along_the_liner_takes_most_of_the_step_s_error() {
 
 /// Every step balances: the film the interior control volumes gained over the relabelled old
 /// level is what the stencil's fluxes brought through the two ends, to round-off (the excess
-/// carried under the ring's face is handed on, not dropped), with backward Euler and BDF2.
+/// carried under the ring's face is handed on, not dropped), with backward Euler and BDF2, and
+/// with the x1 faces fitted to the gap along x1 (their Couette content carried from node to
+/// node as the stencil's own flux).
 #[test]
 fn each_step_conserves_the_film_it_relabels() {
     let c = case(2);
-    for bdf2 in [false, true] {
+    for (bdf2, fitted) in [(false, false), (true, false), (true, true)] {
         let scheme = LinerScheme {
             k: 2,
             bdf2,
-            x1_samples: 1,
+            x1_samples: if fitted { 8 } else { 1 },
+            fitted,
+            fitted_x2: false,
         };
         let mut run = LinerFrame::new(&c, Scene::new(&c, 300, 6), scheme, None).unwrap();
         let mut worst: f64 = 0.0;
@@ -84,7 +88,7 @@ fn each_step_conserves_the_film_it_relabels() {
             run.step().unwrap();
             worst = worst.max(run.mass_defect());
         }
-        eprintln!("BDF2 {bdf2}: largest relative mass defect {worst:.1e}");
+        eprintln!("BDF2 {bdf2}, fitted {fitted}: largest relative mass defect {worst:.1e}");
         assert!(worst < 1e-9, "mass defect {worst:.2e}");
     }
 }
@@ -97,6 +101,8 @@ fn a_step_that_does_not_divide_the_texture_period_is_refused() {
         k: 1,
         bdf2: false,
         x1_samples: 1,
+        fitted: false,
+        fitted_x2: false,
     };
     match LinerFrame::new(&c, scene, scheme, None) {
         Err(e @ LinerError::Period { .. }) => assert!(e.to_string().contains("choose N1")),

@@ -3,7 +3,8 @@
 //! ([`face_conductance`]), times the pressure flow factor φx(h_f) on a rough film
 //! (docs/model.md §11, "Flow factors"); where a row's gap varies across its cell, the
 //! strips across an x1 face in parallel and the gap between two rows in series
-//! ([`super::Rows`]).
+//! ([`super::Rows`]); an x1 face fitted to the gap along x1 takes its strips' exact
+//! one-dimensional conductance ([`super::FittedFaces`]).
 
 use super::{Gap, Grid};
 use crate::model::film::{face_conductance, strip_conductance};
@@ -30,6 +31,12 @@ pub fn face_conductances(
         Some(f) => face_conductance(a, b, s) * f.pressure_flow(0.5 * (a + b)).0,
     };
     let strip = |hf: f64| strip_conductance(hf, flow);
+    let fitted = gap.fitted.as_ref().filter(|f| f.any());
+    let fitted_x2 = gap.fitted_x2.as_ref().filter(|f| f.any());
+    let z = match (fitted, fitted_x2) {
+        (None, None) => 0.0,
+        _ => gap.z_of(g, h),
+    };
     // x1 faces east of the nodes of columns `cols`, over slices of neighbouring nodes (no
     // index checked per face); then the faces of rows sampled across their cells.
     let x_faces = |cols: std::ops::Range<usize>, out: &mut [f64]| {
@@ -45,6 +52,13 @@ pub fn face_conductances(
                 }
             }
         }
+        if let Some(f) = fitted {
+            for (k, c) in (first..).zip(out.iter_mut()) {
+                if let Some(fit) = f.face(k, z) {
+                    *c = fit.conductance * sx;
+                }
+            }
+        }
     };
     // x2 faces of column i.
     let y_faces = |i: usize, out: &mut [f64]| {
@@ -57,6 +71,13 @@ pub fn face_conductances(
             for (k, c) in (first..).zip(out.iter_mut()) {
                 if rows.of(k).is_some() || rows.of(k + 1).is_some() {
                     *c = rows.along_x2_face((k, h[k]), h[k + 1], strip) * sy;
+                }
+            }
+        }
+        if let Some(f) = fitted_x2 {
+            for (face, c) in (i * ny..).zip(out.iter_mut()) {
+                if let Some(fit) = f.face(face, z) {
+                    *c = fit.conductance * sy;
                 }
             }
         }

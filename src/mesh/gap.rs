@@ -1,7 +1,7 @@
 //! The gap h over the mesh as an affine function of the ring position Z (eq. 15,
 //! docs/model.md §2): only the node columns under the ring depend on Z.
 
-use super::{Grid, Rows};
+use super::{FittedFaces, Grid, Rows};
 use crate::model::flow_factors::FlowFactors;
 
 /// The gap at the new time level as an affine function of the ring position:
@@ -18,9 +18,23 @@ pub struct Gap {
     /// The gap across each node's cell where it varies there (a pocket's rim); `base` holds
     /// the cells' means.
     pub rows: Rows,
+    /// x1 faces fitted to the gap along x1 between their nodes, on strips across their cells
+    /// (None: every x1 face as `rows` has it).
+    pub fitted: Option<FittedFaces>,
+    /// x2 faces fitted to the gap between their rows, on strips along x1 across their cells
+    /// (None: every x2 face as `rows` has it).
+    pub fitted_x2: Option<FittedFaces>,
 }
 
 impl Gap {
+    /// The ring position Z a gap `h` filled from this one holds (0 without a ring column).
+    pub fn z_of(&self, grid: &Grid, h: &[f64]) -> f64 {
+        self.ring
+            .iter()
+            .position(|&r| r)
+            .map_or(0.0, |i| h[i * grid.n2] - self.base[i * grid.n2])
+    }
+
     /// The gap at every node for ring position z into `out` (column by column: no index
     /// division in the hot loop).
     pub fn fill(&self, grid: &Grid, z: f64, out: &mut Vec<f64>) {
@@ -110,6 +124,8 @@ impl Clone for Gap {
             ring: self.ring.clone(),
             flow: self.flow,
             rows: self.rows.clone(),
+            fitted: self.fitted.clone(),
+            fitted_x2: self.fitted_x2.clone(),
         }
     }
 
@@ -118,5 +134,7 @@ impl Clone for Gap {
         self.ring.clone_from(&s.ring);
         self.flow = s.flow;
         self.rows.clone_from(&s.rows);
+        self.fitted.clone_from(&s.fitted);
+        self.fitted_x2.clone_from(&s.fitted_x2);
     }
 }

@@ -3,6 +3,7 @@
 
 mod faces;
 mod fields;
+mod fitted;
 mod gap;
 mod grid;
 pub mod integrals;
@@ -11,6 +12,7 @@ mod scene;
 
 pub use faces::face_conductances;
 pub use fields::{cavity_pressures, FilmState};
+pub use fitted::{FaceFit, FittedFaces};
 pub use gap::Gap;
 pub use grid::Grid;
 pub use rows::{sample_across, RimModel, Rows};

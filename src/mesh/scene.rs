@@ -46,6 +46,8 @@ impl Scene {
                 ring,
                 flow,
                 rows: Rows::nodal(),
+                fitted: None,
+                fitted_x2: None,
             },
             hl: vec![0.0; n],
             u,

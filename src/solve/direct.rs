@@ -333,6 +333,8 @@ mod tests {
             ring: vec![false; 17],
             flow: None,
             rows: Default::default(),
+            fitted: None,
+            fitted_x2: None,
         };
         let phi_old = vec![1.0; 17];
         let step = Step::steady(

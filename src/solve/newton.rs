@@ -13,7 +13,7 @@
 use super::problem::limit_closing;
 use super::{Stencil5, Step};
 use crate::mesh::integrals::{contact_load, load};
-use crate::mesh::{FilmState, Gap, Grid, Rows};
+use crate::mesh::{FilmState, FittedFaces, Gap, Grid, Rows};
 use crate::model::film::strip_conductance;
 use crate::model::film::{Column, Faces};
 use crate::model::flow_factors::FlowFactors;
@@ -157,7 +157,8 @@ fn conductance_slope(hf: f64, flow: Option<&FlowFactors>) -> f64 {
 /// ∂(face conductance)/∂Z = 3·h_f²·∂h_f/∂Z·(geometry factor), ∂h_f/∂Z the mean of the nodal
 /// ∂h/∂Z (1 under the ring, 0 elsewhere), on a rough film with the flow factors; where a row's
 /// gap varies across its cell, the derivative of the strips' mean (x1 faces) or of their
-/// series (x2 faces) of [`crate::mesh::face_conductances`].
+/// series (x2 faces) of [`crate::mesh::face_conductances`]; a fitted x1 face's own
+/// ([`crate::mesh::FaceFit::slope`]).
 pub fn face_conductance_derivatives(
     g: &Grid,
     h: &[f64],
@@ -195,6 +196,34 @@ pub fn face_conductance_derivatives(
     }
     if rows.any() {
         sampled_derivatives(g, h, gap, dcx, dcy);
+    }
+    if let Some(f) = gap.fitted.as_ref().filter(|f| f.any()) {
+        let z = gap.z_of(g, h);
+        for i in (0..n1).filter(|&i| ring[i] || ring[i + 1]) {
+            fitted_slopes(f, z, sx, i * n2..(i + 1) * n2, dcx);
+        }
+    }
+    if let Some(f) = gap.fitted_x2.as_ref().filter(|f| f.any()) {
+        let (z, ny) = (gap.z_of(g, h), n2.saturating_sub(1));
+        for i in (0..=n1).filter(|&i| ring[i]) {
+            fitted_slopes(f, z, sy, i * ny..(i + 1) * ny, dcy);
+        }
+    }
+}
+
+/// The fitted faces' d(conductance)/dZ times their geometry factor `scale` over the faces
+/// `span` of `out` (the others left as they are).
+fn fitted_slopes(
+    f: &FittedFaces,
+    z: f64,
+    scale: f64,
+    span: std::ops::Range<usize>,
+    out: &mut [f64],
+) {
+    for (face, d) in span.clone().zip(&mut out[span]) {
+        if let Some(fit) = f.face(face, z) {
+            *d = fit.slope * scale;
+        }
     }
 }
 

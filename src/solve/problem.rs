@@ -3,7 +3,7 @@
 
 use super::{FilmError, SolveStats, Step};
 use crate::mesh::integrals::{contact_load, load};
-use crate::mesh::{face_conductances, FilmState, Grid};
+use crate::mesh::{face_conductances, FilmState, FittedFaces, Grid};
 use crate::model::film::{Column, Faces};
 use crate::model::flow_factors::FlowFactors;
 
@@ -83,11 +83,34 @@ impl GapCache {
             &mut self.cx,
             &mut self.cy,
         );
-        match flow {
-            None => self.rough.clear(),
-            Some(f) => self.refresh_rough(step, f),
+        match (flow, step.gap.fitted.as_ref().filter(|f| f.any())) {
+            (Some(f), _) => self.refresh_rough(step, f),
+            (None, Some(fit)) => self.refresh_content(step, fit),
+            (None, None) => self.rough.clear(),
         }
         self.faces_fresh = true;
+    }
+
+    /// The Couette flux of a fitted x1 face carries its full film's content, θ of the node
+    /// upstream times the face's [`crate::mesh::FaceFit::content`]: the node's coefficient
+    /// r = u·dy·(content/h − 1) (the stencil's adv·φ + r·φ, [`Faces::rough`]); 0 on nodal
+    /// faces. Only under the ring once the problem's are set.
+    fn refresh_content(&mut self, step: &Step, fit: &FittedFaces) {
+        let (g, ring) = (step.grid, &step.gap.ring);
+        let adv = step.boundary.u_rough * g.dy;
+        let z = self.h_at.unwrap_or(0.0);
+        let fresh = self.faces_fresh && self.rough.len() == self.h.len();
+        self.rough.resize(self.h.len(), 0.0);
+        for i in 0..g.n1 {
+            if fresh && !(ring[i] || ring[i + 1]) {
+                continue;
+            }
+            for k in i * g.n2..(i + 1) * g.n2 {
+                self.rough[k] = fit
+                    .face(k, z)
+                    .map_or(0.0, |f| adv * (f.content / self.h[k] - 1.0));
+            }
+        }
     }
 
     /// r = u·dy·(κ − 1) per node (docs/model.md §11, "Flow factors"), at the liner's own

@@ -5,7 +5,8 @@
 //! (0.03/0.06/20 µm) at R = 3.2 and 25.6, each on meshes refined along x1, across x2 and in
 //! both, in the ring's frame (the product's transient with the `fast` tier's numerics on the
 //! mesh given) and in the liner's (lab/src/liner_frame.rs: BDF2 along the liner, the ring two
-//! cells a step; backward Euler and one cell a step beside it on one mesh). Each run's f̄,
+//! cells a step; backward Euler and one cell a step beside it on one mesh; and with its x1
+//! faces fitted to the gap along x1, `LinerScheme::fitted`). Each run's f̄,
 //! C_min and wall time go to runs.csv as it ends; `report` writes the README from it.
 
 use std::fmt::Write as _;
@@ -39,6 +40,8 @@ pub const BDF2_2: LinerScheme = LinerScheme {
     k: 2,
     bdf2: true,
     x1_samples: 1,
+    fitted: false,
+    fitted_x2: false,
 };
 pub const BDF2_1: LinerScheme = LinerScheme { k: 1, ..BDF2_2 };
 pub const BE_2: LinerScheme = LinerScheme {
@@ -49,7 +52,24 @@ pub const BE_2: LinerScheme = LinerScheme {
 /// BDF2 two cells a step with each node's texture depth the mean over 8 points along its cell.
 pub const CELL_MEAN: LinerScheme = LinerScheme {
     x1_samples: 8,
+    fitted: false,
+    fitted_x2: false,
     ..BDF2_2
+};
+
+/// BDF2 two cells a step with the x1 faces fitted to the gap along x1 (8 points a strip,
+/// the cells' mean depth over 8 points as their storage).
+pub const FITTED: LinerScheme = LinerScheme {
+    x1_samples: 8,
+    fitted: true,
+    fitted_x2: false,
+    ..BDF2_2
+};
+
+/// As [`FITTED`], the x2 faces fitted as well (8 strips along x1, 8 points between the rows).
+pub const FITTED_X2: LinerScheme = LinerScheme {
+    fitted_x2: true,
+    ..FITTED
 };
 
 /// Relative tolerance of the liner frame's periodic regime, and its allowance in periods.
@@ -83,7 +103,12 @@ impl Frame {
                 "liner-{}-k{}{}{}",
                 if s.bdf2 { "bdf2" } else { "be" },
                 s.k,
-                if s.x1_samples > 1 { "-mean" } else { "" },
+                match (s.fitted, s.x1_samples) {
+                    (true, m) if s.fitted_x2 => format!("-fit{m}-x2"),
+                    (true, m) => format!("-fit{m}"),
+                    (false, 1) => String::new(),
+                    (false, _) => "-mean".into(),
+                },
                 rim(r)
             ),
         }
@@ -215,6 +240,34 @@ fn runs() -> Result<(), String> {
             jobs.push((c, Frame::Liner(BE_2, rim), MESHES[1]));
         }
         jobs.push((c, Frame::Liner(CELL_MEAN, RimModel::Nodal), MESHES[1]));
+        for &m in &MESHES[..4] {
+            jobs.push((c, Frame::Liner(FITTED, STRIPS), m));
+        }
+        for &m in &MESHES[..3] {
+            jobs.push((c, Frame::Liner(FITTED, RimModel::Nodal), m));
+        }
+        let fit16 = LinerScheme {
+            x1_samples: 16,
+            ..FITTED
+        };
+        jobs.push((c, Frame::Liner(fit16, STRIPS), MESHES[1]));
+        jobs.push((
+            c,
+            Frame::Liner(LinerScheme { k: 1, ..FITTED }, STRIPS),
+            MESHES[1],
+        ));
+        // Both refinements at once, where the deep pockets were furthest from converged.
+        if c == 2 {
+            jobs.push((c, Frame::Liner(FITTED, STRIPS), MESHES[4]));
+        }
+        if c > 0 {
+            for m in [MESHES[0], MESHES[1], MESHES[3]] {
+                jobs.push((c, Frame::Liner(FITTED_X2, STRIPS), m));
+            }
+        }
+        if c == 2 {
+            jobs.push((c, Frame::Liner(FITTED, STRIPS), ROWS_96));
+        }
         jobs.push((
             c,
             Frame::Liner(LinerScheme { k: 1, ..BE_2 }, RimModel::Nodal),
@@ -301,14 +354,28 @@ fn probe(args: &[String]) -> Result<(), String> {
         case.e = num(9)?;
     }
     let mesh = (num(4)? as usize, num(5)? as usize);
+    let fit = if args.len() > 10 {
+        num(10)? as usize
+    } else {
+        0
+    };
+    let fit_x2 = args.len() > 12 && num(12)? > 0.0;
+    let rim = match args.len() > 11 {
+        true if num(11)? > 1.0 => RimModel::Strips {
+            samples: num(11)? as usize,
+        },
+        _ => RimModel::Nodal,
+    };
     let scheme = LinerScheme {
         k: num(6)? as usize,
         bdf2: num(7)? > 0.0,
-        x1_samples: 1,
+        x1_samples: fit.max(1),
+        fitted: fit > 0,
+        fitted_x2: fit_x2,
     };
-    let (f, c, z, _) = ring_run(&case, mesh, RimModel::Nodal)?;
+    let (f, c, z, _) = ring_run(&case, mesh, rim)?;
     eprintln!("ring frame: f̄ {f:.6}, C_min {c:.5}");
-    let scene = Scene::new(&case, mesh.0, mesh.1);
+    let scene = Scene::new(&case, mesh.0, mesh.1).with_rim(rim);
     let mut run = LinerFrame::new(&case, scene, scheme, Some(z)).map_err(|e| e.to_string())?;
     for p in 1..=num(8)? as usize {
         let m = run.period().map_err(|e| e.to_string())?;
@@ -361,8 +428,23 @@ const COLUMNS: [(&str, &str); 4] = [
     ("liner-bdf2-k2-strips", "liner frame, strips"),
 ];
 
+/// The fitted faces' rows refined once more across x2, on the deep pockets at R = 25.6.
+const ROWS_96: (usize, usize) = (600, 96);
+
+/// The columns of each case's table of fitted faces.
+const FITTED_COLUMNS: [(&str, &str); 5] = [
+    ("liner-bdf2-k2", "nodal rows"),
+    ("liner-bdf2-k2-fit8", "nodal rows, fitted faces"),
+    ("liner-bdf2-k2-strips", "strips"),
+    ("liner-bdf2-k2-fit8-strips", "strips, fitted faces"),
+    (
+        "liner-bdf2-k2-fit8-x2-strips",
+        "strips, x1 and x2 faces fitted",
+    ),
+];
+
 /// The step and the scheme: (frame, mesh, what it is).
-const VARIANTS: [(&str, (usize, usize), &str); 16] = [
+const VARIANTS: [(&str, (usize, usize), &str); 18] = [
     ("liner-be-k4", (600, 24), "liner, backward Euler, 4 cells a step, nodal rows"),
     ("liner-be-k2", (600, 24), "liner, backward Euler, 2 cells a step, nodal rows"),
     ("liner-be-k1", (600, 24), "liner, backward Euler, 1 cell a step, nodal rows"),
@@ -379,6 +461,8 @@ const VARIANTS: [(&str, (usize, usize), &str); 16] = [
     ("ring-char-k1", (600, 24), "ring, characteristic, 1 cell a step (Courant number ½), nodal rows"),
     ("ring-bdf2-k2", (600, 24), "ring, BDF2, 2 cells a step, nodal rows"),
     ("ring-bdf2-k1", (600, 24), "ring, BDF2, 1 cell a step, nodal rows"),
+    ("liner-bdf2-k1-fit8-strips", (600, 24), "liner, BDF2, 1 cell a step, strips, fitted faces"),
+    ("liner-bdf2-k2-fit16-strips", (600, 24), "liner, BDF2, 2 cells a step, strips, fitted faces at 16 points"),
 ];
 
 fn report() -> Result<(), String> {
@@ -393,21 +477,32 @@ fn report() -> Result<(), String> {
             format!("{:.5} / {:.4} ({:.0} s){unsettled}", r.f, r.c, r.wall)
         })
     };
+    let table =
+        |md: &mut String, name: &str, columns: &[(&str, &str)], meshes: &[(usize, usize)]| {
+            md.push_str("| N1 × N2 |");
+            for (_, heading) in columns {
+                let _ = write!(md, " {heading} |");
+            }
+            let _ = writeln!(md, "\n|---|{}", "---|".repeat(columns.len()));
+            for &m in meshes {
+                if columns.iter().all(|(f, _)| find(name, f, m).is_none()) {
+                    continue;
+                }
+                let _ = write!(md, "| {}×{} |", m.0, m.1);
+                for (frame, _) in columns {
+                    let _ = write!(md, " {} |", cell(find(name, frame, m)));
+                }
+                md.push('\n');
+            }
+        };
     let mut md = String::from(include_str!("liner_frame_head.md"));
     for (name, ..) in CASES {
         let _ = writeln!(md, "\n### {name}\n\nf̄ / C_min (µm) (seconds):\n");
-        md.push_str("| N1 × N2 |");
-        for (_, heading) in COLUMNS {
-            let _ = write!(md, " {heading} |");
-        }
-        md.push_str("\n|---|---|---|---|---|\n");
-        for &m in &MESHES {
-            let _ = write!(md, "| {}×{} |", m.0, m.1);
-            for (frame, _) in COLUMNS {
-                let _ = write!(md, " {} |", cell(find(name, frame, m)));
-            }
-            md.push('\n');
-        }
+        table(&mut md, name, &COLUMNS, &MESHES);
+        md.push_str("\nThe liner frame with its x1 faces fitted to the gap along x1 (8 points a strip), beside it without:\n\n");
+        let mut meshes = MESHES.to_vec();
+        meshes.push(ROWS_96);
+        table(&mut md, name, &FITTED_COLUMNS, &meshes);
         md.push_str("\nThe step and the scheme:\n\n| mesh | scheme | f̄ / C_min (µm) (seconds) |\n|---|---|---|\n");
         for (frame, m, what) in VARIANTS {
             let _ = writeln!(
