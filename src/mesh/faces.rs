@@ -3,8 +3,9 @@
 //! ([`face_conductance`]), times the pressure flow factor φx(h_f) on a rough film
 //! (docs/model.md §11, "Flow factors"); where a row's gap varies across its cell, the
 //! strips across an x1 face in parallel and the gap between two rows in series
-//! ([`super::Rows`]); an x1 face fitted to the gap along x1 takes its strips' exact
-//! one-dimensional conductance ([`super::FittedFaces`]).
+//! ([`super::Rows`]); a face fitted to the gap between its nodes (`Gap::fitted` along x1,
+//! `Gap::fitted_x2` across) takes its strips' exact one-dimensional conductance
+//! ([`super::FittedFaces`]).
 
 use super::{Gap, Grid};
 use crate::model::film::{face_conductance, strip_conductance};

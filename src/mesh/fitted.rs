@@ -8,15 +8,16 @@
 /// A face without samples.
 const UNFITTED: u32 = u32::MAX;
 
-/// The gap's samples along the fitted x1 faces, and whether each takes Z (under the ring).
+/// The gap's samples along the fitted faces (x1 or x2), and whether each takes Z (under the
+/// ring).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FittedFaces {
     /// Points along a face per strip.
     m: usize,
     /// Strips across a face.
     ns: usize,
-    /// Per x1 face (the index of its conductance, [`crate::model::film::Faces::cx`]): the
-    /// first of its samples, or [`UNFITTED`].
+    /// Per face (the index of its conductance, [`crate::model::film::Faces::cx`] or `cy`):
+    /// the first of its samples, or [`UNFITTED`].
     at: Vec<u32>,
     /// Gap without Z (µm), strip after strip, `ns·m` a face.
     base: Vec<f64>,
@@ -24,7 +25,7 @@ pub struct FittedFaces {
     under: Vec<bool>,
 }
 
-/// A fitted face at one Z, per unit of its geometry factor dy/dx.
+/// A fitted face at one Z, per unit of its geometry factor (dy/dx or dx/dy).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FaceFit {
     /// The strips' mean of 1/mean(h⁻³).
@@ -37,7 +38,7 @@ pub struct FaceFit {
 }
 
 impl FittedFaces {
-    /// No face fitted yet, of `faces` x1 faces with `ns` strips of `m` points each.
+    /// No face fitted yet, of `faces` faces with `ns` strips of `m` points each.
     pub fn new(faces: usize, ns: usize, m: usize) -> Self {
         FittedFaces {
             m,
